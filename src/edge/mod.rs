@@ -1,0 +1,6 @@
+//! The edges: everything that touches files or formats. Experiment files, terrain readers,
+//! flight logs, output writers and plots. The edges depend on the core (`crate::sim`), never
+//! the reverse.
+
+pub mod output;
+pub mod terrain_readers;

@@ -1,0 +1,1 @@
+//! Placeholder: line charts are being written.

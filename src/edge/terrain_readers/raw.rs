@@ -1,0 +1,13 @@
+//! Placeholder: the raw reader is being written.
+use super::{RawLayout, ReadOptions, TerrainReadError};
+use crate::sim::terrain::{SampleGrid, Spacing};
+use std::path::Path;
+
+pub(super) fn read(
+    path: &Path,
+    _bytes: &[u8],
+    _layout: &RawLayout,
+    _options: &ReadOptions,
+) -> Result<(SampleGrid, Option<Spacing>), TerrainReadError> {
+    Err(TerrainReadError::new(path, "not implemented yet"))
+}

@@ -1,0 +1,69 @@
+//! The LOD algorithms, behind one small trait, chosen at run time from the experiment.
+//!
+//! Each algorithm owns its own data structure and is driven one frame at a time through
+//! [`LodAlgorithm::update`]. It exposes its mesh as the shared [`VertexSet`] so the runner can
+//! validate, cull and audit every algorithm the same way. No algorithm reads another's state.
+
+mod reference;
+
+pub use reference::{Reference, ReferenceConfig, SplitThreshold};
+
+use crate::sim::hierarchy::Hierarchy;
+use crate::sim::mesh::VertexSet;
+use crate::sim::stats::FrameStats;
+use crate::sim::view::{Camera, ViewSettings};
+use crate::sim::zone::SpeedBound;
+
+/// What an algorithm gets to see of a frame.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInput<'a> {
+    pub frame: u64,
+    pub camera: &'a Camera,
+    /// The eye moved faster than the speed bounds since the previous frame: anything deferred
+    /// on the strength of those bounds must be revalidated.
+    pub speed_bound_broken: bool,
+}
+
+/// A view-dependent LOD algorithm over the shared 4-8 mesh family.
+pub trait LodAlgorithm {
+    /// The algorithm's name as the experiment file spells it.
+    fn name(&self) -> &'static str;
+    /// Names of the algorithm-specific columns it fills in [`FrameStats::extra`].
+    fn extra_columns(&self) -> &'static [&'static str];
+    /// Brings the mesh up to date for this frame. Fills the counters the algorithm owns
+    /// (`triangles`, splits, merges, vertices, metric evaluations, `extra`); the runner fills the
+    /// rest (timing, culling, audit).
+    fn update(&mut self, input: &FrameInput, stats: &mut FrameStats);
+    /// The current mesh.
+    fn mesh(&self) -> &VertexSet;
+    /// The algorithm's own triangle count (validated against the mesh in checked runs).
+    fn triangle_count(&self) -> u64;
+}
+
+/// An algorithm and its parameters, as validated from an experiment.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AlgorithmConfig {
+    Reference(ReferenceConfig),
+}
+
+impl AlgorithmConfig {
+    pub fn name(&self) -> &'static str {
+        match self {
+            AlgorithmConfig::Reference(_) => reference::NAME,
+        }
+    }
+
+    /// Builds the algorithm on a preprocessed terrain.
+    pub fn build<'h>(
+        &self,
+        hierarchy: &'h Hierarchy,
+        view: &ViewSettings,
+        speed: SpeedBound,
+    ) -> Box<dyn LodAlgorithm + 'h> {
+        match self {
+            AlgorithmConfig::Reference(config) => {
+                Box::new(Reference::new(hierarchy, *config, view, speed))
+            }
+        }
+    }
+}

@@ -1,0 +1,206 @@
+//! `reference`: Wu's view-angle criterion evaluated from scratch every frame.
+//!
+//! Top-down over Wu's quadtree from the root block: a node splits when it has an error (δ > 0)
+//! and its signed life ℓ meets the [`SplitThreshold`] (by default ℓ ≤ 0, i.e. the eye is in its
+//! split zone); then its four sub-blocks are tested. Splitting activates the node's centre and,
+//! first, whatever closure needs (its parents, recursively: the forced splits). After the
+//! traversal every edge midpoint whose parents are both active is inserted (boundary vertices are
+//! "free": Wu's nodes are the block centres, and a shared edge is subdivided as soon as both blocks
+//! beside it are split). No queues, no deferral, no state carried between frames but the previous
+//! mesh (for the inserted/deleted counts).
+//!
+//! This is the ground truth that the incremental algorithms are tested against, and the
+//! denominator of every "what coherence saves" ratio. Counters: `splits` = nodes activated by this
+//! frame's rebuild (forced ones included), `merges` = 0, `vertices_inserted`/`deleted` = the
+//! difference from the previous frame's mesh, `metric_evaluations` = lives computed.
+
+use super::{FrameInput, LodAlgorithm};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, VertexClass};
+use crate::sim::mesh::VertexSet;
+use crate::sim::stats::FrameStats;
+use crate::sim::view::ViewSettings;
+use crate::sim::zone::{SpeedBound, ZoneVariant, signed_life, split_zone};
+
+pub(super) const NAME: &str = "reference";
+
+/// When a node splits, in terms of its signed life ℓ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplitThreshold {
+    /// Split iff ℓ ≤ the value (ℓ ≤ 0: the eye is in the zone).
+    LifeAtMost(f64),
+    /// Split iff ℓ < the value.
+    LifeBelow(f64),
+}
+
+impl SplitThreshold {
+    fn splits(self, life: f64) -> bool {
+        match self {
+            SplitThreshold::LifeAtMost(limit) => life <= limit,
+            SplitThreshold::LifeBelow(limit) => life < limit,
+        }
+    }
+}
+
+/// Parameters of the reference algorithm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceConfig {
+    /// Screen-space tolerance τ in pixels (θ = τ·fovy/h).
+    pub tau_px: f64,
+    pub zone: ZoneVariant,
+    pub threshold: SplitThreshold,
+}
+
+/// The from-scratch reference. Per frame: O(nodes tested + active vertices).
+pub struct Reference<'h> {
+    hierarchy: &'h Hierarchy,
+    config: ReferenceConfig,
+    theta: f64,
+    speed: SpeedBound,
+    mesh: VertexSet,
+    active: Vec<u32>,
+    previous_mesh: VertexSet,
+    previous_active: Vec<u32>,
+    n_triangles: u64,
+    stack: Vec<(GridPoint, u32)>,
+}
+
+impl<'h> Reference<'h> {
+    pub fn new(
+        hierarchy: &'h Hierarchy,
+        config: ReferenceConfig,
+        view: &ViewSettings,
+        speed: SpeedBound,
+    ) -> Reference<'h> {
+        let lattice = hierarchy.lattice();
+        let mesh = VertexSet::base_mesh(lattice);
+        let active: Vec<u32> = mesh.iter().collect();
+        Reference {
+            hierarchy,
+            config,
+            theta: config.tau_px * view.pixel_angle(),
+            speed,
+            previous_mesh: mesh.clone(),
+            previous_active: active.clone(),
+            mesh,
+            active,
+            n_triangles: 2,
+            stack: Vec::new(),
+        }
+    }
+
+    /// Activates `p` and, first, its parents (recursively). Returns the number of square nodes
+    /// activated.
+    fn activate_closed(&mut self, p: GridPoint) -> u64 {
+        let lattice = self.hierarchy.lattice();
+        let id = lattice.id(p);
+        if self.mesh.contains(id) {
+            return 0;
+        }
+        let parents = lattice.parents(p);
+        let mut squares = 0;
+        for parent in &parents {
+            squares += self.activate_closed(*parent);
+        }
+        self.mesh.insert(id);
+        self.active.push(id);
+        self.n_triangles += parents.len() as u64;
+        if matches!(lattice.classify(p), VertexClass::Square { .. }) {
+            squares += 1;
+        }
+        squares
+    }
+}
+
+impl LodAlgorithm for Reference<'_> {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn extra_columns(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
+        let hierarchy = self.hierarchy;
+        let lattice = hierarchy.lattice();
+        std::mem::swap(&mut self.mesh, &mut self.previous_mesh);
+        std::mem::swap(&mut self.active, &mut self.previous_active);
+        for &id in &self.active {
+            self.mesh.remove(id);
+        }
+        self.active.clear();
+        for corner in lattice.corners() {
+            self.mesh.insert(lattice.id(corner));
+            self.active.push(lattice.id(corner));
+        }
+        self.n_triangles = 2;
+
+        let eye = input.camera.eye;
+        let mut splits = 0;
+        let mut evaluations = 0;
+        self.stack.clear();
+        self.stack.push((lattice.root(), lattice.cells() / 2));
+        while let Some((node, half)) = self.stack.pop() {
+            evaluations += 1;
+            let zone = split_zone(hierarchy, node, half, self.theta, self.config.zone);
+            if zone.is_none() {
+                continue;
+            }
+            if !self
+                .config
+                .threshold
+                .splits(signed_life(zone.as_ref(), eye, self.speed))
+            {
+                continue;
+            }
+            splits += self.activate_closed(node);
+            if let Some(sub_blocks) = lattice.sub_blocks(node, half) {
+                self.stack
+                    .extend(sub_blocks.iter().rev().map(|&sub| (sub, half / 2)));
+            }
+        }
+        // Free boundary vertices: every edge midpoint whose parents are all active.
+        let n_before = self.active.len();
+        for k in 0..n_before {
+            let p = lattice.point(self.active[k]);
+            let VertexClass::Square { half } = lattice.classify(p) else {
+                continue;
+            };
+            for boundary in lattice.boundary_vertices(p, half) {
+                let parents = lattice.parents(boundary);
+                if parents
+                    .as_slice()
+                    .iter()
+                    .all(|q| self.mesh.contains_point(lattice, *q))
+                    && self.mesh.insert(lattice.id(boundary))
+                {
+                    self.active.push(lattice.id(boundary));
+                    self.n_triangles += parents.len() as u64;
+                }
+            }
+        }
+
+        stats.triangles = self.n_triangles;
+        stats.splits = splits;
+        stats.merges = 0;
+        stats.vertices_inserted = self
+            .active
+            .iter()
+            .filter(|&&id| !self.previous_mesh.contains(id))
+            .count() as u64;
+        stats.vertices_deleted = self
+            .previous_active
+            .iter()
+            .filter(|&&id| !self.mesh.contains(id))
+            .count() as u64;
+        stats.metric_evaluations = evaluations;
+    }
+
+    fn mesh(&self) -> &VertexSet {
+        &self.mesh
+    }
+
+    fn triangle_count(&self) -> u64 {
+        self.n_triangles
+    }
+}

@@ -1,0 +1,329 @@
+//! The 4-8 hierarchy of a height field and the data preprocessing attaches to it.
+//!
+//! [`Hierarchy::new`] is one O(samples) bottom-up pass that computes, for every square node
+//! (Wu's quadtree block): the node error δ under Wu's rule (max of the sub-blocks' δ, the centre's
+//! |ε| and the four boundary vertices' |ε|) and the block's height range. It stores them in dense
+//! per-level arrays ([`SquareIndex`]), about 12 bytes per node, i.e. 4 bytes per sample on top of
+//! the 4-byte heights. Other papers' nested errors over all vertices ([`NestingRule`]) are built on
+//! demand by [`Hierarchy::nested_vertex_errors`], so a run pays only for the rules its algorithms
+//! use. Stored errors are rounded up to `f32`, never down, so they stay bounds.
+
+mod lattice;
+
+pub use lattice::{Few, GridPoint, Lattice, VertexClass};
+
+use crate::sim::terrain::Heightfield;
+
+/// How a vertex's error is nested over its descendants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NestingRule {
+    /// e(v) = max(|ε(v)|, e(children)): Wu's and Lindstrom's rule. Monotone, but not a bound of
+    /// the surface's distance from the mesh.
+    Max,
+    /// e(v) = |ε(v)| + max e(children): ROAM's nested wedgie thickness, a true bound.
+    MaxPlusOwn,
+}
+
+/// Dense indices of square nodes, coarsest level first, row-major within a level.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SquareIndex {
+    cells: u32,
+}
+
+impl SquareIndex {
+    pub fn n_squares(&self) -> usize {
+        ((self.cells as usize).pow(2) - 1) / 3
+    }
+
+    /// Index of the square node centred at `p` with the given half-size.
+    pub fn index(&self, p: GridPoint, half: u32) -> usize {
+        let per_side = (self.cells / (2 * half)) as usize;
+        let level_offset = (per_side * per_side - 1) / 3;
+        let a = (p.i / (2 * half)) as usize;
+        let b = (p.j / (2 * half)) as usize;
+        level_offset + b * per_side + a
+    }
+}
+
+/// A height field with its 4-8 hierarchy and Wu's per-node data.
+#[derive(Clone, Debug)]
+pub struct Hierarchy {
+    field: Heightfield,
+    lattice: Lattice,
+    square_index: SquareIndex,
+    node_error: Vec<f32>,
+    node_z_min: Vec<f32>,
+    node_z_max: Vec<f32>,
+}
+
+impl Hierarchy {
+    /// Preprocesses a height field: O(samples) time, 12 bytes per square node.
+    pub fn new(field: Heightfield) -> Hierarchy {
+        let lattice = Lattice::new(field.level());
+        let square_index = SquareIndex {
+            cells: lattice.cells(),
+        };
+        let n_squares = square_index.n_squares();
+        let mut hierarchy = Hierarchy {
+            field,
+            lattice,
+            square_index,
+            node_error: vec![0.0; n_squares],
+            node_z_min: vec![0.0; n_squares],
+            node_z_max: vec![0.0; n_squares],
+        };
+        hierarchy.compute_node_data();
+        hierarchy
+    }
+
+    pub fn field(&self) -> &Heightfield {
+        &self.field
+    }
+
+    pub fn lattice(&self) -> &Lattice {
+        &self.lattice
+    }
+
+    pub fn square_index(&self) -> SquareIndex {
+        self.square_index
+    }
+
+    pub fn height(&self, p: GridPoint) -> f32 {
+        self.field.height(p.i as usize, p.j as usize)
+    }
+
+    /// ε(v) = z(v) − (z(a) + z(b))/2 for the edge (a, b) that v bisects; 0 for corners.
+    pub fn vertex_error(&self, p: GridPoint) -> f64 {
+        match self.lattice.bisected_edge(p) {
+            None => 0.0,
+            Some([a, b]) => {
+                f64::from(self.height(p))
+                    - 0.5 * (f64::from(self.height(a)) + f64::from(self.height(b)))
+            }
+        }
+    }
+
+    /// Wu's node error δ of the square node at `p`.
+    pub fn node_error(&self, p: GridPoint, half: u32) -> f32 {
+        self.node_error[self.square_index.index(p, half)]
+    }
+
+    /// Lowest and highest sample height in the closed block of the square node at `p`.
+    pub fn node_height_range(&self, p: GridPoint, half: u32) -> (f32, f32) {
+        let k = self.square_index.index(p, half);
+        (self.node_z_min[k], self.node_z_max[k])
+    }
+
+    /// Bytes per sample of the heights and Wu's node data.
+    pub fn bytes_per_sample(&self) -> f64 {
+        let heights = self.field.n_samples() * std::mem::size_of::<f32>();
+        let nodes = self.square_index.n_squares() * 3 * std::mem::size_of::<f32>();
+        (heights + nodes) as f64 / self.field.n_samples() as f64
+    }
+
+    /// Every vertex's nested error under `rule`, indexed by vertex id (0 at corners). O(samples).
+    pub fn nested_vertex_errors(&self, rule: NestingRule) -> Vec<f32> {
+        let lattice = &self.lattice;
+        let mut nested = vec![0.0f32; lattice.n_vertices()];
+        let mut half = 1;
+        while half < lattice.cells() {
+            // Children of rotated(h) are squares of half h/2 (done); children of square(h) are
+            // rotated(h), done just before.
+            for horizontal in [true, false] {
+                for p in rotated_points(lattice, half, horizontal) {
+                    nested[lattice.id(p) as usize] = self.nest(p, rule, &nested);
+                }
+            }
+            for p in square_points(lattice, half) {
+                nested[lattice.id(p) as usize] = self.nest(p, rule, &nested);
+            }
+            half *= 2;
+        }
+        nested
+    }
+
+    fn nest(&self, p: GridPoint, rule: NestingRule, nested: &[f32]) -> f32 {
+        let own = self.vertex_error(p).abs();
+        let children = self
+            .lattice
+            .children(p)
+            .as_slice()
+            .iter()
+            .map(|c| f64::from(nested[self.lattice.id(*c) as usize]))
+            .fold(0.0, f64::max);
+        round_up(match rule {
+            NestingRule::Max => own.max(children),
+            NestingRule::MaxPlusOwn => own + children,
+        })
+    }
+
+    fn compute_node_data(&mut self) {
+        let mut half = 1;
+        while half < self.lattice.cells() {
+            for p in square_points(&self.lattice, half) {
+                let k = self.square_index.index(p, half);
+                let mut error = self.vertex_error(p).abs();
+                for boundary in self.lattice.boundary_vertices(p, half) {
+                    error = error.max(self.vertex_error(boundary).abs());
+                }
+                let (mut z_min, mut z_max) = (f32::INFINITY, f32::NEG_INFINITY);
+                match self.lattice.sub_blocks(p, half) {
+                    None => {
+                        for dj in 0..3 {
+                            for di in 0..3 {
+                                let z = self.height(GridPoint::new(p.i + di - 1, p.j + dj - 1));
+                                z_min = z_min.min(z);
+                                z_max = z_max.max(z);
+                            }
+                        }
+                    }
+                    Some(sub_blocks) => {
+                        for sub in sub_blocks {
+                            let s = self.square_index.index(sub, half / 2);
+                            error = error.max(f64::from(self.node_error[s]));
+                            z_min = z_min.min(self.node_z_min[s]);
+                            z_max = z_max.max(self.node_z_max[s]);
+                        }
+                    }
+                }
+                self.node_error[k] = round_up(error);
+                self.node_z_min[k] = z_min;
+                self.node_z_max[k] = z_max;
+            }
+            half *= 2;
+        }
+    }
+}
+
+/// All square centres of half-size `half`.
+pub fn square_points(lattice: &Lattice, half: u32) -> impl Iterator<Item = GridPoint> + use<> {
+    let cells = lattice.cells();
+    (half..cells)
+        .step_by(2 * half as usize)
+        .flat_map(move |j| {
+            (half..cells)
+                .step_by(2 * half as usize)
+                .map(move |i| GridPoint::new(i, j))
+        })
+}
+
+/// All rotated vertices of half-size `half` on horizontal (or vertical) edges.
+fn rotated_points(
+    lattice: &Lattice,
+    half: u32,
+    horizontal: bool,
+) -> impl Iterator<Item = GridPoint> + use<> {
+    let cells = lattice.cells();
+    let odd = move || (half..cells).step_by(2 * half as usize);
+    let even = move || (0..=cells).step_by(2 * half as usize);
+    let points: Vec<GridPoint> = if horizontal {
+        even()
+            .flat_map(|j| odd().map(move |i| GridPoint::new(i, j)))
+            .collect()
+    } else {
+        odd()
+            .flat_map(|j| even().map(move |i| GridPoint::new(i, j)))
+            .collect()
+    };
+    points.into_iter()
+}
+
+/// The smallest `f32` not below `value`.
+fn round_up(value: f64) -> f32 {
+    let rounded = value as f32;
+    if f64::from(rounded) < value {
+        rounded.next_up()
+    } else {
+        rounded
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::terrain::Spacing;
+
+    fn hierarchy(side: usize, height: impl Fn(usize, usize) -> f32) -> Hierarchy {
+        let heights = (0..side * side).map(|k| height(k % side, k / side)).collect();
+        let field = Heightfield::new(side, heights, Spacing { dx: 1.0, dy: 1.0 }).unwrap();
+        Hierarchy::new(field)
+    }
+
+    #[test]
+    fn square_indices_are_dense_and_distinct() {
+        let h = hierarchy(17, |_, _| 0.0);
+        let index = h.square_index();
+        let mut seen = vec![false; index.n_squares()];
+        let mut half = 1;
+        while half < 16 {
+            for p in square_points(h.lattice(), half) {
+                let k = index.index(p, half);
+                assert!(!seen[k], "index {k} used twice");
+                seen[k] = true;
+            }
+            half *= 2;
+        }
+        assert!(seen.iter().all(|&s| s));
+        assert_eq!(index.index(h.lattice().root(), 8), 0);
+    }
+
+    #[test]
+    fn a_single_spike_sets_the_error_of_every_node_whose_block_holds_it() {
+        // A 10 m spike at (5, 5) of a flat 9×9 field.
+        let h = hierarchy(9, |i, j| if (i, j) == (5, 5) { 10.0 } else { 0.0 });
+        assert_eq!(h.node_error(GridPoint::new(5, 5), 1), 10.0);
+        assert_eq!(h.node_error(GridPoint::new(6, 6), 2), 10.0);
+        assert_eq!(h.node_error(h.lattice().root(), 4), 10.0);
+        assert_eq!(h.node_error(GridPoint::new(2, 2), 2), 0.0);
+        assert_eq!(h.node_height_range(GridPoint::new(2, 2), 2), (0.0, 0.0));
+        assert_eq!(h.node_height_range(h.lattice().root(), 4), (0.0, 10.0));
+        // (7, 7)'s block [6,8]² does not hold the spike.
+        assert_eq!(h.node_error(GridPoint::new(7, 7), 1), 0.0);
+    }
+
+    #[test]
+    fn a_plane_has_zero_error_everywhere() {
+        let h = hierarchy(17, |i, j| 3.0 * i as f32 - 2.0 * j as f32 + 7.0);
+        assert!(h.node_error.iter().all(|&e| e == 0.0));
+        let nested = h.nested_vertex_errors(NestingRule::MaxPlusOwn);
+        assert!(nested.iter().all(|&e| e == 0.0));
+    }
+
+    #[test]
+    fn nesting_rules_are_monotone_and_max_plus_own_dominates_max() {
+        let h = hierarchy(17, |i, j| ((i * 7 + j * 13) % 11) as f32);
+        let max = h.nested_vertex_errors(NestingRule::Max);
+        let plus = h.nested_vertex_errors(NestingRule::MaxPlusOwn);
+        let lattice = h.lattice();
+        for id in 0..lattice.n_vertices() as u32 {
+            let p = lattice.point(id);
+            if lattice.classify(p) == VertexClass::Corner {
+                continue; // Corners are always active; their nested error is 0 by definition.
+            }
+            for c in &lattice.children(p) {
+                let c = lattice.id(*c) as usize;
+                assert!(max[id as usize] >= max[c]);
+                assert!(plus[id as usize] >= plus[c]);
+            }
+            assert!(plus[id as usize] >= max[id as usize]);
+            assert!(f64::from(max[id as usize]) >= h.vertex_error(p).abs());
+        }
+    }
+
+    #[test]
+    fn wu_node_error_covers_its_centre_and_boundary_vertices() {
+        let h = hierarchy(17, |i, j| ((i * 5 + j * 3) % 7) as f32);
+        let lattice = h.lattice();
+        let mut half = 1;
+        while half < 16 {
+            for p in square_points(lattice, half) {
+                let delta = f64::from(h.node_error(p, half));
+                assert!(delta >= h.vertex_error(p).abs());
+                for b in lattice.boundary_vertices(p, half) {
+                    assert!(delta >= h.vertex_error(b).abs());
+                }
+            }
+            half *= 2;
+        }
+    }
+}

@@ -1,0 +1,104 @@
+//! A mesh of the 4-8 family: a set of active vertices closed under parents.
+//!
+//! [`VertexSet`] is the shared representation every algorithm exposes: one bit per grid vertex
+//! (2^28 vertices of a 16385² grid take 32 MiB) plus a count. Triangles are not stored; they
+//! follow from the set ([`triangles::for_each_triangle`]). [`validate::validate`] checks what
+//! makes a set a mesh.
+
+pub mod triangles;
+pub mod validate;
+
+use crate::sim::hierarchy::{GridPoint, Lattice};
+
+/// A set of grid vertices, by vertex id. Inserting and removing are O(1); clearing is O(grid/64).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VertexSet {
+    words: Vec<u64>,
+    len: usize,
+}
+
+impl VertexSet {
+    /// The empty set over a lattice's vertices.
+    pub fn new(lattice: &Lattice) -> VertexSet {
+        VertexSet {
+            words: vec![0; lattice.n_vertices().div_ceil(64)],
+            len: 0,
+        }
+    }
+
+    /// The set holding only the four corners: the base mesh of two triangles.
+    pub fn base_mesh(lattice: &Lattice) -> VertexSet {
+        let mut set = VertexSet::new(lattice);
+        for corner in lattice.corners() {
+            set.insert(lattice.id(corner));
+        }
+        set
+    }
+
+    pub fn contains(&self, id: u32) -> bool {
+        self.words[(id / 64) as usize] & (1 << (id % 64)) != 0
+    }
+
+    /// Inserts `id`; returns whether it was absent.
+    pub fn insert(&mut self, id: u32) -> bool {
+        let word = &mut self.words[(id / 64) as usize];
+        let bit = 1 << (id % 64);
+        let absent = *word & bit == 0;
+        *word |= bit;
+        self.len += usize::from(absent);
+        absent
+    }
+
+    /// Removes `id`; returns whether it was present.
+    pub fn remove(&mut self, id: u32) -> bool {
+        let word = &mut self.words[(id / 64) as usize];
+        let bit = 1 << (id % 64);
+        let present = *word & bit != 0;
+        *word &= !bit;
+        self.len -= usize::from(present);
+        present
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Ids in increasing order.
+    pub fn iter(&self) -> impl Iterator<Item = u32> + '_ {
+        self.words.iter().enumerate().flat_map(|(w, &word)| {
+            let mut bits = word;
+            std::iter::from_fn(move || {
+                (bits != 0).then(|| {
+                    let bit = bits.trailing_zeros();
+                    bits &= bits - 1;
+                    w as u32 * 64 + bit
+                })
+            })
+        })
+    }
+
+    /// Whether every member of `self` is in `other`.
+    pub fn is_subset(&self, other: &VertexSet) -> bool {
+        self.words
+            .iter()
+            .zip(&other.words)
+            .all(|(a, b)| a & !b == 0)
+    }
+
+    /// T = 2 + Σ over active non-corner vertices of their number of parents: the triangle count
+    /// of a closed set.
+    pub fn triangle_count(&self, lattice: &Lattice) -> u64 {
+        2 + self
+            .iter()
+            .map(|id| lattice.parents(lattice.point(id)).len() as u64)
+            .sum::<u64>()
+    }
+
+    pub fn contains_point(&self, lattice: &Lattice, p: GridPoint) -> bool {
+        self.contains(lattice.id(p))
+    }
+}

@@ -1,0 +1,98 @@
+//! Per-frame statistics and their summaries: what each algorithm did and what it cost.
+//!
+//! [`FrameStats`] is one row of `frames.csv`. The columns every algorithm fills are fields;
+//! algorithm-specific counters (Wu's `base_b`, ROAM's queue sizes, …) go in `extra`, aligned
+//! with the names the algorithm declares in [`crate::sim::algorithm::LodAlgorithm::extra_columns`].
+//! Summaries (mean, p50, p95, max) are computed here; formatting them is the edge's business.
+
+/// Error statistics over the samples of one frame, in pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorSummary {
+    pub max: f64,
+    pub mean: f64,
+    pub p95: f64,
+}
+
+/// What the audit measured on one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AuditFrame {
+    /// Samples inside the view volume that were measured.
+    pub samples_in_view: u64,
+    /// Projected screen-space error; `None` when no sample was in view.
+    pub projected: Option<ErrorSummary>,
+    /// Wu's view-angle error; `None` when no sample was in view.
+    pub view_angle: Option<ErrorSummary>,
+}
+
+/// One algorithm's statistics for one frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameStats {
+    pub frame: u64,
+    /// Triangles of the whole mesh.
+    pub triangles: u64,
+    /// Triangles that meet the view volume (equal to `triangles` when culling is off).
+    pub triangles_rendered: u64,
+    pub splits: u64,
+    pub merges: u64,
+    pub vertices_inserted: u64,
+    pub vertices_deleted: u64,
+    /// Evaluations of the algorithm's error metric (or valid life) this frame.
+    pub metric_evaluations: u64,
+    /// Wall-clock time of the algorithm's update, in nanoseconds.
+    pub update_ns: u64,
+    /// Values of the algorithm's extra columns, in the order it declares them.
+    pub extra: Vec<f64>,
+    pub audit: Option<AuditFrame>,
+}
+
+/// Mean, median, 95th percentile and maximum of a column.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ColumnSummary {
+    pub mean: f64,
+    pub p50: f64,
+    pub p95: f64,
+    pub max: f64,
+}
+
+/// Summarises a column; `None` for an empty one. Percentiles use the nearest-rank rule: the
+/// p-th percentile of n sorted values is the value at rank ⌈p·n⌉ (1-based).
+pub fn summarise(values: &[f64]) -> Option<ColumnSummary> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let mean = sorted.iter().sum::<f64>() / sorted.len() as f64;
+    Some(ColumnSummary {
+        mean,
+        p50: nearest_rank(&sorted, 0.50),
+        p95: nearest_rank(&sorted, 0.95),
+        max: sorted[sorted.len() - 1],
+    })
+}
+
+/// The value at rank ⌈p·n⌉ (1-based) of a sorted, non-empty slice.
+pub fn nearest_rank(sorted: &[f64], p: f64) -> f64 {
+    let rank = (p * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn summary_of_one_to_twenty() {
+        let values: Vec<f64> = (1..=20).rev().map(f64::from).collect();
+        let summary = summarise(&values).unwrap();
+        assert_eq!(summary.mean, 10.5);
+        assert_eq!(summary.p50, 10.0);
+        assert_eq!(summary.p95, 19.0);
+        assert_eq!(summary.max, 20.0);
+    }
+
+    #[test]
+    fn an_empty_column_has_no_summary() {
+        assert_eq!(summarise(&[]), None);
+    }
+}

@@ -1,0 +1,169 @@
+//! Embedding an arbitrary grid into a (2^n+1)² height field: padding or cropping.
+//!
+//! Padding places the data at the south-west corner and fills the east and north margins by
+//! replicating the nearest border sample, so the padding adds no new relief across the border;
+//! the height field remembers the real data extent so the audit ignores the padding. Cropping
+//! takes the largest (2^n+1)² window that fits, at a chosen origin (by default centred).
+
+use super::{Heightfield, HeightfieldError, SampleGrid, Spacing};
+
+/// How a grid that is not (2^n+1)² becomes one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fit {
+    /// Grow to the smallest 2^n+1 side that holds the grid, replicating the border.
+    Pad,
+    /// Cut the largest 2^n+1 square that fits; `origin` is its south-west sample
+    /// (column, row), or `None` to centre it.
+    Crop { origin: Option<(usize, usize)> },
+}
+
+/// What embedding did, for the run metadata.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EmbedReport {
+    pub source_columns: usize,
+    pub source_rows: usize,
+    pub side: usize,
+    /// Columns added on the east and rows added on the north (padding).
+    pub padded_columns: usize,
+    pub padded_rows: usize,
+    /// South-west sample of the cropped window in the source grid (cropping).
+    pub crop_origin: Option<(usize, usize)>,
+}
+
+/// Why a grid could not be embedded.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EmbedError {
+    #[error("the grid still has {n_voids} void samples; fill them first")]
+    VoidsLeft { n_voids: usize },
+    #[error(
+        "a {side}×{side} crop at column {column}, row {row} does not fit in the {columns}×{rows} grid"
+    )]
+    CropOutside {
+        side: usize,
+        column: usize,
+        row: usize,
+        columns: usize,
+        rows: usize,
+    },
+    #[error(transparent)]
+    Heightfield(#[from] HeightfieldError),
+}
+
+/// Embeds a void-free grid into a height field.
+pub fn embed(
+    grid: &SampleGrid,
+    fit: Fit,
+    spacing: Spacing,
+) -> Result<(Heightfield, EmbedReport), EmbedError> {
+    if !grid.void_indices().is_empty() {
+        return Err(EmbedError::VoidsLeft {
+            n_voids: grid.void_indices().len(),
+        });
+    }
+    let (columns, rows) = (grid.width(), grid.height());
+    match fit {
+        Fit::Pad => {
+            let side = (columns.max(rows) - 1).next_power_of_two() + 1;
+            let mut heights = Vec::with_capacity(side * side);
+            for j in 0..side {
+                let row = j.min(rows - 1);
+                for i in 0..side {
+                    heights.push(grid.height_at(i.min(columns - 1), row));
+                }
+            }
+            let field = Heightfield::with_data_extent(side, heights, spacing, columns, rows)?;
+            let report = EmbedReport {
+                source_columns: columns,
+                source_rows: rows,
+                side,
+                padded_columns: side - columns,
+                padded_rows: side - rows,
+                crop_origin: None,
+            };
+            Ok((field, report))
+        }
+        Fit::Crop { origin } => {
+            let side = largest_side_within(columns.min(rows));
+            let (column, row) = origin.unwrap_or(((columns - side) / 2, (rows - side) / 2));
+            if column + side > columns || row + side > rows {
+                return Err(EmbedError::CropOutside {
+                    side,
+                    column,
+                    row,
+                    columns,
+                    rows,
+                });
+            }
+            let mut heights = Vec::with_capacity(side * side);
+            for j in 0..side {
+                for i in 0..side {
+                    heights.push(grid.height_at(column + i, row + j));
+                }
+            }
+            let field = Heightfield::new(side, heights, spacing)?;
+            let report = EmbedReport {
+                source_columns: columns,
+                source_rows: rows,
+                side,
+                padded_columns: 0,
+                padded_rows: 0,
+                crop_origin: Some((column, row)),
+            };
+            Ok((field, report))
+        }
+    }
+}
+
+/// The largest 2^n+1 that is at most `limit` (limit ≥ 3).
+fn largest_side_within(limit: usize) -> usize {
+    let cells = limit - 1;
+    (1usize << (usize::BITS - 1 - cells.leading_zeros())) + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const UNIT: Spacing = Spacing { dx: 1.0, dy: 1.0 };
+
+    fn ramp(columns: usize, rows: usize) -> SampleGrid {
+        let heights = (0..columns * rows).map(|k| k as f32).collect();
+        SampleGrid::new(columns, rows, heights, Vec::new()).unwrap()
+    }
+
+    #[test]
+    fn padding_a_6_by_4_grid_gives_side_9_replicating_the_border() {
+        let (field, report) = embed(&ramp(6, 4), Fit::Pad, UNIT).unwrap();
+        assert_eq!(field.side(), 9);
+        assert_eq!((report.padded_columns, report.padded_rows), (3, 5));
+        assert_eq!((field.data_columns(), field.data_rows()), (6, 4));
+        // East padding replicates column 5, north padding replicates row 3.
+        assert_eq!(field.height(8, 0), 5.0);
+        assert_eq!(field.height(0, 8), 18.0);
+        assert_eq!(field.height(8, 8), 23.0);
+    }
+
+    #[test]
+    fn a_grid_of_side_two_to_the_n_plus_one_is_not_padded() {
+        let (field, report) = embed(&ramp(5, 5), Fit::Pad, UNIT).unwrap();
+        assert_eq!(field.side(), 5);
+        assert_eq!((report.padded_columns, report.padded_rows), (0, 0));
+    }
+
+    #[test]
+    fn cropping_1201_gives_a_centred_1025_window() {
+        assert_eq!(largest_side_within(1201), 1025);
+        assert_eq!(largest_side_within(3), 3);
+        assert_eq!(largest_side_within(8), 5);
+        let (field, report) = embed(&ramp(10, 12), Fit::Crop { origin: None }, UNIT).unwrap();
+        assert_eq!(field.side(), 9);
+        assert_eq!(report.crop_origin, Some((0, 1)));
+        assert_eq!(field.height(0, 0), 10.0);
+    }
+
+    #[test]
+    fn a_crop_outside_the_grid_is_an_error() {
+        let error = embed(&ramp(10, 10), Fit::Crop { origin: Some((2, 0)) }, UNIT).unwrap_err();
+        assert!(matches!(error, EmbedError::CropOutside { column: 2, .. }));
+    }
+}

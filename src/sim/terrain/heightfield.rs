@@ -1,0 +1,212 @@
+//! The (2^n+1)² height field every algorithm runs on.
+//!
+//! Sample (i, j) sits at x = i·dx, y = j·dy (metres, z up). Heights are stored as `f32`: every
+//! real elevation model fits (SRTM's int16 exactly), and it halves the memory of the largest
+//! terrains; every geometric computation promotes them to `f64`. The field also remembers which
+//! part of it is real data (the rest is padding), so the audit measures real samples only.
+
+use glam::DVec3;
+
+/// Grid spacing in metres along x (columns) and y (rows).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spacing {
+    pub dx: f64,
+    pub dy: f64,
+}
+
+/// A square height field of side 2^n+1 (n ≥ 1) with finite heights.
+#[derive(Clone, Debug)]
+pub struct Heightfield {
+    level: u32,
+    side: usize,
+    heights: Vec<f32>,
+    spacing: Spacing,
+    data_columns: usize,
+    data_rows: usize,
+}
+
+/// Why a [`Heightfield`] could not be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum HeightfieldError {
+    #[error("side {side} is not 2^n+1 with n ≥ 1")]
+    SideNotPowerOfTwoPlusOne { side: usize },
+    #[error("{found} heights for side {side} ({expected} expected)")]
+    WrongLength {
+        side: usize,
+        expected: usize,
+        found: usize,
+    },
+    #[error("height at column {column}, row {row} is {value}; heights must be finite")]
+    NotFinite { column: usize, row: usize, value: f32 },
+    #[error("grid spacing dx = {dx}, dy = {dy}; both must be finite and positive")]
+    BadSpacing { dx: f64, dy: f64 },
+    #[error("data extent {columns}×{rows} does not fit in side {side}")]
+    BadDataExtent {
+        columns: usize,
+        rows: usize,
+        side: usize,
+    },
+}
+
+impl Heightfield {
+    /// A height field whose every sample is real data.
+    pub fn new(
+        side: usize,
+        heights: Vec<f32>,
+        spacing: Spacing,
+    ) -> Result<Heightfield, HeightfieldError> {
+        Heightfield::with_data_extent(side, heights, spacing, side, side)
+    }
+
+    /// A height field whose real data covers columns `0..data_columns` and rows `0..data_rows`;
+    /// the rest is padding.
+    pub fn with_data_extent(
+        side: usize,
+        heights: Vec<f32>,
+        spacing: Spacing,
+        data_columns: usize,
+        data_rows: usize,
+    ) -> Result<Heightfield, HeightfieldError> {
+        let level = side_level(side).ok_or(HeightfieldError::SideNotPowerOfTwoPlusOne { side })?;
+        let expected = side * side;
+        if heights.len() != expected {
+            return Err(HeightfieldError::WrongLength {
+                side,
+                expected,
+                found: heights.len(),
+            });
+        }
+        if let Some(index) = heights.iter().position(|z| !z.is_finite()) {
+            return Err(HeightfieldError::NotFinite {
+                column: index % side,
+                row: index / side,
+                value: heights[index],
+            });
+        }
+        let spacing_ok = |d: f64| d.is_finite() && d > 0.0;
+        if !spacing_ok(spacing.dx) || !spacing_ok(spacing.dy) {
+            return Err(HeightfieldError::BadSpacing {
+                dx: spacing.dx,
+                dy: spacing.dy,
+            });
+        }
+        if data_columns == 0 || data_rows == 0 || data_columns > side || data_rows > side {
+            return Err(HeightfieldError::BadDataExtent {
+                columns: data_columns,
+                rows: data_rows,
+                side,
+            });
+        }
+        Ok(Heightfield {
+            level,
+            side,
+            heights,
+            spacing,
+            data_columns,
+            data_rows,
+        })
+    }
+
+    /// n, where the side is 2^n + 1.
+    pub fn level(&self) -> u32 {
+        self.level
+    }
+
+    pub fn side(&self) -> usize {
+        self.side
+    }
+
+    pub fn n_samples(&self) -> usize {
+        self.heights.len()
+    }
+
+    pub fn spacing(&self) -> Spacing {
+        self.spacing
+    }
+
+    /// Row-major heights from the south-west corner.
+    pub fn heights(&self) -> &[f32] {
+        &self.heights
+    }
+
+    pub fn height(&self, i: usize, j: usize) -> f32 {
+        self.heights[j * self.side + i]
+    }
+
+    /// World position of sample (i, j).
+    pub fn position(&self, i: usize, j: usize) -> DVec3 {
+        DVec3::new(
+            i as f64 * self.spacing.dx,
+            j as f64 * self.spacing.dy,
+            f64::from(self.height(i, j)),
+        )
+    }
+
+    /// Columns `0..data_columns()` hold real data; the rest is padding.
+    pub fn data_columns(&self) -> usize {
+        self.data_columns
+    }
+
+    /// Rows `0..data_rows()` hold real data; the rest is padding.
+    pub fn data_rows(&self) -> usize {
+        self.data_rows
+    }
+
+    /// Lowest and highest height.
+    pub fn height_range(&self) -> (f32, f32) {
+        self.heights
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &z| {
+                (lo.min(z), hi.max(z))
+            })
+    }
+
+    /// Extent of the terrain in metres along x and y.
+    pub fn extent(&self) -> (f64, f64) {
+        let cells = (self.side - 1) as f64;
+        (cells * self.spacing.dx, cells * self.spacing.dy)
+    }
+}
+
+/// n if `side` = 2^n + 1 with n ≥ 1.
+pub(crate) fn side_level(side: usize) -> Option<u32> {
+    let cells = side.checked_sub(1)?;
+    (cells >= 2 && cells.is_power_of_two()).then(|| cells.trailing_zeros())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const UNIT: Spacing = Spacing { dx: 1.0, dy: 1.0 };
+
+    #[test]
+    fn sides_of_the_form_two_to_the_n_plus_one_are_accepted() {
+        assert_eq!(side_level(3), Some(1));
+        assert_eq!(side_level(1025), Some(10));
+        assert_eq!(side_level(2), None);
+        assert_eq!(side_level(1024), None);
+        assert_eq!(side_level(0), None);
+    }
+
+    #[test]
+    fn a_nan_height_is_rejected_with_its_position() {
+        let mut heights = vec![0.0; 9];
+        heights[5] = f32::NAN;
+        let error = Heightfield::new(3, heights, UNIT).unwrap_err();
+        assert!(matches!(
+            error,
+            HeightfieldError::NotFinite {
+                column: 2,
+                row: 1,
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn spacing_must_be_positive() {
+        let error = Heightfield::new(3, vec![0.0; 9], Spacing { dx: 0.0, dy: 1.0 }).unwrap_err();
+        assert_eq!(error, HeightfieldError::BadSpacing { dx: 0.0, dy: 1.0 });
+    }
+}

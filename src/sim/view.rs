@@ -1,0 +1,189 @@
+//! The camera of one frame: pose, lens and window, and the view volume.
+//!
+//! Conventions (SPEC §2): right-handed world, z up, metres. Yaw is measured in the xy-plane from
+//! +x towards +y; pitch is up from the horizontal. The camera's right vector is horizontal
+//! (sin yaw, −cos yaw, 0) whatever the pitch, so looking straight down is well defined. All
+//! camera arithmetic is `f64` and eye-relative (points are translated by −eye before any product),
+//! so terrains far from the origin keep their precision.
+
+use glam::{DVec2, DVec3};
+
+/// Where the camera is and where it looks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    pub position: DVec3,
+    /// Radians, from +x towards +y.
+    pub yaw: f64,
+    /// Radians, up from the horizontal; within [−π/2, π/2].
+    pub pitch: f64,
+}
+
+/// The window and lens shared by every frame of an experiment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewSettings {
+    pub width_px: u32,
+    pub height_px: u32,
+    /// Vertical field of view in radians, in (0, π).
+    pub fovy: f64,
+    /// Near and far plane distances along the view direction, 0 < near < far.
+    pub near: f64,
+    pub far: f64,
+}
+
+impl ViewSettings {
+    /// The angle one pixel subtends vertically (Wu's fovy/h), in radians.
+    pub fn pixel_angle(&self) -> f64 {
+        self.fovy / f64::from(self.height_px)
+    }
+
+    /// Pixels per unit of image-plane distance at focal length 1: (h/2)/tan(fovy/2).
+    pub fn pixels_per_unit(&self) -> f64 {
+        0.5 * f64::from(self.height_px) / (0.5 * self.fovy).tan()
+    }
+
+    pub fn aspect(&self) -> f64 {
+        f64::from(self.width_px) / f64::from(self.height_px)
+    }
+}
+
+/// A posed camera with its view volume.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: DVec3,
+    pub forward: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+    pub settings: ViewSettings,
+    tan_half_fovy: f64,
+    tan_half_fovx: f64,
+}
+
+impl Camera {
+    pub fn new(pose: &Pose, settings: ViewSettings) -> Camera {
+        let (sin_yaw, cos_yaw) = pose.yaw.sin_cos();
+        let (sin_pitch, cos_pitch) = pose.pitch.sin_cos();
+        let forward = DVec3::new(cos_pitch * cos_yaw, cos_pitch * sin_yaw, sin_pitch);
+        let right = DVec3::new(sin_yaw, -cos_yaw, 0.0);
+        let up = right.cross(forward);
+        let tan_half_fovy = (0.5 * settings.fovy).tan();
+        Camera {
+            eye: pose.position,
+            forward,
+            right,
+            up,
+            settings,
+            tan_half_fovy,
+            tan_half_fovx: tan_half_fovy * settings.aspect(),
+        }
+    }
+
+    /// Camera-space coordinates (right, up, depth) of a world point.
+    pub fn to_camera(&self, world: DVec3) -> DVec3 {
+        let d = world - self.eye;
+        DVec3::new(d.dot(self.right), d.dot(self.up), d.dot(self.forward))
+    }
+
+    /// Camera-space image of a world direction (no translation).
+    pub fn direction_to_camera(&self, direction: DVec3) -> DVec3 {
+        DVec3::new(
+            direction.dot(self.right),
+            direction.dot(self.up),
+            direction.dot(self.forward),
+        )
+    }
+
+    /// Pixel coordinates (from the image centre, y up) of a camera-space point in front of the
+    /// near plane, or `None` behind it.
+    pub fn project_camera(&self, c: DVec3) -> Option<DVec2> {
+        (c.z >= self.settings.near).then(|| {
+            DVec2::new(c.x / c.z, c.y / c.z) * self.settings.pixels_per_unit()
+        })
+    }
+
+    /// Whether a world point lies inside the view volume (frustum between near and far).
+    pub fn sees(&self, world: DVec3) -> bool {
+        let c = self.to_camera(world);
+        c.z >= self.settings.near
+            && c.z <= self.settings.far
+            && c.x.abs() <= c.z * self.tan_half_fovx
+            && c.y.abs() <= c.z * self.tan_half_fovy
+    }
+
+    /// Conservative test of a triangle against the view volume: `false` only when all three
+    /// corners are outside one of the six planes (so the triangle is surely outside).
+    pub fn may_see_triangle(&self, corners: [DVec3; 3]) -> bool {
+        let c = corners.map(|p| self.to_camera(p));
+        let all = |outside: &dyn Fn(DVec3) -> bool| c.iter().all(|&p| outside(p));
+        let (tx, ty) = (self.tan_half_fovx, self.tan_half_fovy);
+        let (near, far) = (self.settings.near, self.settings.far);
+        !(all(&|p| p.z < near)
+            || all(&|p| p.z > far)
+            || all(&|p| p.x > p.z * tx)
+            || all(&|p| -p.x > p.z * tx)
+            || all(&|p| p.y > p.z * ty)
+            || all(&|p| -p.y > p.z * ty))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    fn settings() -> ViewSettings {
+        ViewSettings {
+            width_px: 600,
+            height_px: 600,
+            fovy: 60f64.to_radians(),
+            near: 1.0,
+            far: 1000.0,
+        }
+    }
+
+    #[test]
+    fn a_camera_looking_along_x_sees_ahead_and_not_behind() {
+        let camera = Camera::new(
+            &Pose {
+                position: DVec3::ZERO,
+                yaw: 0.0,
+                pitch: 0.0,
+            },
+            settings(),
+        );
+        assert!(camera.sees(DVec3::new(10.0, 0.0, 0.0)));
+        assert!(!camera.sees(DVec3::new(-10.0, 0.0, 0.0)));
+        assert!(!camera.sees(DVec3::new(2000.0, 0.0, 0.0)));
+        // +y is to the left when looking along +x.
+        assert!(camera.to_camera(DVec3::new(10.0, 1.0, 0.0)).x < 0.0);
+        assert!(camera.to_camera(DVec3::new(10.0, 0.0, 1.0)).y > 0.0);
+    }
+
+    #[test]
+    fn looking_straight_down_is_well_defined() {
+        let camera = Camera::new(
+            &Pose {
+                position: DVec3::new(0.0, 0.0, 100.0),
+                yaw: 0.3,
+                pitch: -FRAC_PI_2,
+            },
+            settings(),
+        );
+        assert!(camera.sees(DVec3::ZERO));
+        assert!(camera.up.is_finite() && (camera.up.length() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_point_at_the_top_edge_of_the_view_projects_to_half_the_window_height() {
+        let camera = Camera::new(
+            &Pose {
+                position: DVec3::ZERO,
+                yaw: 0.0,
+                pitch: 0.0,
+            },
+            settings(),
+        );
+        let top = DVec3::new(10.0, 0.0, 10.0 * 30f64.to_radians().tan());
+        let pixel = camera.project_camera(camera.to_camera(top)).unwrap();
+        assert!((pixel.y - 300.0).abs() < 1e-9, "{pixel:?}");
+    }
+}

@@ -1,0 +1,224 @@
+//! Wu's split zones and the signed valid life of a node (SPEC §5).
+//!
+//! A vertical error segment of length δ subtends more than θ = τ·fovy/h only from inside two
+//! circles of radius r = δ/(2·sin θ) through its ends (a horn torus in 3D). Wu replaces that
+//! zone by an axis-aligned box, 4r × 4r wide and 2r high, centred on the segment. Two variants:
+//! - [`ZoneVariant::Paper`]: the box centred on the node's centre vertex, as published;
+//! - [`ZoneVariant::Conservative`]: the box grown by the block's footprint and height range (a
+//!   Minkowski sum), so every vertex error the node's δ covers, wherever it sits in the block, is
+//!   really below τ from outside the zone.
+//!
+//! θ is clamped to π/2 before taking the sine: for larger angles the exact zone only shrinks, so
+//! r = δ/2 stays conservative and τ never produces a negative or infinite radius by wrap-around.
+//! θ = 0 (τ = 0) gives an infinite zone; δ = 0 gives no zone at all (the node never needs to
+//! split).
+//!
+//! The signed life ℓ = max over axes of (gap along the axis)/(speed bound along it), where the
+//! gap is the eye's distance beyond the box face (negative inside). Under the speed bound ℓ
+//! changes by at most 1 per frame. A zero speed bound makes an axis's life +∞ outside the box and
+//! −∞ on or inside it.
+
+use crate::sim::hierarchy::{GridPoint, Hierarchy};
+use glam::DVec3;
+
+/// Which box approximates the split zone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ZoneVariant {
+    Paper,
+    Conservative,
+}
+
+impl ZoneVariant {
+    pub fn name(self) -> &'static str {
+        match self {
+            ZoneVariant::Paper => "paper",
+            ZoneVariant::Conservative => "conservative",
+        }
+    }
+}
+
+/// Speed bounds in metres per frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedBound {
+    /// Bound on the horizontal (xy) displacement per frame.
+    pub horizontal: f64,
+    /// Bound on the vertical displacement per frame.
+    pub vertical: f64,
+}
+
+/// An axis-aligned box: centre and half-extents (half-extents may be +∞).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ZoneBox {
+    pub centre: DVec3,
+    pub half: DVec3,
+}
+
+impl ZoneBox {
+    /// Signed gaps of `eye` beyond the box along x, y, z (≤ 0 inside).
+    pub fn gaps(&self, eye: DVec3) -> DVec3 {
+        (eye - self.centre).abs() - self.half
+    }
+
+    /// Whether `eye` is inside or on the box.
+    pub fn contains(&self, eye: DVec3) -> bool {
+        self.gaps(eye).max_element() <= 0.0
+    }
+}
+
+/// The zone radius r = δ / (2 sin θ) with θ clamped to π/2; +∞ when θ = 0 and δ > 0.
+pub fn zone_radius(delta: f64, theta: f64) -> f64 {
+    let theta = theta.min(std::f64::consts::FRAC_PI_2);
+    if theta <= 0.0 {
+        return if delta > 0.0 { f64::INFINITY } else { 0.0 };
+    }
+    delta / (2.0 * theta.sin())
+}
+
+/// The split zone of the square node at `node` (half-size `half`) for the angular tolerance
+/// `theta`, or `None` when its error δ is 0.
+pub fn split_zone(
+    hierarchy: &Hierarchy,
+    node: GridPoint,
+    half: u32,
+    theta: f64,
+    variant: ZoneVariant,
+) -> Option<ZoneBox> {
+    let delta = f64::from(hierarchy.node_error(node, half));
+    if delta <= 0.0 {
+        return None;
+    }
+    let r = zone_radius(delta, theta);
+    let spacing = hierarchy.field().spacing();
+    let x = f64::from(node.i) * spacing.dx;
+    let y = f64::from(node.j) * spacing.dy;
+    Some(match variant {
+        ZoneVariant::Paper => ZoneBox {
+            centre: DVec3::new(x, y, f64::from(hierarchy.height(node))),
+            half: DVec3::new(2.0 * r, 2.0 * r, r),
+        },
+        ZoneVariant::Conservative => {
+            let (z_min, z_max) = hierarchy.node_height_range(node, half);
+            let (z_min, z_max) = (f64::from(z_min), f64::from(z_max));
+            ZoneBox {
+                centre: DVec3::new(x, y, 0.5 * (z_min + z_max)),
+                half: DVec3::new(
+                    f64::from(half) * spacing.dx + 2.0 * r,
+                    f64::from(half) * spacing.dy + 2.0 * r,
+                    0.5 * (z_max - z_min) + r,
+                ),
+            }
+        }
+    })
+}
+
+/// The signed life ℓ of a zone for an eye, in frames (see the module docs); +∞ without a zone.
+pub fn signed_life(zone: Option<&ZoneBox>, eye: DVec3, speed: SpeedBound) -> f64 {
+    let Some(zone) = zone else {
+        return f64::INFINITY;
+    };
+    let gaps = zone.gaps(eye);
+    let axis = |gap: f64, bound: f64| {
+        if bound > 0.0 {
+            gap / bound
+        } else if gap > 0.0 {
+            f64::INFINITY
+        } else {
+            f64::NEG_INFINITY
+        }
+    };
+    axis(gaps.x, speed.horizontal)
+        .max(axis(gaps.y, speed.horizontal))
+        .max(axis(gaps.z, speed.vertical))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::metrics::view_angle_error_px;
+
+    const SPEED: SpeedBound = SpeedBound {
+        horizontal: 10.0,
+        vertical: 5.0,
+    };
+
+    fn unit_zone() -> ZoneBox {
+        ZoneBox {
+            centre: DVec3::ZERO,
+            half: DVec3::new(20.0, 20.0, 10.0),
+        }
+    }
+
+    #[test]
+    fn life_counts_frames_to_the_zone_at_full_speed() {
+        let zone = unit_zone();
+        assert_eq!(signed_life(Some(&zone), DVec3::new(50.0, 0.0, 0.0), SPEED), 3.0);
+        assert_eq!(signed_life(Some(&zone), DVec3::new(0.0, 0.0, 20.0), SPEED), 2.0);
+        // Inside, −ℓ is the time to leave through the nearest face.
+        assert_eq!(signed_life(Some(&zone), DVec3::new(5.0, 0.0, 0.0), SPEED), -1.5);
+        assert_eq!(signed_life(None, DVec3::ZERO, SPEED), f64::INFINITY);
+    }
+
+    #[test]
+    fn the_paper_valid_life_is_the_formula_for_half_vertical_speed() {
+        // ValidLife(): d_h > 2 d_v ? (d_h − 2r)/v_h : (d_v − r)/v_v, with v_v = v_h/2.
+        let r = 10.0;
+        let zone = ZoneBox {
+            centre: DVec3::ZERO,
+            half: DVec3::new(2.0 * r, 2.0 * r, r),
+        };
+        for eye in [
+            DVec3::new(70.0, -30.0, 12.0),
+            DVec3::new(5.0, 3.0, 40.0),
+            DVec3::new(-15.0, 16.0, -9.0),
+        ] {
+            let d_h = eye.x.abs().max(eye.y.abs());
+            let d_v = eye.z.abs();
+            let paper = if d_h > 2.0 * d_v {
+                (d_h - 2.0 * r) / SPEED.horizontal
+            } else {
+                (d_v - r) / SPEED.vertical
+            };
+            assert!((signed_life(Some(&zone), eye, SPEED) - paper).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn zero_speed_bounds_give_infinite_lives() {
+        let still = SpeedBound {
+            horizontal: 0.0,
+            vertical: 0.0,
+        };
+        let zone = unit_zone();
+        assert_eq!(signed_life(Some(&zone), DVec3::new(50.0, 0.0, 0.0), still), f64::INFINITY);
+        assert_eq!(signed_life(Some(&zone), DVec3::ZERO, still), f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn the_zone_radius_handles_zero_and_huge_tolerances() {
+        assert_eq!(zone_radius(1.0, 0.0), f64::INFINITY);
+        assert_eq!(zone_radius(0.0, 0.0), 0.0);
+        assert_eq!(zone_radius(2.0, 10.0), 1.0);
+    }
+
+    #[test]
+    fn outside_the_paper_box_a_segment_subtends_less_than_theta() {
+        // Sample eyes on the box surface, slightly outside: the exact view angle is below θ.
+        let delta = 3.0;
+        let theta = 0.01;
+        let r = zone_radius(delta, theta);
+        let base = DVec3::new(0.0, 0.0, -delta / 2.0);
+        let centre = DVec3::ZERO;
+        let half = DVec3::new(2.0 * r, 2.0 * r, r) * 1.000001;
+        for k in 0..200 {
+            let t = k as f64 / 200.0 * std::f64::consts::TAU;
+            let u = (k as f64 * 0.37).sin();
+            for eye in [
+                centre + DVec3::new(half.x * t.cos().signum(), half.y * t.sin(), half.z * u),
+                centre + DVec3::new(half.x * t.cos(), half.y * u, half.z * t.sin().signum()),
+            ] {
+                let pixels = view_angle_error_px(eye, base, delta, 1.0);
+                assert!(pixels < theta, "eye {eye:?}: angle {pixels} ≥ θ {theta}");
+            }
+        }
+    }
+}
