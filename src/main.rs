@@ -1,3 +1,248 @@
-fn main() {
-    println!("Hello, world!");
+//! The `roamsim` command line: `run`, `validate`, `info`.
+//!
+//! A thin edge over the library: parse arguments, call `edge::session` or the experiment
+//! loader, print results and errors, set the exit status. A progress bar is drawn on stderr only
+//! when stderr is a terminal.
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use roamsim::edge::experiment;
+use roamsim::edge::session::{NoProgress, ProgressSink, RunOptions, run_experiment};
+use roamsim::edge::terrain_readers::{ReadOptions, format_from_extension, read_terrain};
+use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::terrain::embed::{Fit, embed};
+use roamsim::sim::terrain::fill::fill_voids;
+use roamsim::sim::terrain::{Heightfield, Spacing};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+const EXAMPLES: &str = "\
+Examples:
+  roamsim run experiments/quickstart.json
+      Runs the quickstart and writes out/quickstart/{frames.csv,summary.json,plots/}.
+  roamsim run experiments/quickstart.json --out results/qs --check
+      Same, into results/qs, validating every mesh every frame.
+  roamsim validate experiments/quickstart.json
+      Checks the experiment (and loads its terrain and flight) without running it.
+  roamsim info experiments/data/N48E009.hgt
+      Describes a terrain file and times its preprocessing.";
+
+/// Simulates view-dependent terrain LOD algorithms over replayed camera flights.
+#[derive(Parser)]
+#[command(version, about, after_help = EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run an experiment and write frames.csv, summary.json and plots.
+    #[command(after_help = EXAMPLES)]
+    Run {
+        /// The experiment file (JSON, format documented in docs/experiment-format.md).
+        experiment: PathBuf,
+        /// Output folder (default: out/<experiment name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Validate every algorithm's mesh after every frame (slower).
+        #[arg(long)]
+        check: bool,
+    },
+    /// Check an experiment file without running it; exits non-zero when it is invalid.
+    #[command(after_help = EXAMPLES)]
+    Validate { experiment: PathBuf },
+    /// Describe a terrain file or an experiment's terrain, with preprocessing time and memory.
+    #[command(after_help = EXAMPLES)]
+    Info {
+        /// An experiment (.json) or a terrain file (.hgt, .png, .tif, .tiff, .asc).
+        path: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run {
+            experiment,
+            out,
+            check,
+        } => run(&experiment, out, check),
+        Command::Validate { experiment } => validate(&experiment),
+        Command::Info { path } => info(&path),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(path: &Path, out: Option<PathBuf>, check: bool) -> Result<(), String> {
+    let options = RunOptions {
+        out_dir: out,
+        check_meshes: check,
+    };
+    let started = Instant::now();
+    let outcome = if std::io::stderr().is_terminal() {
+        run_experiment(path, &options, &mut BarProgress { bar: None })
+    } else {
+        run_experiment(path, &options, &mut NoProgress)
+    }
+    .map_err(|e| e.to_string())?;
+    if !outcome.speed_violation_frames.is_empty() {
+        let frames = &outcome.speed_violation_frames;
+        let shown: Vec<String> = frames.iter().take(10).map(u64::to_string).collect();
+        eprintln!(
+            "warning: {} frame(s) break the speed bounds (algorithms revalidated there): {}{}",
+            frames.len(),
+            shown.join(", "),
+            if frames.len() > 10 { ", …" } else { "" }
+        );
+    }
+    println!(
+        "{}: {} frames in {:.2} s (preprocessing {:.3} s); wrote {}",
+        outcome.experiment_name,
+        outcome.frames,
+        started.elapsed().as_secs_f64(),
+        outcome.preprocessing_seconds,
+        outcome.out_dir.display()
+    );
+    Ok(())
+}
+
+fn validate(path: &Path) -> Result<(), String> {
+    let experiment = experiment::load(path).map_err(|e| e.to_string())?;
+    println!(
+        "{}: valid — {} algorithm(s), {} frames, terrain {}² from {}",
+        path.display(),
+        experiment.algorithms.len(),
+        experiment.flight.n_frames(),
+        experiment.terrain.side,
+        experiment.terrain.source
+    );
+    if !experiment.violations.is_empty() {
+        println!(
+            "note: {} frame(s) break the speed bounds (first: frame {})",
+            experiment.violations.len(),
+            experiment.violations[0].frame
+        );
+    }
+    Ok(())
+}
+
+fn info(path: &Path) -> Result<(), String> {
+    let is_experiment = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let field = if is_experiment {
+        let experiment = experiment::load(path).map_err(|e| e.to_string())?;
+        let t = &experiment.terrain;
+        println!("terrain        {} ({})", t.source, t.format);
+        println!("source size    {} × {}", t.source_columns, t.source_rows);
+        println!(
+            "embedded       {}² (padding {} columns, {} rows; crop origin {:?})",
+            t.side, t.padded_columns, t.padded_rows, t.crop_origin
+        );
+        println!("voids filled   {}", t.voids_filled);
+        println!(
+            "spacing        dx {:.3} m, dy {:.3} m (from {})",
+            t.spacing.dx, t.spacing.dy, t.spacing_from
+        );
+        experiment.field
+    } else {
+        let format = format_from_extension(path).map_err(|e| e.to_string())?;
+        let loaded =
+            read_terrain(path, format, &ReadOptions::AS_STORED).map_err(|e| e.to_string())?;
+        println!("terrain        {}", path.display());
+        println!(
+            "source size    {} × {}",
+            loaded.grid.width(),
+            loaded.grid.height()
+        );
+        println!("voids          {}", loaded.grid.void_indices().len());
+        let spacing = match loaded.spacing {
+            Some(s) => {
+                println!(
+                    "spacing        dx {:.3} m, dy {:.3} m (from the file)",
+                    s.dx, s.dy
+                );
+                s
+            }
+            None => {
+                println!("spacing        not declared by the file (1 m assumed here)");
+                Spacing { dx: 1.0, dy: 1.0 }
+            }
+        };
+        let (filled, _) =
+            fill_voids(loaded.grid).map_err(|e| format!("{}: {e}", path.display()))?;
+        let (field, report) =
+            embed(&filled, Fit::Pad, spacing).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!(
+            "embedded       {}² by padding ({} columns, {} rows)",
+            report.side, report.padded_columns, report.padded_rows
+        );
+        field
+    };
+    describe_preprocessing(field);
+    Ok(())
+}
+
+fn describe_preprocessing(field: Heightfield) {
+    let (lo, hi) = field.height_range();
+    let n_samples = field.n_samples();
+    println!("heights        {lo} .. {hi} m");
+    let start = Instant::now();
+    let hierarchy = Hierarchy::new(field);
+    let seconds = start.elapsed().as_secs_f64();
+    println!(
+        "preprocessing  {:.3} s ({:.1} ns per sample, one O(samples) pass)",
+        seconds,
+        seconds * 1e9 / n_samples as f64
+    );
+    println!(
+        "memory         {:.2} bytes per sample (heights + Wu node errors and height ranges)",
+        hierarchy.bytes_per_sample()
+    );
+    let root = hierarchy.lattice().root();
+    println!(
+        "root error     {} m",
+        hierarchy.node_error(root, hierarchy.lattice().cells() / 2)
+    );
+}
+
+/// An indicatif bar per algorithm.
+struct BarProgress {
+    bar: Option<ProgressBar>,
+}
+
+impl ProgressSink for BarProgress {
+    fn start(&mut self, label: &str, total_frames: u64) {
+        let bar = ProgressBar::new(total_frames);
+        if let Ok(style) =
+            ProgressStyle::with_template("{msg:>24} [{bar:40}] {pos}/{len} frames ({eta})")
+        {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_message(label.to_string());
+        self.bar = Some(bar);
+    }
+
+    fn advance(&mut self, frames_done: u64) {
+        if let Some(bar) = &self.bar
+            && (frames_done % 16 == 0 || frames_done == bar.length().unwrap_or(0))
+        {
+            bar.set_position(frames_done);
+        }
+    }
+
+    fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish();
+        }
+    }
 }

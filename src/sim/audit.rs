@@ -46,7 +46,12 @@ impl Auditor {
     }
 
     /// Measures one frame's mesh.
-    pub fn audit(&mut self, hierarchy: &Hierarchy, mesh: &VertexSet, camera: &Camera) -> AuditFrame {
+    pub fn audit(
+        &mut self,
+        hierarchy: &Hierarchy,
+        mesh: &VertexSet,
+        camera: &Camera,
+    ) -> AuditFrame {
         self.rasterise(hierarchy, mesh);
         let field = hierarchy.field();
         let stride = self.stride;
@@ -222,7 +227,11 @@ mod tests {
             camera.settings,
         );
         let mut auditor = Auditor::new(&hierarchy, AuditSettings { stride: 2 });
-        let frame = auditor.audit(&hierarchy, &VertexSet::base_mesh(hierarchy.lattice()), &camera);
+        let frame = auditor.audit(
+            &hierarchy,
+            &VertexSet::base_mesh(hierarchy.lattice()),
+            &camera,
+        );
         assert_eq!(frame.samples_in_view, 0);
         assert_eq!(frame.view_angle, None);
     }

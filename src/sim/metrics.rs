@@ -142,18 +142,25 @@ mod tests {
         let pi_px = std::f64::consts::PI / pixel_angle;
         assert_eq!(on_end, pi_px);
         assert!((inside - pi_px).abs() < 1e-9);
-        assert_eq!(view_angle_error_px(DVec3::ZERO, DVec3::ZERO, 0.0, pixel_angle), 0.0);
+        assert_eq!(
+            view_angle_error_px(DVec3::ZERO, DVec3::ZERO, 0.0, pixel_angle),
+            0.0
+        );
     }
 
     #[test]
     fn vertical_projection_vanishes_straight_below_and_is_infinite_at_the_eye() {
         let eye = DVec3::new(0.0, 0.0, 100.0);
-        assert_eq!(vertical_projection_error_px(eye, DVec3::ZERO, 1.0, 500.0), 0.0);
+        assert_eq!(
+            vertical_projection_error_px(eye, DVec3::ZERO, 1.0, 500.0),
+            0.0
+        );
         assert_eq!(
             vertical_projection_error_px(eye, eye, 1.0, 500.0),
             f64::INFINITY
         );
-        let side = vertical_projection_error_px(DVec3::ZERO, DVec3::new(100.0, 0.0, 0.0), 1.0, 500.0);
+        let side =
+            vertical_projection_error_px(DVec3::ZERO, DVec3::new(100.0, 0.0, 0.0), 1.0, 500.0);
         assert!((side - 5.0).abs() < 1e-12);
     }
 
@@ -162,7 +169,8 @@ mod tests {
         let camera = camera_at(DVec3::ZERO, 0.0);
         let corner = DVec3::new(100.0, 0.0, 0.0);
         let px = wedgie_error_px(&camera, [corner; 3], 0.5);
-        let projected = projected_error_px(&camera, corner - DVec3::new(0.0, 0.0, 0.5), 1.0).unwrap();
+        let projected =
+            projected_error_px(&camera, corner - DVec3::new(0.0, 0.0, 0.5), 1.0).unwrap();
         assert!((px - projected).abs() < 1e-9, "{px} vs {projected}");
         let behind = wedgie_error_px(&camera, [DVec3::new(0.5, 0.0, 0.0); 3], 0.1);
         assert_eq!(behind, f64::INFINITY);

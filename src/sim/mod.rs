@@ -5,14 +5,14 @@
 //! returns values, so it cannot fail for reasons outside the simulation. The edges
 //! (`crate::edge`) read files, validate experiments, and write tables and plots.
 
-pub mod stats;
-pub mod terrain;
+pub mod algorithm;
+pub mod audit;
+pub mod flight;
 pub mod hierarchy;
 pub mod mesh;
 pub mod metrics;
+pub mod run;
+pub mod stats;
+pub mod terrain;
 pub mod view;
 pub mod zone;
-pub mod flight;
-pub mod algorithm;
-pub mod audit;
-pub mod run;

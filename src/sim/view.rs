@@ -95,9 +95,8 @@ impl Camera {
     /// Pixel coordinates (from the image centre, y up) of a camera-space point in front of the
     /// near plane, or `None` behind it.
     pub fn project_camera(&self, c: DVec3) -> Option<DVec2> {
-        (c.z >= self.settings.near).then(|| {
-            DVec2::new(c.x / c.z, c.y / c.z) * self.settings.pixels_per_unit()
-        })
+        (c.z >= self.settings.near)
+            .then(|| DVec2::new(c.x / c.z, c.y / c.z) * self.settings.pixels_per_unit())
     }
 
     /// Whether a world point lies inside the view volume (frustum between near and far).

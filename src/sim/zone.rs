@@ -151,10 +151,19 @@ mod tests {
     #[test]
     fn life_counts_frames_to_the_zone_at_full_speed() {
         let zone = unit_zone();
-        assert_eq!(signed_life(Some(&zone), DVec3::new(50.0, 0.0, 0.0), SPEED), 3.0);
-        assert_eq!(signed_life(Some(&zone), DVec3::new(0.0, 0.0, 20.0), SPEED), 2.0);
+        assert_eq!(
+            signed_life(Some(&zone), DVec3::new(50.0, 0.0, 0.0), SPEED),
+            3.0
+        );
+        assert_eq!(
+            signed_life(Some(&zone), DVec3::new(0.0, 0.0, 20.0), SPEED),
+            2.0
+        );
         // Inside, −ℓ is the time to leave through the nearest face.
-        assert_eq!(signed_life(Some(&zone), DVec3::new(5.0, 0.0, 0.0), SPEED), -1.5);
+        assert_eq!(
+            signed_life(Some(&zone), DVec3::new(5.0, 0.0, 0.0), SPEED),
+            -1.5
+        );
         assert_eq!(signed_life(None, DVec3::ZERO, SPEED), f64::INFINITY);
     }
 
@@ -189,8 +198,14 @@ mod tests {
             vertical: 0.0,
         };
         let zone = unit_zone();
-        assert_eq!(signed_life(Some(&zone), DVec3::new(50.0, 0.0, 0.0), still), f64::INFINITY);
-        assert_eq!(signed_life(Some(&zone), DVec3::ZERO, still), f64::NEG_INFINITY);
+        assert_eq!(
+            signed_life(Some(&zone), DVec3::new(50.0, 0.0, 0.0), still),
+            f64::INFINITY
+        );
+        assert_eq!(
+            signed_life(Some(&zone), DVec3::ZERO, still),
+            f64::NEG_INFINITY
+        );
     }
 
     #[test]

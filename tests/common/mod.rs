@@ -1,6 +1,9 @@
 //! Helpers shared by the integration tests: small terrains and scenes that read like the domain.
 
-#![allow(dead_code, reason = "each test binary uses a different subset of the helpers")]
+#![allow(
+    dead_code,
+    reason = "each test binary uses a different subset of the helpers"
+)]
 
 use glam::DVec3;
 use roamsim::sim::hierarchy::Hierarchy;

@@ -1,3 +1,8 @@
 //! Output writers: `frames.csv`, `summary.json`, plots, and the all-or-nothing output folder.
 
+pub mod atomic_dir;
+pub mod columns;
+pub mod frames_csv;
 pub mod plots;
+pub mod run_plots;
+pub mod summary_json;

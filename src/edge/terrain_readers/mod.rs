@@ -153,3 +153,225 @@ pub fn read_terrain(
         format,
     })
 }
+
+// ---------------------------------------------------------------------------------------------
+// Private helpers shared by the readers.
+// ---------------------------------------------------------------------------------------------
+
+/// Metres per degree of latitude: 60 nautical miles of 1852 m (a nautical mile is by definition
+/// one arc-minute of latitude on a sphere of mean radius). The true value ranges from 110 574 m at
+/// the equator to 111 694 m at the poles, so this is within 0.5 % everywhere; the readers use it
+/// only to derive grid spacing from geographic post spacing.
+const METRES_PER_DEGREE_LATITUDE: f64 = 111_120.0;
+
+/// The most a deflate (zlib) stream can expand: 1032 output bytes per input byte. A PNG whose
+/// header declares more sample bytes than this times its byte length cannot be genuine, so the
+/// readers refuse it before allocating.
+const DEFLATE_MAX_EXPANSION: usize = 1032;
+
+/// In which order the rows of a file are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FileRowOrder {
+    /// The first row in the file is the north edge (every north-up raster format).
+    NorthFirst,
+    /// The first row in the file is the south edge (raw files that say so).
+    SouthFirst,
+}
+
+/// How exactly a nodata marker is compared with stored values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StoredPrecision {
+    /// Stored values are integers or f64: compare with the marker as given.
+    Exact,
+    /// Stored values are f32: compare with the marker rounded to f32, as GDAL does for float32
+    /// bands (so "-3.4028235e+38" matches `f32::MIN` although the two differ as f64).
+    Float32,
+}
+
+/// Collects stored values in file order (row by row, west to east) and builds the south-up
+/// [`SampleGrid`]: it applies the height scale and offset, marks voids, flips north-first files,
+/// and names the file's own row and column in every error.
+///
+/// Allocates `columns × rows` f32 once, in [`SampleCollector::new`]; callers must have checked
+/// that size against the file's byte length first.
+struct SampleCollector<'a> {
+    path: &'a Path,
+    columns: usize,
+    rows: usize,
+    row_order: FileRowOrder,
+    height_scale: f64,
+    height_offset: f64,
+    /// Stored values that mark a void (the file's own and the caller's), already rounded to the
+    /// stored precision. A NaN marker matches every NaN.
+    void_markers: Vec<f64>,
+    heights: Vec<f32>,
+    void_indices: Vec<usize>,
+    n_collected: usize,
+}
+
+impl<'a> SampleCollector<'a> {
+    fn new(
+        path: &'a Path,
+        columns: usize,
+        rows: usize,
+        row_order: FileRowOrder,
+        precision: StoredPrecision,
+        file_nodata: Option<f64>,
+        options: &ReadOptions,
+    ) -> Result<SampleCollector<'a>, TerrainReadError> {
+        for (name, value) in [
+            ("height_scale", options.height_scale),
+            ("height_offset", options.height_offset),
+        ] {
+            if !value.is_finite() {
+                return Err(TerrainReadError::new(
+                    path,
+                    format!("the read option {name} is {value}; expected a finite number"),
+                ));
+            }
+        }
+        if columns < 3 || rows < 3 {
+            let error = crate::sim::terrain::SampleGridError::TooSmall {
+                width: columns,
+                height: rows,
+            };
+            return Err(TerrainReadError::new(path, error.to_string()));
+        }
+        let n_samples = columns.checked_mul(rows).ok_or_else(|| {
+            TerrainReadError::new(
+                path,
+                format!("a {columns}×{rows} grid has more samples than this machine can address"),
+            )
+        })?;
+        let mut heights = Vec::new();
+        heights.try_reserve_exact(n_samples).map_err(|error| {
+            TerrainReadError::new(
+                path,
+                format!("cannot allocate {columns}×{rows} heights: {error}"),
+            )
+        })?;
+        heights.resize(n_samples, 0.0_f32);
+        let void_markers = [file_nodata, options.nodata]
+            .into_iter()
+            .flatten()
+            .map(|marker| match precision {
+                StoredPrecision::Exact => marker,
+                StoredPrecision::Float32 => f64::from(marker as f32),
+            })
+            .collect();
+        Ok(SampleCollector {
+            path,
+            columns,
+            rows,
+            row_order,
+            height_scale: options.height_scale,
+            height_offset: options.height_offset,
+            void_markers,
+            heights,
+            void_indices: Vec::new(),
+            n_collected: 0,
+        })
+    }
+
+    /// Takes the next stored value in file order.
+    fn push(&mut self, stored: f64) -> Result<(), TerrainReadError> {
+        let file_row = self.n_collected / self.columns;
+        let column = self.n_collected % self.columns;
+        if file_row >= self.rows {
+            return Err(TerrainReadError::new(
+                self.path,
+                format!(
+                    "more than the {} × {} values the grid holds",
+                    self.columns, self.rows
+                ),
+            ));
+        }
+        let grid_row = match self.row_order {
+            FileRowOrder::NorthFirst => self.rows - 1 - file_row,
+            FileRowOrder::SouthFirst => file_row,
+        };
+        let index = grid_row * self.columns + column;
+        let is_void = self
+            .void_markers
+            .iter()
+            .any(|&marker| stored == marker || (stored.is_nan() && marker.is_nan()));
+        if is_void {
+            self.void_indices.push(index);
+        } else if !stored.is_finite() {
+            return Err(TerrainReadError::new(
+                self.path,
+                format!(
+                    "{}: the stored value is {stored}; expected a finite height or the nodata \
+                     value ({})",
+                    self.describe_position(file_row, column),
+                    self.describe_void_markers()
+                ),
+            ));
+        } else {
+            let height = stored * self.height_scale + self.height_offset;
+            let height_f32 = height as f32;
+            if !height_f32.is_finite() {
+                return Err(TerrainReadError::new(
+                    self.path,
+                    format!(
+                        "{}: the stored value {stored} gives the height {height} m \
+                         (value × height_scale + height_offset), which is outside the f32 range",
+                        self.describe_position(file_row, column)
+                    ),
+                ));
+            }
+            self.heights[index] = height_f32;
+        }
+        self.n_collected += 1;
+        Ok(())
+    }
+
+    /// "row 3 of 5 (counted from the north edge, as stored), column 2 of 4".
+    fn describe_position(&self, file_row: usize, column: usize) -> String {
+        describe_position(file_row, self.rows, column, self.columns, self.row_order)
+    }
+
+    fn describe_void_markers(&self) -> String {
+        if self.void_markers.is_empty() {
+            "none is declared".to_string()
+        } else {
+            let markers: Vec<String> = self.void_markers.iter().map(f64::to_string).collect();
+            markers.join(" or ")
+        }
+    }
+
+    /// Builds the grid once every value has been pushed.
+    fn finish(self) -> Result<SampleGrid, TerrainReadError> {
+        let expected = self.columns * self.rows;
+        if self.n_collected != expected {
+            return Err(TerrainReadError::new(
+                self.path,
+                format!(
+                    "the file holds {} of the {expected} values a {}×{} grid needs",
+                    self.n_collected, self.columns, self.rows
+                ),
+            ));
+        }
+        SampleGrid::new(self.columns, self.rows, self.heights, self.void_indices)
+            .map_err(|error| TerrainReadError::new(self.path, error.to_string()))
+    }
+}
+
+/// Names a sample by the file's own row and column, counted from 1.
+fn describe_position(
+    file_row: usize,
+    rows: usize,
+    column: usize,
+    columns: usize,
+    row_order: FileRowOrder,
+) -> String {
+    let edge = match row_order {
+        FileRowOrder::NorthFirst => "north",
+        FileRowOrder::SouthFirst => "south",
+    };
+    format!(
+        "row {} of {rows} (counted from the {edge} edge, as stored), column {} of {columns}",
+        file_row + 1,
+        column + 1
+    )
+}

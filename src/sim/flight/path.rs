@@ -190,7 +190,9 @@ fn check_waypoints(points: &[Waypoint]) -> Result<(), FlightError> {
 }
 
 fn waypoint_position(points: &[Waypoint], interpolation: Interpolation, frame: u64) -> DVec3 {
-    let k = points.partition_point(|w| w.frame <= frame).saturating_sub(1);
+    let k = points
+        .partition_point(|w| w.frame <= frame)
+        .saturating_sub(1);
     if k + 1 >= points.len() {
         return points[points.len() - 1].position;
     }

@@ -24,13 +24,11 @@ pub fn speed_violations(flight: &Flight, bound: SpeedBound) -> Vec<SpeedViolatio
             let d = pair[1].position - pair[0].position;
             let horizontal = d.truncate().length();
             let vertical = d.z.abs();
-            (horizontal > bound.horizontal || vertical > bound.vertical).then_some(
-                SpeedViolation {
-                    frame: k as u64 + 1,
-                    horizontal,
-                    vertical,
-                },
-            )
+            (horizontal > bound.horizontal || vertical > bound.vertical).then_some(SpeedViolation {
+                frame: k as u64 + 1,
+                horizontal,
+                vertical,
+            })
         })
         .collect()
 }

@@ -170,9 +170,15 @@ impl Lattice {
             }
             VertexClass::Rotated { half, horizontal } => {
                 let (a, b) = if horizontal {
-                    (self.offset(p, 0, -(half as i64)), self.offset(p, 0, half as i64))
+                    (
+                        self.offset(p, 0, -(half as i64)),
+                        self.offset(p, 0, half as i64),
+                    )
                 } else {
-                    (self.offset(p, -(half as i64), 0), self.offset(p, half as i64, 0))
+                    (
+                        self.offset(p, -(half as i64), 0),
+                        self.offset(p, half as i64, 0),
+                    )
                 };
                 out.extend_options(a, b);
             }
@@ -352,7 +358,8 @@ mod tests {
                     VertexClass::Corner => 0,
                     VertexClass::Square { .. } => 2,
                     VertexClass::Rotated { .. } => {
-                        let border = i == 0 || j == 0 || i == lattice.cells() || j == lattice.cells();
+                        let border =
+                            i == 0 || j == 0 || i == lattice.cells() || j == lattice.cells();
                         if border { 1 } else { 2 }
                     }
                 };
@@ -374,7 +381,8 @@ mod tests {
                 for parent in &lattice.parents(p) {
                     // Each apex is equidistant from both ends (a right isosceles triangle).
                     let d = |q: GridPoint| {
-                        (q.i as i64 - parent.i as i64).pow(2) + (q.j as i64 - parent.j as i64).pow(2)
+                        (q.i as i64 - parent.i as i64).pow(2)
+                            + (q.j as i64 - parent.j as i64).pow(2)
                     };
                     assert_eq!(d(a), d(b), "{p:?} parent {parent:?}");
                     assert_ne!(*parent, a);

@@ -198,13 +198,11 @@ impl Hierarchy {
 /// All square centres of half-size `half`.
 pub fn square_points(lattice: &Lattice, half: u32) -> impl Iterator<Item = GridPoint> + use<> {
     let cells = lattice.cells();
-    (half..cells)
-        .step_by(2 * half as usize)
-        .flat_map(move |j| {
-            (half..cells)
-                .step_by(2 * half as usize)
-                .map(move |i| GridPoint::new(i, j))
-        })
+    (half..cells).step_by(2 * half as usize).flat_map(move |j| {
+        (half..cells)
+            .step_by(2 * half as usize)
+            .map(move |i| GridPoint::new(i, j))
+    })
 }
 
 /// All rotated vertices of half-size `half` on horizontal (or vertical) edges.
@@ -244,7 +242,9 @@ mod tests {
     use crate::sim::terrain::Spacing;
 
     fn hierarchy(side: usize, height: impl Fn(usize, usize) -> f32) -> Hierarchy {
-        let heights = (0..side * side).map(|k| height(k % side, k / side)).collect();
+        let heights = (0..side * side)
+            .map(|k| height(k % side, k / side))
+            .collect();
         let field = Heightfield::new(side, heights, Spacing { dx: 1.0, dy: 1.0 }).unwrap();
         Hierarchy::new(field)
     }

@@ -14,7 +14,10 @@ pub enum MeshError {
     #[error("corner {corner:?} is not active")]
     MissingCorner { corner: GridPoint },
     #[error("vertex {vertex:?} is active but its parent {parent:?} is not (a crack)")]
-    NotClosed { vertex: GridPoint, parent: GridPoint },
+    NotClosed {
+        vertex: GridPoint,
+        parent: GridPoint,
+    },
     #[error("{enumerated} triangles enumerated, but 2 + Σ parents = {formula}")]
     CountMismatch { enumerated: u64, formula: u64 },
     #[error("the algorithm reports {reported} triangles; the mesh has {actual}")]

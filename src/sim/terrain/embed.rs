@@ -163,7 +163,14 @@ mod tests {
 
     #[test]
     fn a_crop_outside_the_grid_is_an_error() {
-        let error = embed(&ramp(10, 10), Fit::Crop { origin: Some((2, 0)) }, UNIT).unwrap_err();
+        let error = embed(
+            &ramp(10, 10),
+            Fit::Crop {
+                origin: Some((2, 0)),
+            },
+            UNIT,
+        )
+        .unwrap_err();
         assert!(matches!(error, EmbedError::CropOutside { column: 2, .. }));
     }
 }

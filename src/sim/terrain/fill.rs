@@ -56,7 +56,12 @@ pub fn fill_voids(grid: SampleGrid) -> Result<(SampleGrid, FillReport), FillErro
         }
     }
     let filled = SampleGrid::new(width, height, heights, Vec::new())?;
-    Ok((filled, FillReport { voids_filled: n_voids }))
+    Ok((
+        filled,
+        FillReport {
+            voids_filled: n_voids,
+        },
+    ))
 }
 
 #[cfg(test)]

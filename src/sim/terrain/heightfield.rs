@@ -37,7 +37,11 @@ pub enum HeightfieldError {
         found: usize,
     },
     #[error("height at column {column}, row {row} is {value}; heights must be finite")]
-    NotFinite { column: usize, row: usize, value: f32 },
+    NotFinite {
+        column: usize,
+        row: usize,
+        value: f32,
+    },
     #[error("grid spacing dx = {dx}, dy = {dy}; both must be finite and positive")]
     BadSpacing { dx: f64, dy: f64 },
     #[error("data extent {columns}×{rows} does not fit in side {side}")]

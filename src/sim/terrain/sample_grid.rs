@@ -26,8 +26,14 @@ pub enum SampleGridError {
         expected: usize,
         found: usize,
     },
-    #[error("sample at column {column}, row {row} (from the south-west) is {value}; heights must be finite")]
-    NotFinite { column: usize, row: usize, value: f32 },
+    #[error(
+        "sample at column {column}, row {row} (from the south-west) is {value}; heights must be finite"
+    )]
+    NotFinite {
+        column: usize,
+        row: usize,
+        value: f32,
+    },
     #[error("void index {index} is outside the {width}×{height} grid")]
     VoidOutside {
         index: usize,

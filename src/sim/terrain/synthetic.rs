@@ -47,7 +47,11 @@ pub fn generate(params: &SyntheticTerrain) -> Result<Heightfield, HeightfieldErr
         }
         // Square step: edge midpoints from their (up to four) diamond neighbours.
         for j in (0..side).step_by(half) {
-            let first = if (j / half) % 2 == 0 { half } else { 0 };
+            let first = if (j / half).is_multiple_of(2) {
+                half
+            } else {
+                0
+            };
             for i in (first..side).step_by(step) {
                 let mut sum = 0.0;
                 let mut count = 0.0;

@@ -1,0 +1,265 @@
+//! The experiment file as written: serde types for format version 1, nothing checked yet
+//! beyond JSON types and unknown fields. `docs/experiment-format.md` documents every field.
+//!
+//! Field names carry their units (`_m`, `_deg`, `_px`, `_m_per_frame`). Algorithm entries are
+//! kept as raw JSON here and decoded per algorithm in `validate`, so a bad parameter is reported
+//! with the entry's own path.
+
+use serde::Deserialize;
+use serde_json::{Map, Value};
+
+/// The only format version this build reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentFile {
+    pub format_version: u32,
+    pub name: String,
+    #[serde(default)]
+    pub description: Option<String>,
+    pub terrain: TerrainEntry,
+    pub view: ViewEntry,
+    pub speed_bounds: SpeedBoundsEntry,
+    pub flight: FlightEntry,
+    pub algorithms: Vec<AlgorithmEntry>,
+    #[serde(default)]
+    pub effects: EffectsEntry,
+    #[serde(default)]
+    pub outputs: OutputsEntry,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum TerrainEntry {
+    File(TerrainFileEntry),
+    Synthetic(SyntheticEntry),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainFileEntry {
+    /// Relative to the experiment file's folder.
+    pub path: String,
+    #[serde(default)]
+    pub format: Option<TerrainFormatEntry>,
+    #[serde(default)]
+    pub height_scale: Option<f64>,
+    #[serde(default)]
+    pub height_offset_m: Option<f64>,
+    #[serde(default)]
+    pub nodata: Option<f64>,
+    #[serde(default)]
+    pub spacing_m: Option<SpacingEntry>,
+    pub fit: FitEntry,
+    #[serde(default)]
+    pub crop_origin: Option<[usize; 2]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum TerrainFormatEntry {
+    Hgt,
+    Png,
+    Geotiff,
+    AsciiGrid,
+    Raw(RawEntry),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawEntry {
+    pub columns: usize,
+    pub rows: usize,
+    pub sample: RawSampleEntry,
+    pub north_first: bool,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum RawSampleEntry {
+    I16le,
+    I16be,
+    U16le,
+    U16be,
+    F32le,
+    F32be,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum FitEntry {
+    Pad,
+    Crop,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct SpacingEntry {
+    pub dx: f64,
+    pub dy: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SyntheticEntry {
+    /// Side 2^level + 1.
+    pub level: u32,
+    pub seed: u64,
+    pub amplitude_m: f64,
+    pub roughness: f64,
+    pub spacing_m: SpacingEntry,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViewEntry {
+    pub width_px: u32,
+    pub height_px: u32,
+    pub fovy_deg: f64,
+    pub near_m: f64,
+    pub far_m: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedBoundsEntry {
+    pub horizontal_m_per_frame: f64,
+    pub vertical_m_per_frame: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlightEntry {
+    /// Required for parametric paths; waypoints and recorded logs bring their own.
+    #[serde(default)]
+    pub frames: Option<u64>,
+    #[serde(default)]
+    pub look: Option<LookEntry>,
+    pub path: PathEntry,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum LookEntry {
+    AlongPath { pitch_deg: f64 },
+    At { target_m: [f64; 3] },
+    Fixed { yaw_deg: f64, pitch_deg: f64 },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum PathEntry {
+    Circle {
+        centre_m: [f64; 2],
+        radius_m: f64,
+        altitude_m: f64,
+        frames_per_lap: f64,
+        #[serde(default)]
+        phase_deg: f64,
+    },
+    /// A circle whose camera always looks at `target_m`.
+    Orbit {
+        centre_m: [f64; 2],
+        radius_m: f64,
+        altitude_m: f64,
+        frames_per_lap: f64,
+        target_m: [f64; 3],
+        #[serde(default)]
+        phase_deg: f64,
+    },
+    Line {
+        from_m: [f64; 3],
+        to_m: [f64; 3],
+    },
+    Spiral {
+        centre_m: [f64; 2],
+        radius_start_m: f64,
+        radius_end_m: f64,
+        altitude_start_m: f64,
+        altitude_end_m: f64,
+        turns: f64,
+        #[serde(default)]
+        phase_deg: f64,
+    },
+    Waypoints {
+        points: Vec<WaypointEntry>,
+        interpolation: InterpolationEntry,
+    },
+    /// A recorded camera log (CSV), relative to the experiment file's folder.
+    Recorded {
+        path: String,
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WaypointEntry {
+    pub frame: u64,
+    pub position_m: [f64; 3],
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum InterpolationEntry {
+    Linear,
+    CatmullRom,
+}
+
+/// `{"name": "...", "label": "...", <the algorithm's parameters>}`.
+#[derive(Debug, Deserialize)]
+pub struct AlgorithmEntry {
+    pub name: String,
+    #[serde(default)]
+    pub label: Option<String>,
+    #[serde(flatten)]
+    pub parameters: Map<String, Value>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceParameters {
+    pub tau_px: f64,
+    #[serde(default)]
+    pub zone: Option<ZoneEntry>,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum ZoneEntry {
+    Paper,
+    Conservative,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EffectsEntry {
+    /// Absent: no audit.
+    #[serde(default)]
+    pub audit: Option<AuditEntry>,
+    #[serde(default)]
+    pub culling: bool,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AuditEntry {
+    pub stride: u32,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputsEntry {
+    #[serde(default = "yes")]
+    pub plots: bool,
+}
+
+impl Default for OutputsEntry {
+    fn default() -> OutputsEntry {
+        OutputsEntry { plots: true }
+    }
+}
+
+fn yes() -> bool {
+    true
+}

@@ -1,0 +1,65 @@
+//! Experiment files: parse (what the file says), validate (is it meaningful?), load (terrain read
+//! and preprocessed inputs, flight built and checked against the speed bounds).
+//!
+//! Every error names the file, the field path (`flight.path.circle.radius_m`,
+//! `algorithms[1].tau_px`) and what was expected. Validation reports every semantic problem at
+//! once; reading the terrain or a flight log stops at the first. Nothing runs before all of this
+//! has passed. The format is documented in `docs/experiment-format.md`.
+
+mod format;
+mod validate;
+
+pub use format::FORMAT_VERSION;
+pub use validate::{AlgorithmSpec, Experiment, TerrainReport, load};
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// One thing wrong with an experiment file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FieldProblem {
+    /// Path of the field, e.g. `view.fovy_deg` or `algorithms[0].label`; empty for the file.
+    pub field: String,
+    pub problem: String,
+}
+
+/// An experiment file that cannot run, with everything found wrong in it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExperimentError {
+    pub file: PathBuf,
+    pub problems: Vec<FieldProblem>,
+}
+
+impl ExperimentError {
+    pub(crate) fn single(
+        file: &std::path::Path,
+        field: impl Into<String>,
+        problem: impl Into<String>,
+    ) -> ExperimentError {
+        ExperimentError {
+            file: file.to_path_buf(),
+            problems: vec![FieldProblem {
+                field: field.into(),
+                problem: problem.into(),
+            }],
+        }
+    }
+}
+
+impl fmt::Display for ExperimentError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (k, p) in self.problems.iter().enumerate() {
+            if k > 0 {
+                writeln!(f)?;
+            }
+            if p.field.is_empty() {
+                write!(f, "{}: {}", self.file.display(), p.problem)?;
+            } else {
+                write!(f, "{}: {}: {}", self.file.display(), p.field, p.problem)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for ExperimentError {}

@@ -1,0 +1,813 @@
+//! From the experiment file's text to a runnable [`Experiment`].
+//!
+//! Stage 1 parses JSON into the format types (serde reports the field path of a type error).
+//! Stage 2 checks meaning, collecting every problem with its field path. Stage 3 does the IO:
+//! reads the terrain (or generates it), fills voids, embeds it, reads a recorded flight, builds
+//! the flight and checks it against the speed bounds.
+
+use super::format::{
+    AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
+    LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry, TerrainFormatEntry,
+    ZoneEntry,
+};
+use super::{ExperimentError, FieldProblem};
+use crate::edge::flight_log::read_flight_log;
+use crate::edge::terrain_readers::{
+    RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
+};
+use crate::sim::algorithm::{AlgorithmConfig, ReferenceConfig, SplitThreshold};
+use crate::sim::audit::AuditSettings;
+use crate::sim::flight::{
+    Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, speed_violations,
+};
+use crate::sim::run::Effects;
+use crate::sim::terrain::embed::{Fit, embed};
+use crate::sim::terrain::fill::fill_voids;
+use crate::sim::terrain::synthetic::{SyntheticTerrain, generate};
+use crate::sim::terrain::{Heightfield, Spacing};
+use crate::sim::view::ViewSettings;
+use crate::sim::zone::{SpeedBound, ZoneVariant};
+use glam::{DVec2, DVec3};
+use serde_json::Value;
+use sha2::{Digest, Sha256};
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+/// Algorithms this build knows, as the experiment file names them.
+pub const KNOWN_ALGORITHMS: &[&str] = &["reference"];
+
+/// A validated, loaded experiment: everything a run needs.
+pub struct Experiment {
+    pub name: String,
+    pub description: Option<String>,
+    pub file: PathBuf,
+    /// SHA-256 of the experiment file's bytes, hex.
+    pub content_sha256: String,
+    pub field: Heightfield,
+    pub terrain: TerrainReport,
+    pub view: ViewSettings,
+    pub speed: SpeedBound,
+    pub flight: Flight,
+    pub flight_kind: &'static str,
+    pub violations: Vec<SpeedViolation>,
+    pub algorithms: Vec<AlgorithmSpec>,
+    pub effects: Effects,
+    pub plots: bool,
+}
+
+/// One algorithm entry: its label, configuration and the parameters as written.
+pub struct AlgorithmSpec {
+    pub label: String,
+    pub config: AlgorithmConfig,
+    pub parameters: Value,
+}
+
+/// Where the terrain came from and what was done to it, for the run metadata.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TerrainReport {
+    /// The file (as written in the experiment) or `synthetic`.
+    pub source: String,
+    pub format: String,
+    pub source_columns: usize,
+    pub source_rows: usize,
+    pub side: usize,
+    pub padded_columns: usize,
+    pub padded_rows: usize,
+    pub crop_origin: Option<(usize, usize)>,
+    pub voids_filled: usize,
+    pub spacing: Spacing,
+    /// `file`, `experiment` or `synthetic`.
+    pub spacing_from: &'static str,
+    pub height_min_m: f32,
+    pub height_max_m: f32,
+}
+
+/// Reads, validates and loads an experiment file.
+pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
+    let bytes = std::fs::read(path).map_err(|error| {
+        ExperimentError::single(path, "", format!("cannot read the file: {error}"))
+    })?;
+    let parsed = parse(path, &bytes)?;
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let checked = check(path, &parsed)?;
+    let (field, terrain) = load_terrain(path, folder, &parsed.terrain)?;
+    let flight = build_flight(path, folder, &parsed.flight)?;
+    let violations = speed_violations(&flight, checked.speed);
+    Ok(Experiment {
+        name: parsed.name,
+        description: parsed.description,
+        file: path.to_path_buf(),
+        content_sha256: hex(&Sha256::digest(&bytes)),
+        field,
+        terrain,
+        view: checked.view,
+        speed: checked.speed,
+        flight,
+        flight_kind: path_kind(&parsed.flight.path),
+        violations,
+        algorithms: checked.algorithms,
+        effects: checked.effects,
+        plots: parsed.outputs.plots,
+    })
+}
+
+fn parse(path: &Path, bytes: &[u8]) -> Result<ExperimentFile, ExperimentError> {
+    let deserializer = &mut serde_json::Deserializer::from_slice(bytes);
+    serde_path_to_error::deserialize(deserializer).map_err(|error| {
+        let field = error.path().to_string();
+        let field = if field == "." { String::new() } else { field };
+        ExperimentError::single(path, field, error.into_inner().to_string())
+    })
+}
+
+struct Checked {
+    view: ViewSettings,
+    speed: SpeedBound,
+    algorithms: Vec<AlgorithmSpec>,
+    effects: Effects,
+}
+
+/// Stage 2: every semantic problem, with its field path.
+fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, ExperimentError> {
+    let mut problems = Problems::default();
+    if file.format_version != FORMAT_VERSION {
+        problems.add(
+            "format_version",
+            format!(
+                "{} is not a version this build reads: expected {FORMAT_VERSION}",
+                file.format_version
+            ),
+        );
+    }
+    if file.name.is_empty()
+        || !file
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        || file.name.starts_with('.')
+    {
+        problems.add(
+            "name",
+            format!(
+                "{:?}: expected a non-empty name of letters, digits, '-', '_' and '.' \
+                 (it names the output folder), not starting with '.'",
+                file.name
+            ),
+        );
+    }
+    check_terrain(&file.terrain, &mut problems);
+    let view = &file.view;
+    problems.positive_int("view.width_px", view.width_px);
+    problems.positive_int("view.height_px", view.height_px);
+    if !(view.fovy_deg > 0.0 && view.fovy_deg < 180.0) {
+        problems.add(
+            "view.fovy_deg",
+            format!(
+                "{}: expected an angle strictly between 0 and 180",
+                view.fovy_deg
+            ),
+        );
+    }
+    problems.positive("view.near_m", view.near_m);
+    if !(view.far_m > view.near_m && view.far_m.is_finite()) {
+        problems.add(
+            "view.far_m",
+            format!(
+                "{}: expected a finite distance beyond near_m ({})",
+                view.far_m, view.near_m
+            ),
+        );
+    }
+    let bounds = &file.speed_bounds;
+    problems.non_negative(
+        "speed_bounds.horizontal_m_per_frame",
+        bounds.horizontal_m_per_frame,
+    );
+    problems.non_negative(
+        "speed_bounds.vertical_m_per_frame",
+        bounds.vertical_m_per_frame,
+    );
+    check_flight(&file.flight, &mut problems);
+    let algorithms = check_algorithms(&file.algorithms, &mut problems);
+    if let Some(audit) = &file.effects.audit {
+        problems.positive_int("effects.audit.stride", audit.stride);
+    }
+    if !problems.list.is_empty() {
+        return Err(ExperimentError {
+            file: path.to_path_buf(),
+            problems: problems.list,
+        });
+    }
+    Ok(Checked {
+        view: ViewSettings {
+            width_px: view.width_px,
+            height_px: view.height_px,
+            fovy: view.fovy_deg.to_radians(),
+            near: view.near_m,
+            far: view.far_m,
+        },
+        speed: SpeedBound {
+            horizontal: bounds.horizontal_m_per_frame,
+            vertical: bounds.vertical_m_per_frame,
+        },
+        algorithms,
+        effects: Effects {
+            audit: file
+                .effects
+                .audit
+                .as_ref()
+                .map(|a| AuditSettings { stride: a.stride }),
+            culling: file.effects.culling,
+            check_meshes: false,
+        },
+    })
+}
+
+#[derive(Default)]
+struct Problems {
+    list: Vec<FieldProblem>,
+}
+
+impl Problems {
+    fn add(&mut self, field: impl Into<String>, problem: impl Into<String>) {
+        self.list.push(FieldProblem {
+            field: field.into(),
+            problem: problem.into(),
+        });
+    }
+
+    fn positive(&mut self, field: &str, value: f64) {
+        if !(value > 0.0 && value.is_finite()) {
+            self.add(field, format!("{value}: expected a finite number above 0"));
+        }
+    }
+
+    fn non_negative(&mut self, field: &str, value: f64) {
+        if !(value >= 0.0 && value.is_finite()) {
+            self.add(
+                field,
+                format!("{value}: expected a finite number of at least 0"),
+            );
+        }
+    }
+
+    fn finite(&mut self, field: &str, values: &[f64]) {
+        if values.iter().any(|v| !v.is_finite()) {
+            self.add(field, format!("{values:?}: expected finite numbers"));
+        }
+    }
+
+    fn positive_int(&mut self, field: &str, value: u32) {
+        if value == 0 {
+            self.add(field, "0: expected at least 1");
+        }
+    }
+}
+
+fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
+    match terrain {
+        TerrainEntry::File(file) => {
+            if let Some(scale) = file.height_scale
+                && !(scale.is_finite() && scale != 0.0)
+            {
+                problems.add(
+                    "terrain.file.height_scale",
+                    format!("{scale}: expected a finite, non-zero number of metres per unit"),
+                );
+            }
+            if let Some(offset) = file.height_offset_m {
+                problems.finite("terrain.file.height_offset_m", &[offset]);
+            }
+            if let Some(spacing) = file.spacing_m {
+                problems.positive("terrain.file.spacing_m.dx", spacing.dx);
+                problems.positive("terrain.file.spacing_m.dy", spacing.dy);
+            }
+            if file.crop_origin.is_some() && matches!(file.fit, FitEntry::Pad) {
+                problems.add(
+                    "terrain.file.crop_origin",
+                    "a crop origin was given but fit is \"pad\": expected fit \"crop\"",
+                );
+            }
+            if let Some(TerrainFormatEntry::Raw(raw)) = &file.format
+                && (raw.columns < 3 || raw.rows < 3)
+            {
+                problems.add(
+                    "terrain.file.format.raw",
+                    format!(
+                        "{}×{}: expected at least 3×3 samples",
+                        raw.columns, raw.rows
+                    ),
+                );
+            }
+        }
+        TerrainEntry::Synthetic(synthetic) => {
+            if !(1..=14).contains(&synthetic.level) {
+                problems.add(
+                    "terrain.synthetic.level",
+                    format!(
+                        "{}: expected 1 to 14 (side 2^level + 1, 3 to 16385)",
+                        synthetic.level
+                    ),
+                );
+            }
+            problems.non_negative("terrain.synthetic.amplitude_m", synthetic.amplitude_m);
+            if !(0.0..=1.0).contains(&synthetic.roughness) {
+                problems.add(
+                    "terrain.synthetic.roughness",
+                    format!(
+                        "{}: expected a Hurst exponent in [0, 1]",
+                        synthetic.roughness
+                    ),
+                );
+            }
+            problems.positive("terrain.synthetic.spacing_m.dx", synthetic.spacing_m.dx);
+            problems.positive("terrain.synthetic.spacing_m.dy", synthetic.spacing_m.dy);
+        }
+    }
+}
+
+/// Longest flight accepted, in frames (beyond it the pose table alone needs gigabytes).
+const MAX_FRAMES: u64 = 20_000_000;
+
+fn check_flight(flight: &FlightEntry, problems: &mut Problems) {
+    let own_frames = matches!(
+        flight.path,
+        PathEntry::Waypoints { .. } | PathEntry::Recorded { .. }
+    );
+    match (flight.frames, own_frames) {
+        (Some(_), true) => problems.add(
+            "flight.frames",
+            "waypoint and recorded flights bring their own frame count: expected no frames field",
+        ),
+        (None, false) => problems.add(
+            "flight.frames",
+            "missing: expected the number of frames to fly",
+        ),
+        (Some(frames), false) if frames == 0 || frames > MAX_FRAMES => problems.add(
+            "flight.frames",
+            format!("{frames}: expected 1 to {MAX_FRAMES}"),
+        ),
+        _ => {}
+    }
+    match (&flight.look, &flight.path) {
+        (Some(_), PathEntry::Orbit { .. } | PathEntry::Recorded { .. }) => problems.add(
+            "flight.look",
+            "orbit and recorded flights set their own view direction: expected no look field",
+        ),
+        (None, PathEntry::Orbit { .. } | PathEntry::Recorded { .. }) => {}
+        (None, _) => problems.add("flight.look", "missing: expected along_path, at or fixed"),
+        (Some(look), _) => match look {
+            LookEntry::AlongPath { pitch_deg } => {
+                check_pitch("flight.look.along_path", *pitch_deg, problems)
+            }
+            LookEntry::At { target_m } => problems.finite("flight.look.at.target_m", target_m),
+            LookEntry::Fixed { yaw_deg, pitch_deg } => {
+                problems.finite("flight.look.fixed.yaw_deg", &[*yaw_deg]);
+                check_pitch("flight.look.fixed", *pitch_deg, problems);
+            }
+        },
+    }
+    match &flight.path {
+        PathEntry::Circle {
+            centre_m,
+            radius_m,
+            altitude_m,
+            frames_per_lap,
+            phase_deg,
+        }
+        | PathEntry::Orbit {
+            centre_m,
+            radius_m,
+            altitude_m,
+            frames_per_lap,
+            phase_deg,
+            ..
+        } => {
+            let kind = path_kind(&flight.path);
+            problems.finite(&format!("flight.path.{kind}.centre_m"), centre_m);
+            problems.non_negative(&format!("flight.path.{kind}.radius_m"), *radius_m);
+            problems.finite(&format!("flight.path.{kind}.altitude_m"), &[*altitude_m]);
+            problems.positive(
+                &format!("flight.path.{kind}.frames_per_lap"),
+                *frames_per_lap,
+            );
+            problems.finite(&format!("flight.path.{kind}.phase_deg"), &[*phase_deg]);
+            if let PathEntry::Orbit { target_m, .. } = &flight.path {
+                problems.finite("flight.path.orbit.target_m", target_m);
+            }
+        }
+        PathEntry::Line { from_m, to_m } => {
+            problems.finite("flight.path.line.from_m", from_m);
+            problems.finite("flight.path.line.to_m", to_m);
+        }
+        PathEntry::Spiral {
+            centre_m,
+            radius_start_m,
+            radius_end_m,
+            altitude_start_m,
+            altitude_end_m,
+            turns,
+            phase_deg,
+        } => {
+            problems.finite("flight.path.spiral.centre_m", centre_m);
+            problems.non_negative("flight.path.spiral.radius_start_m", *radius_start_m);
+            problems.non_negative("flight.path.spiral.radius_end_m", *radius_end_m);
+            problems.finite(
+                "flight.path.spiral",
+                &[*altitude_start_m, *altitude_end_m, *turns, *phase_deg],
+            );
+        }
+        PathEntry::Waypoints { points, .. } => {
+            if points.len() < 2 {
+                problems.add(
+                    "flight.path.waypoints.points",
+                    format!("{} waypoints: expected at least 2", points.len()),
+                );
+            }
+            if let Some(first) = points.first()
+                && first.frame != 0
+            {
+                problems.add(
+                    "flight.path.waypoints.points[0].frame",
+                    format!("{}: expected the first waypoint at frame 0", first.frame),
+                );
+            }
+            for (k, pair) in points.windows(2).enumerate() {
+                if pair[1].frame <= pair[0].frame {
+                    problems.add(
+                        format!("flight.path.waypoints.points[{}].frame", k + 1),
+                        format!(
+                            "{}: expected a frame after the previous waypoint's ({})",
+                            pair[1].frame, pair[0].frame
+                        ),
+                    );
+                }
+            }
+            if let Some(last) = points.last()
+                && last.frame >= MAX_FRAMES
+            {
+                problems.add(
+                    format!("flight.path.waypoints.points[{}].frame", points.len() - 1),
+                    format!("{}: expected a frame below {MAX_FRAMES}", last.frame),
+                );
+            }
+            for (k, point) in points.iter().enumerate() {
+                problems.finite(
+                    &format!("flight.path.waypoints.points[{k}].position_m"),
+                    &point.position_m,
+                );
+            }
+        }
+        PathEntry::Recorded { .. } => {}
+    }
+}
+
+fn check_pitch(field: &str, pitch_deg: f64, problems: &mut Problems) {
+    if !(-90.0..=90.0).contains(&pitch_deg) {
+        problems.add(
+            format!("{field}.pitch_deg"),
+            format!("{pitch_deg}: expected an angle from -90 to 90"),
+        );
+    }
+}
+
+fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<AlgorithmSpec> {
+    if entries.is_empty() {
+        problems.add("algorithms", "empty: expected at least one algorithm");
+    }
+    let mut labels = HashSet::new();
+    let mut specs = Vec::new();
+    for (k, entry) in entries.iter().enumerate() {
+        let label = entry.label.clone().unwrap_or_else(|| entry.name.clone());
+        if label.is_empty() || label.contains(['\n', '\r']) {
+            problems.add(
+                format!("algorithms[{k}].label"),
+                format!("{label:?}: expected a non-empty, single-line label"),
+            );
+        } else if !labels.insert(label.clone()) {
+            problems.add(
+                format!("algorithms[{k}].label"),
+                format!(
+                    "{label:?} is already used by an earlier entry: expected unique labels \
+                     (give this entry a \"label\")"
+                ),
+            );
+        }
+        let parameters = Value::Object(entry.parameters.clone());
+        let config = match entry.name.as_str() {
+            "reference" => decode::<ReferenceParameters>(k, &parameters, problems).and_then(|p| {
+                check_tau(k, p.tau_px, problems)?;
+                Some(AlgorithmConfig::Reference(ReferenceConfig {
+                    tau_px: p.tau_px,
+                    zone: zone_variant(p.zone),
+                    threshold: SplitThreshold::LifeAtMost(0.0),
+                }))
+            }),
+            other => {
+                problems.add(
+                    format!("algorithms[{k}].name"),
+                    format!(
+                        "{other:?} is not an algorithm this build knows: expected one of {}",
+                        KNOWN_ALGORITHMS.join(", ")
+                    ),
+                );
+                None
+            }
+        };
+        if let Some(config) = config {
+            specs.push(AlgorithmSpec {
+                label,
+                config,
+                parameters,
+            });
+        }
+    }
+    specs
+}
+
+fn decode<T: serde::de::DeserializeOwned>(
+    index: usize,
+    parameters: &Value,
+    problems: &mut Problems,
+) -> Option<T> {
+    serde_path_to_error::deserialize(parameters)
+        .map_err(|error| {
+            let inner = error.path().to_string();
+            let field = if inner == "." {
+                format!("algorithms[{index}]")
+            } else {
+                format!("algorithms[{index}].{inner}")
+            };
+            problems.add(field, error.into_inner().to_string());
+        })
+        .ok()
+}
+
+fn check_tau(index: usize, tau_px: f64, problems: &mut Problems) -> Option<()> {
+    if tau_px >= 0.0 && tau_px.is_finite() {
+        Some(())
+    } else {
+        problems.add(
+            format!("algorithms[{index}].tau_px"),
+            format!("{tau_px}: expected a finite tolerance of at least 0 pixels"),
+        );
+        None
+    }
+}
+
+fn zone_variant(zone: Option<ZoneEntry>) -> ZoneVariant {
+    match zone {
+        Some(ZoneEntry::Paper) => ZoneVariant::Paper,
+        Some(ZoneEntry::Conservative) | None => ZoneVariant::Conservative,
+    }
+}
+
+fn path_kind(path: &PathEntry) -> &'static str {
+    match path {
+        PathEntry::Circle { .. } => "circle",
+        PathEntry::Orbit { .. } => "orbit",
+        PathEntry::Line { .. } => "line",
+        PathEntry::Spiral { .. } => "spiral",
+        PathEntry::Waypoints { .. } => "waypoints",
+        PathEntry::Recorded { .. } => "recorded",
+    }
+}
+
+/// Stage 3a: the terrain, read or generated, filled and embedded.
+fn load_terrain(
+    experiment: &Path,
+    folder: &Path,
+    entry: &TerrainEntry,
+) -> Result<(Heightfield, TerrainReport), ExperimentError> {
+    match entry {
+        TerrainEntry::Synthetic(s) => {
+            let spacing = Spacing {
+                dx: s.spacing_m.dx,
+                dy: s.spacing_m.dy,
+            };
+            let field = generate(&SyntheticTerrain {
+                level: s.level,
+                seed: s.seed,
+                amplitude: s.amplitude_m,
+                roughness: s.roughness,
+                spacing,
+            })
+            .map_err(|e| ExperimentError::single(experiment, "terrain.synthetic", e.to_string()))?;
+            let (lo, hi) = field.height_range();
+            let side = field.side();
+            let report = TerrainReport {
+                source: format!("synthetic (diamond-square, seed {})", s.seed),
+                format: "synthetic".to_string(),
+                source_columns: side,
+                source_rows: side,
+                side,
+                padded_columns: 0,
+                padded_rows: 0,
+                crop_origin: None,
+                voids_filled: 0,
+                spacing,
+                spacing_from: "synthetic",
+                height_min_m: lo,
+                height_max_m: hi,
+            };
+            Ok((field, report))
+        }
+        TerrainEntry::File(file) => {
+            let path = folder.join(&file.path);
+            let field_error =
+                |problem: String| ExperimentError::single(experiment, "terrain.file", problem);
+            let format = match &file.format {
+                None => format_from_extension(&path).map_err(|e| field_error(e.to_string()))?,
+                Some(TerrainFormatEntry::Hgt) => TerrainFormat::Hgt,
+                Some(TerrainFormatEntry::Png) => TerrainFormat::Png,
+                Some(TerrainFormatEntry::Geotiff) => TerrainFormat::GeoTiff,
+                Some(TerrainFormatEntry::AsciiGrid) => TerrainFormat::AsciiGrid,
+                Some(TerrainFormatEntry::Raw(raw)) => TerrainFormat::Raw(RawLayout {
+                    columns: raw.columns,
+                    rows: raw.rows,
+                    sample: raw_sample(raw.sample),
+                    north_first: raw.north_first,
+                }),
+            };
+            let options = ReadOptions {
+                height_scale: file.height_scale.unwrap_or(1.0),
+                height_offset: file.height_offset_m.unwrap_or(0.0),
+                nodata: file.nodata,
+            };
+            let loaded =
+                read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
+            let (spacing, spacing_from) = match (file.spacing_m, loaded.spacing) {
+                (Some(s), _) => (Spacing { dx: s.dx, dy: s.dy }, "experiment"),
+                (None, Some(s)) => (s, "file"),
+                (None, None) => {
+                    return Err(ExperimentError::single(
+                        experiment,
+                        "terrain.file.spacing_m",
+                        format!(
+                            "{} does not declare its grid spacing: expected spacing_m {{dx, dy}} in metres",
+                            path.display()
+                        ),
+                    ));
+                }
+            };
+            let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
+            let (filled, fill) = fill_voids(loaded.grid)
+                .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
+            let fit = match file.fit {
+                FitEntry::Pad => Fit::Pad,
+                FitEntry::Crop => Fit::Crop {
+                    origin: file.crop_origin.map(|[i, j]| (i, j)),
+                },
+            };
+            let (field, embedded) = embed(&filled, fit, spacing)
+                .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
+            let (lo, hi) = field.height_range();
+            let report = TerrainReport {
+                source: file.path.clone(),
+                format: format_name(format).to_string(),
+                source_columns,
+                source_rows,
+                side: field.side(),
+                padded_columns: embedded.padded_columns,
+                padded_rows: embedded.padded_rows,
+                crop_origin: embedded.crop_origin,
+                voids_filled: fill.voids_filled,
+                spacing,
+                spacing_from,
+                height_min_m: lo,
+                height_max_m: hi,
+            };
+            Ok((field, report))
+        }
+    }
+}
+
+fn raw_sample(sample: RawSampleEntry) -> RawSample {
+    match sample {
+        RawSampleEntry::I16le => RawSample::I16Le,
+        RawSampleEntry::I16be => RawSample::I16Be,
+        RawSampleEntry::U16le => RawSample::U16Le,
+        RawSampleEntry::U16be => RawSample::U16Be,
+        RawSampleEntry::F32le => RawSample::F32Le,
+        RawSampleEntry::F32be => RawSample::F32Be,
+    }
+}
+
+fn format_name(format: TerrainFormat) -> &'static str {
+    match format {
+        TerrainFormat::Hgt => "hgt",
+        TerrainFormat::Png => "png",
+        TerrainFormat::GeoTiff => "geotiff",
+        TerrainFormat::AsciiGrid => "ascii_grid",
+        TerrainFormat::Raw(_) => "raw",
+    }
+}
+
+/// Stage 3b: the flight, with a recorded log read from its file.
+fn build_flight(
+    experiment: &Path,
+    folder: &Path,
+    entry: &FlightEntry,
+) -> Result<Flight, ExperimentError> {
+    let v2 = |a: [f64; 2]| DVec2::new(a[0], a[1]);
+    let v3 = |a: [f64; 3]| DVec3::new(a[0], a[1], a[2]);
+    let mut look = match entry.look {
+        Some(LookEntry::AlongPath { pitch_deg }) => Look::AlongPath {
+            pitch: pitch_deg.to_radians(),
+        },
+        Some(LookEntry::At { target_m }) => Look::At {
+            target: v3(target_m),
+        },
+        Some(LookEntry::Fixed { yaw_deg, pitch_deg }) => Look::Fixed {
+            yaw: yaw_deg.to_radians(),
+            pitch: pitch_deg.to_radians(),
+        },
+        None => Look::Fixed {
+            yaw: 0.0,
+            pitch: 0.0,
+        },
+    };
+    let path = match &entry.path {
+        PathEntry::Circle {
+            centre_m,
+            radius_m,
+            altitude_m,
+            frames_per_lap,
+            phase_deg,
+        } => FlightPath::Circle {
+            centre: v2(*centre_m),
+            radius: *radius_m,
+            altitude: *altitude_m,
+            frames_per_lap: *frames_per_lap,
+            phase: phase_deg.to_radians(),
+        },
+        PathEntry::Orbit {
+            centre_m,
+            radius_m,
+            altitude_m,
+            frames_per_lap,
+            target_m,
+            phase_deg,
+        } => {
+            look = Look::At {
+                target: v3(*target_m),
+            };
+            FlightPath::Circle {
+                centre: v2(*centre_m),
+                radius: *radius_m,
+                altitude: *altitude_m,
+                frames_per_lap: *frames_per_lap,
+                phase: phase_deg.to_radians(),
+            }
+        }
+        PathEntry::Line { from_m, to_m } => FlightPath::Line {
+            from: v3(*from_m),
+            to: v3(*to_m),
+        },
+        PathEntry::Spiral {
+            centre_m,
+            radius_start_m,
+            radius_end_m,
+            altitude_start_m,
+            altitude_end_m,
+            turns,
+            phase_deg,
+        } => FlightPath::Spiral {
+            centre: v2(*centre_m),
+            radius_start: *radius_start_m,
+            radius_end: *radius_end_m,
+            altitude_start: *altitude_start_m,
+            altitude_end: *altitude_end_m,
+            turns: *turns,
+            phase: phase_deg.to_radians(),
+        },
+        PathEntry::Waypoints {
+            points,
+            interpolation,
+        } => FlightPath::Waypoints {
+            points: points
+                .iter()
+                .map(|w| Waypoint {
+                    frame: w.frame,
+                    position: v3(w.position_m),
+                })
+                .collect(),
+            interpolation: match interpolation {
+                InterpolationEntry::Linear => Interpolation::Linear,
+                InterpolationEntry::CatmullRom => Interpolation::CatmullRom,
+            },
+        },
+        PathEntry::Recorded { path } => {
+            let poses = read_flight_log(&folder.join(path)).map_err(|e| {
+                ExperimentError::single(experiment, "flight.path.recorded.path", e.to_string())
+            })?;
+            FlightPath::Recorded { poses }
+        }
+    };
+    Flight::new(&path, &look, entry.frames.unwrap_or(0))
+        .map_err(|e| ExperimentError::single(experiment, "flight", e.to_string()))
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}

@@ -1,0 +1,114 @@
+//! `summary.json`: per algorithm, mean/p50/p95/max of every numeric column, plus the run's
+//! metadata. Format version 1 is documented in `docs/output-formats.md`.
+
+use super::columns::{RunColumns, numeric_columns, value};
+use crate::edge::experiment::Experiment;
+use crate::sim::stats::summarise;
+use serde_json::{Map, Value, json};
+
+/// The format version of `summary.json`.
+pub const SUMMARY_FORMAT_VERSION: u32 = 1;
+
+/// Most speed violations listed one by one (the count is always exact).
+pub const MAX_LISTED_VIOLATIONS: usize = 10_000;
+
+/// Facts measured while preparing the run.
+pub struct Preprocessing {
+    pub seconds: f64,
+    pub bytes_per_sample: f64,
+}
+
+/// The whole document.
+pub fn summary_json(
+    experiment: &Experiment,
+    preprocessing: &Preprocessing,
+    runs: &[RunColumns],
+    parameters: &[Value],
+    names: &[&str],
+) -> Value {
+    let audited = experiment.effects.audit.is_some();
+    let columns = numeric_columns(runs, audited);
+    let algorithms: Vec<Value> = runs
+        .iter()
+        .zip(parameters)
+        .zip(names)
+        .map(|((run, parameters), name)| {
+            let mut summaries = Map::new();
+            for column in &columns {
+                let values: Vec<f64> = run
+                    .frames
+                    .iter()
+                    .filter_map(|f| value(run, f, column))
+                    .collect();
+                if let Some(s) = summarise(&values) {
+                    summaries.insert(
+                        column.to_string(),
+                        json!({"mean": s.mean, "p50": s.p50, "p95": s.p95, "max": s.max}),
+                    );
+                }
+            }
+            json!({
+                "label": run.label,
+                "name": name,
+                "parameters": parameters,
+                "frames": run.frames.len(),
+                "columns": summaries,
+            })
+        })
+        .collect();
+    let terrain = &experiment.terrain;
+    let violations: Vec<Value> = experiment
+        .violations
+        .iter()
+        .take(MAX_LISTED_VIOLATIONS)
+        .map(|v| json!({"frame": v.frame, "horizontal_m": v.horizontal, "vertical_m": v.vertical}))
+        .collect();
+    json!({
+        "format_version": SUMMARY_FORMAT_VERSION,
+        "roamsim_version": env!("CARGO_PKG_VERSION"),
+        "experiment": {
+            "name": experiment.name,
+            "description": experiment.description,
+            "file": experiment.file.display().to_string(),
+            "content_sha256": experiment.content_sha256,
+        },
+        "terrain": {
+            "source": terrain.source,
+            "format": terrain.format,
+            "source_columns": terrain.source_columns,
+            "source_rows": terrain.source_rows,
+            "side": terrain.side,
+            "padded_columns": terrain.padded_columns,
+            "padded_rows": terrain.padded_rows,
+            "crop_origin": terrain.crop_origin.map(|(i, j)| [i, j]),
+            "voids_filled": terrain.voids_filled,
+            "spacing_m": {"dx": terrain.spacing.dx, "dy": terrain.spacing.dy},
+            "spacing_from": terrain.spacing_from,
+            "height_range_m": [terrain.height_min_m, terrain.height_max_m],
+            "preprocessing_seconds": preprocessing.seconds,
+            "bytes_per_sample": preprocessing.bytes_per_sample,
+        },
+        "view": {
+            "width_px": experiment.view.width_px,
+            "height_px": experiment.view.height_px,
+            "fovy_deg": experiment.view.fovy.to_degrees(),
+            "near_m": experiment.view.near,
+            "far_m": experiment.view.far,
+        },
+        "flight": {
+            "kind": experiment.flight_kind,
+            "frames": experiment.flight.n_frames(),
+            "speed_bounds": {
+                "horizontal_m_per_frame": experiment.speed.horizontal,
+                "vertical_m_per_frame": experiment.speed.vertical,
+            },
+            "speed_violation_count": experiment.violations.len(),
+            "speed_violations": violations,
+        },
+        "effects": {
+            "audit": experiment.effects.audit.map(|a| json!({"stride": a.stride})),
+            "culling": experiment.effects.culling,
+        },
+        "algorithms": algorithms,
+    })
+}
