@@ -234,7 +234,7 @@ impl ProgressSink for BarProgress {
 
     fn advance(&mut self, frames_done: u64) {
         if let Some(bar) = &self.bar
-            && (frames_done % 16 == 0 || frames_done == bar.length().unwrap_or(0))
+            && (frames_done.is_multiple_of(16) || frames_done == bar.length().unwrap_or(0))
         {
             bar.set_position(frames_done);
         }

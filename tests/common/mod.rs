@@ -5,6 +5,8 @@
     reason = "each test binary uses a different subset of the helpers"
 )]
 
+pub mod experiment;
+
 use glam::DVec3;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::terrain::{Heightfield, Spacing};

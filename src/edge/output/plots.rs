@@ -33,6 +33,7 @@
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{FontStyle, register_font};
@@ -99,8 +100,8 @@ pub struct PlotError {
 
 /// Writes `<dir>/<stem>.png` (1200×700) and `<dir>/<stem>.svg`; `dir` must exist.
 ///
-/// One colour per series from a fixed palette, in series order (it repeats after
-/// [`PALETTE`]`.len()` series); a legend to the right of the plot lists the series labels, and
+/// One colour per series from a fixed palette of eight, in series order (it repeats from the
+/// ninth series on); a legend to the right of the plot lists the series labels, and
 /// each marker is a dashed grey line with its label just right of the plot.
 pub fn write_line_chart(dir: &Path, stem: &str, chart: &LineChart) -> Result<(), PlotError> {
     write_png_and_svg(dir, stem, &LinePlan::new(chart))
@@ -124,7 +125,7 @@ pub const DECIMATION_COLUMNS: usize = 1200;
 
 /// Series colours, used in order and repeated: the Tableau-10 colours without grey (grey is kept
 /// for markers and grid lines) and without the pale yellow, which is hard to see on white.
-pub const PALETTE: [RGBColor; 8] = [
+const PALETTE: [RGBColor; 8] = [
     RGBColor(0x1f, 0x77, 0xb4), // blue
     RGBColor(0xff, 0x7f, 0x0e), // orange
     RGBColor(0x2c, 0xa0, 0x2c), // green
@@ -165,6 +166,7 @@ const SCATTER_FRONT_COLOR: RGBColor = PALETTE[3];
 /// Fractions of the data span added on each side of an axis.
 const X_MARGIN: f64 = 0.02;
 const Y_MARGIN: f64 = 0.06;
+const SCATTER_X_MARGIN: f64 = 0.04;
 /// Extra room right of and above scatter points, for their labels.
 const SCATTER_LABEL_ROOM_X: f64 = 0.12;
 const SCATTER_LABEL_ROOM_Y: f64 = 0.08;
@@ -176,6 +178,7 @@ const RELATIVE_SPAN_EPSILON: f64 = 1e-12;
 const LEGEND_MAX_TEXT_WIDTH: u32 = 320;
 const MARKER_MAX_TEXT_WIDTH: u32 = 180;
 const LEGEND_ROW_HEIGHT: i32 = 26;
+const TITLE_BAND_HEIGHT: i32 = 52;
 const LEGEND_SWATCH_WIDTH: i32 = 28;
 const LEGEND_PADDING: i32 = 12;
 const PANEL_GAP: i32 = 10;
@@ -191,7 +194,51 @@ trait Drawing {
     fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
+        target: RenderTarget,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>;
+}
+
+/// Which kind of backend a chart is drawn on. Two plotters raster quirks are worked around on
+/// the PNG only, since an SVG viewer places text and joins lines itself:
+/// - the `ab_glyph` rasterizer puts the baseline half a font size below the anchor, so text
+///   anchored at its vertical centre comes out about a fifth of the font size too high;
+/// - lines wider than one pixel are filled as polygons with unbounded inner joins, which throw
+///   spikes far beyond the data where a line turns sharply (every frame-by-frame zigzag does).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RenderTarget {
+    Raster,
+    Vector,
+}
+
+impl RenderTarget {
+    /// Pixels to add to the y of a vertically centred text so that it looks centred.
+    fn text_center_nudge(self, font_size: f64) -> i32 {
+        match self {
+            RenderTarget::Raster => (0.22 * font_size).round() as i32,
+            RenderTarget::Vector => 0,
+        }
+    }
+
+    /// Draws a two-pixel-wide line through `pixels` (backend coordinates): one SVG polyline, or
+    /// on a raster three one-pixel lines offset by a pixel, which have no joins to spike.
+    fn draw_wide_line<DB: DrawingBackend>(
+        self,
+        root: &DrawingArea<DB, Shift>,
+        pixels: &[(i32, i32)],
+        color: RGBColor,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        match self {
+            RenderTarget::Vector => root.draw(&PathElement::new(pixels, color.stroke_width(2))),
+            RenderTarget::Raster => {
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1)] {
+                    let shifted: Vec<(i32, i32)> =
+                        pixels.iter().map(|&(x, y)| (x + dx, y + dy)).collect();
+                    root.draw(&PathElement::new(shifted, color.stroke_width(1)))?;
+                }
+                Ok(())
+            }
+        }
+    }
 }
 
 /// Draws `drawing` twice, into a pixel buffer and into an SVG string, then writes both files.
@@ -210,7 +257,7 @@ fn write_png_and_svg(dir: &Path, stem: &str, drawing: &impl Drawing) -> Result<(
     {
         let root = BitMapBackend::with_buffer(&mut pixels, IMAGE_SIZE).into_drawing_area();
         drawing
-            .draw(&root)
+            .draw(&root, RenderTarget::Raster)
             .and_then(|()| root.present())
             .map_err(|error| PlotError::new(&png_path, error.to_string()))?;
     }
@@ -221,7 +268,7 @@ fn write_png_and_svg(dir: &Path, stem: &str, drawing: &impl Drawing) -> Result<(
     {
         let root = SVGBackend::with_string(&mut svg, IMAGE_SIZE).into_drawing_area();
         drawing
-            .draw(&root)
+            .draw(&root, RenderTarget::Vector)
             .and_then(|()| root.present())
             .map_err(|error| PlotError::new(&svg_path, error.to_string()))?;
     }
@@ -267,12 +314,15 @@ struct LinePlan<'a> {
     series: Vec<PlannedSeries<'a>>,
     /// Only markers with a plottable y.
     markers: Vec<&'a Marker>,
+    /// Whether any series has a plottable point.
+    has_data: bool,
 }
 
 struct PlannedSeries<'a> {
     label: &'a str,
     color: RGBColor,
-    /// Unbroken runs of plottable points; a run of one point is drawn as a dot.
+    /// Unbroken, non-empty runs of plottable points; a run of one point (or of one point
+    /// repeated) is drawn as a dot.
     runs: Vec<Vec<(f64, f64)>>,
 }
 
@@ -296,6 +346,7 @@ impl<'a> LinePlan<'a> {
         for marker in &markers {
             y_bounds.include(marker.y);
         }
+        let has_data = x_bounds.min_max.is_some();
         let x_range = padded_range(x_bounds, X_MARGIN, X_MARGIN);
         let y_range = padded_range(y_bounds, Y_MARGIN, Y_MARGIN);
 
@@ -317,6 +368,7 @@ impl<'a> LinePlan<'a> {
             y_range,
             series,
             markers,
+            has_data,
         }
     }
 
@@ -340,9 +392,10 @@ impl Drawing for LinePlan<'_> {
     fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
+        target: RenderTarget,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
-        let body = root.titled(self.title, text_style(TITLE_FONT_SIZE))?;
+        let body = draw_title(root, self.title, target)?;
 
         let legend = Legend::measure(root, self.legend_entries())?;
         let marker_style = text_style(MARKER_FONT_SIZE).color(&MARKER_COLOR);
@@ -368,12 +421,24 @@ impl Drawing for LinePlan<'_> {
             .margin_bottom(10)
             .margin_left(14)
             .margin_right(if right_panel_width > 0 { 8 } else { 30 })
-            .x_label_area_size(62)
+            .x_label_area_size(56)
             .y_label_area_size(y_label_area)
             .build_cartesian_2d(self.x_range.clone(), self.y_range.clone())?;
         let format_x = |x: &f64| x_format.label(*x);
         let format_y = |y: &f64| y_format.label(*y);
-        configure_axes(&mut chart, self.x_label, self.y_label, &format_x, &format_y)?;
+        configure_axes(
+            &mut chart,
+            AxisTexts {
+                x_label: self.x_label,
+                y_label: self.y_label,
+                format_x: &format_x,
+                format_y: &format_y,
+            },
+            target,
+        )?;
+        if !self.has_data {
+            draw_no_data_note(root, chart.plotting_area().get_pixel_range(), target)?;
+        }
 
         let dash_style = MARKER_COLOR.stroke_width(1);
         for marker in &self.markers {
@@ -382,12 +447,14 @@ impl Drawing for LinePlan<'_> {
         }
 
         for series in &self.series {
-            let line_style = series.color.stroke_width(2);
             for run in &series.runs {
-                if let [only_point] = run.as_slice() {
-                    chart.draw_series([Circle::new(*only_point, 3, series.color.filled())])?;
+                // A run whose points all coincide has no length to draw: show it as a dot.
+                if run.iter().all(|point| *point == run[0]) {
+                    chart.draw_series([Circle::new(run[0], 3, series.color.filled())])?;
                 } else {
-                    chart.draw_series(LineSeries::new(run.iter().copied(), line_style))?;
+                    let pixels: Vec<(i32, i32)> =
+                        run.iter().map(|point| chart.backend_coord(point)).collect();
+                    target.draw_wide_line(root, &pixels, series.color)?;
                 }
             }
         }
@@ -402,16 +469,17 @@ impl Drawing for LinePlan<'_> {
         let (_, marker_text_height) = root.estimate_text_size("Mg", &marker_style)?;
         let rows = spread_apart(&wanted_rows, marker_text_height as i32 + 2, &plot_pixels_y);
         let marker_style = marker_style.pos(Pos::new(HPos::Left, VPos::Center));
+        let nudge = target.text_center_nudge(MARKER_FONT_SIZE);
         for (label, row) in marker_labels.iter().zip(rows) {
             root.draw(&Text::new(
                 label.as_str(),
-                (marker_label_x, row),
+                (marker_label_x, row + nudge),
                 marker_style.clone(),
             ))?;
         }
 
         let legend_x = plot_pixels_x.end + marker_panel_width + PANEL_GAP;
-        legend.draw(root, (legend_x, plot_pixels_y.start))
+        legend.draw(root, (legend_x, plot_pixels_y.start), target)
     }
 }
 
@@ -522,9 +590,16 @@ struct ScatterPlan<'a> {
     x_range: Range<f64>,
     y_range: Range<f64>,
     log_x: bool,
-    /// Drawable points with their label, and whether they lie on the front.
-    points: Vec<(&'a str, (f64, f64), bool)>,
+    /// Only the drawable points.
+    points: Vec<PlannedPoint<'a>>,
+    /// The drawable front points, in front order.
     front: Vec<(f64, f64)>,
+}
+
+struct PlannedPoint<'a> {
+    label: &'a str,
+    position: (f64, f64),
+    on_front: bool,
 }
 
 impl<'a> ScatterPlan<'a> {
@@ -533,15 +608,22 @@ impl<'a> ScatterPlan<'a> {
         let drawable = |point: &ScatterPoint| -> bool {
             is_plottable(point.x) && is_plottable(point.y) && (!log_x || point.x > 0.0)
         };
-        let on_front: Vec<bool> = (0..chart.points.len())
-            .map(|point_idx| chart.front.contains(&point_idx))
-            .collect();
-        let points: Vec<(&str, (f64, f64), bool)> = chart
+        let mut on_front = vec![false; chart.points.len()];
+        for &point_idx in chart.front {
+            if let Some(flag) = on_front.get_mut(point_idx) {
+                *flag = true;
+            }
+        }
+        let points: Vec<PlannedPoint> = chart
             .points
             .iter()
             .zip(on_front)
             .filter(|(point, _)| drawable(point))
-            .map(|(point, on_front)| (point.label.as_str(), (point.x, point.y), on_front))
+            .map(|(point, on_front)| PlannedPoint {
+                label: &point.label,
+                position: (point.x, point.y),
+                on_front,
+            })
             .collect();
         let front = chart
             .front
@@ -553,11 +635,17 @@ impl<'a> ScatterPlan<'a> {
 
         let mut x_bounds = Bounds::default();
         let mut y_bounds = Bounds::default();
-        for (_, (x, y), _) in &points {
-            x_bounds.include(if log_x { x.log10() } else { *x });
-            y_bounds.include(*y);
+        for point in &points {
+            let (x, y) = point.position;
+            x_bounds.include(if log_x { x.log10() } else { x });
+            y_bounds.include(y);
         }
-        let x_range = padded_range(x_bounds, 0.04, 0.04 + SCATTER_LABEL_ROOM_X);
+        // On a logarithmic axis the margins are fractions of the span in decades.
+        let x_range = padded_range(
+            x_bounds,
+            SCATTER_X_MARGIN,
+            SCATTER_X_MARGIN + SCATTER_LABEL_ROOM_X,
+        );
         let x_range = if log_x {
             let decades = with_a_whole_decade(x_range);
             10f64.powf(decades.start)..10f64.powf(decades.end)
@@ -580,8 +668,10 @@ impl<'a> ScatterPlan<'a> {
     /// Everything after the coordinate system is chosen, for either kind of x axis.
     fn draw_on<DB, X>(
         &self,
-        chart: &mut ChartContext<'_, DB, Cartesian2d<X, plotters::coord::types::RangedCoordf64>>,
-        x_format: &dyn Fn(&f64) -> String,
+        root: &DrawingArea<DB, Shift>,
+        chart: &mut ChartContext<'_, DB, Cartesian2d<X, RangedCoordf64>>,
+        format_x: &dyn Fn(&f64) -> String,
+        target: RenderTarget,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
     where
         DB: DrawingBackend,
@@ -589,27 +679,38 @@ impl<'a> ScatterPlan<'a> {
     {
         let y_format = TickFormat::for_linear_range(&self.y_range);
         let format_y = |y: &f64| y_format.label(*y);
-        configure_axes(chart, self.x_label, self.y_label, x_format, &format_y)?;
+        let texts = AxisTexts {
+            x_label: self.x_label,
+            y_label: self.y_label,
+            format_x,
+            format_y: &format_y,
+        };
+        configure_axes(chart, texts, target)?;
+        if self.points.is_empty() {
+            draw_no_data_note(root, chart.plotting_area().get_pixel_range(), target)?;
+        }
 
         if self.front.len() > 1 {
-            chart.draw_series(LineSeries::new(
-                self.front.iter().copied(),
-                SCATTER_FRONT_COLOR.stroke_width(2),
-            ))?;
+            let pixels: Vec<(i32, i32)> = self
+                .front
+                .iter()
+                .map(|point| chart.backend_coord(point))
+                .collect();
+            target.draw_wide_line(root, &pixels, SCATTER_FRONT_COLOR)?;
         }
         let label_style = text_style(POINT_LABEL_FONT_SIZE)
             .color(&TEXT_COLOR)
             .pos(Pos::new(HPos::Left, VPos::Bottom));
-        for (label, point, on_front) in &self.points {
-            let color = if *on_front {
+        for point in &self.points {
+            let color = if point.on_front {
                 SCATTER_FRONT_COLOR
             } else {
                 SCATTER_POINT_COLOR
             };
-            let marker = EmptyElement::at(*point)
+            let marker = EmptyElement::at(point.position)
                 + Circle::new((0, 0), 6, color.filled())
                 + Circle::new((0, 0), 6, WHITE.stroke_width(1))
-                + Text::new(label.to_string(), (8, -6), label_style.clone());
+                + Text::new(point.label.to_string(), (8, -6), label_style.clone());
             chart.draw_series([marker])?;
         }
         Ok(())
@@ -620,9 +721,10 @@ impl Drawing for ScatterPlan<'_> {
     fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
+        target: RenderTarget,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
-        let body = root.titled(self.title, text_style(TITLE_FONT_SIZE))?;
+        let body = draw_title(root, self.title, target)?;
         let y_format = TickFormat::for_linear_range(&self.y_range);
         let y_label_area = y_label_area_width(root, &y_format, &self.y_range)?;
         let mut builder = ChartBuilder::on(&body);
@@ -631,17 +733,17 @@ impl Drawing for ScatterPlan<'_> {
             .margin_bottom(10)
             .margin_left(14)
             .margin_right(30)
-            .x_label_area_size(62)
+            .x_label_area_size(56)
             .y_label_area_size(y_label_area);
         if self.log_x {
             let mut chart = builder
                 .build_cartesian_2d(self.x_range.clone().log_scale(), self.y_range.clone())?;
-            self.draw_on(&mut chart, &|x: &f64| log_tick_label(*x))
+            self.draw_on(root, &mut chart, &|x: &f64| log_tick_label(*x), target)
         } else {
             let x_format = TickFormat::for_linear_range(&self.x_range);
             let mut chart =
                 builder.build_cartesian_2d(self.x_range.clone(), self.y_range.clone())?;
-            self.draw_on(&mut chart, &|x: &f64| x_format.label(*x))
+            self.draw_on(root, &mut chart, &|x: &f64| x_format.label(*x), target)
         }
     }
 }
@@ -693,7 +795,7 @@ fn padded_range(bounds: Bounds, low_margin: f64, high_margin: f64) -> Range<f64>
     };
     let magnitude = min.abs().max(max.abs());
     let span = max - min;
-    if span <= magnitude * RELATIVE_SPAN_EPSILON || span == 0.0 {
+    if span <= magnitude * RELATIVE_SPAN_EPSILON {
         let middle = min / 2.0 + max / 2.0;
         let half_band = if magnitude == 0.0 {
             1.0
@@ -809,12 +911,52 @@ fn y_label_area_width<DB: DrawingBackend>(
     Ok(widest_label + desc_height + 28)
 }
 
+/// Draws the title centred in a band at the top and returns the area below the band.
+fn draw_title<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    target: RenderTarget,
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let (width, _) = root.dim_in_pixel();
+    let style = text_style(TITLE_FONT_SIZE);
+    let title = fit_text(root, title, &style, width.saturating_sub(40))?;
+    let style = style.pos(Pos::new(HPos::Center, VPos::Center));
+    let center = (
+        width as i32 / 2,
+        TITLE_BAND_HEIGHT / 2 + target.text_center_nudge(TITLE_FONT_SIZE),
+    );
+    root.draw(&Text::new(title, center, style))?;
+    Ok(root.split_vertically(TITLE_BAND_HEIGHT).1)
+}
+
+/// Writes "no data" in the middle of an empty plot, so that it does not look like a bug.
+fn draw_no_data_note<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    (plot_x, plot_y): (Range<i32>, Range<i32>),
+    target: RenderTarget,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let style = text_style(AXIS_DESC_FONT_SIZE)
+        .color(&MARKER_COLOR)
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    let center = (
+        (plot_x.start + plot_x.end) / 2,
+        (plot_y.start + plot_y.end) / 2 + target.text_center_nudge(AXIS_DESC_FONT_SIZE),
+    );
+    root.draw(&Text::new("no data", center, style))
+}
+
+/// The axis descriptions and tick label formatters of one chart.
+struct AxisTexts<'a> {
+    x_label: &'a str,
+    y_label: &'a str,
+    format_x: &'a dyn Fn(&f64) -> String,
+    format_y: &'a dyn Fn(&f64) -> String,
+}
+
 fn configure_axes<DB, X>(
-    chart: &mut ChartContext<'_, DB, Cartesian2d<X, plotters::coord::types::RangedCoordf64>>,
-    x_label: &str,
-    y_label: &str,
-    format_x: &dyn Fn(&f64) -> String,
-    format_y: &dyn Fn(&f64) -> String,
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, RangedCoordf64>>,
+    texts: AxisTexts,
+    target: RenderTarget,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
 where
     DB: DrawingBackend,
@@ -822,12 +964,13 @@ where
 {
     chart
         .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
+        .x_desc(texts.x_label)
+        .y_desc(texts.y_label)
         .x_labels(10)
         .y_labels(10)
-        .x_label_formatter(format_x)
-        .y_label_formatter(format_y)
+        .x_label_formatter(texts.format_x)
+        .y_label_formatter(texts.format_y)
+        .y_label_offset(target.text_center_nudge(TICK_FONT_SIZE))
         .label_style(text_style(TICK_FONT_SIZE))
         .axis_desc_style(text_style(AXIS_DESC_FONT_SIZE))
         .axis_style(AXIS_COLOR.stroke_width(1))
@@ -912,6 +1055,7 @@ impl Legend {
         &self,
         root: &DrawingArea<DB, Shift>,
         (left, top): (i32, i32),
+        target: RenderTarget,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         if self.entries.is_empty() {
             return Ok(());
@@ -934,7 +1078,10 @@ impl Legend {
             ))?;
             root.draw(&Text::new(
                 entry.text.as_str(),
-                (swatch_left + LEGEND_SWATCH_WIDTH + 8, row_center),
+                (
+                    swatch_left + LEGEND_SWATCH_WIDTH + 8,
+                    row_center + target.text_center_nudge(LEGEND_FONT_SIZE),
+                ),
                 style.clone(),
             ))?;
         }
@@ -943,7 +1090,7 @@ impl Legend {
 }
 
 /// The text itself if it is at most `max_width` pixels wide, else its longest prefix that fits
-/// with an ellipsis appended.
+/// with an ellipsis appended (found by bisection, so a huge label costs a few measurements).
 fn fit_text<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     text: &str,
@@ -953,15 +1100,21 @@ fn fit_text<DB: DrawingBackend>(
     if root.estimate_text_size(text, style)?.0 <= max_width {
         return Ok(text.to_string());
     }
-    let mut kept: Vec<char> = text.chars().collect();
-    while !kept.is_empty() {
-        kept.pop();
-        let candidate: String = kept.iter().chain(['…'].iter()).collect();
-        if root.estimate_text_size(&candidate, style)?.0 <= max_width {
-            return Ok(candidate);
+    let chars: Vec<char> = text.chars().collect();
+    let shortened =
+        |n_kept: usize| -> String { chars[..n_kept].iter().chain(['…'].iter()).collect() };
+    // Invariant: `n_fitting` chars plus the ellipsis fit (0 is accepted even if it does not),
+    // `n_too_many` chars plus the ellipsis do not.
+    let (mut n_fitting, mut n_too_many) = (0, chars.len());
+    while n_too_many - n_fitting > 1 {
+        let n_tried = (n_fitting + n_too_many) / 2;
+        if root.estimate_text_size(&shortened(n_tried), style)?.0 <= max_width {
+            n_fitting = n_tried;
+        } else {
+            n_too_many = n_tried;
         }
     }
-    Ok("…".to_string())
+    Ok(shortened(n_fitting))
 }
 
 #[cfg(test)]
@@ -1003,26 +1156,57 @@ mod tests {
         ))
     }
 
-    /// Decodes a PNG and returns its size and the number of distinct pixel colours.
-    fn decode_png(path: &Path) -> ((u32, u32), usize) {
-        let bytes = std::fs::read(path).expect("the PNG was written");
-        let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-        let mut reader = decoder.read_info().expect("the PNG header decodes");
-        let mut pixels = vec![0; reader.output_buffer_size().expect("the PNG fits in memory")];
-        let info = reader
-            .next_frame(&mut pixels)
-            .expect("the PNG pixels decode");
-        let n_channels = info.color_type.samples();
-        let colours: std::collections::HashSet<&[u8]> = pixels[..info.buffer_size()]
-            .chunks_exact(n_channels)
-            .collect();
-        ((info.width, info.height), colours.len())
+    /// A decoded chart PNG: its size and its RGB pixels.
+    struct DecodedPng {
+        size: (u32, u32),
+        pixels: Vec<[u8; 3]>,
     }
 
-    fn check_written_chart(png_path: &Path, svg_path: &Path, expected_texts: &[&str]) {
-        let ((width, height), n_colours) = decode_png(png_path);
-        assert_eq!((width, height), (1200, 700));
-        assert!(n_colours > 1, "the PNG is a single flat colour");
+    impl DecodedPng {
+        fn read(path: &Path) -> DecodedPng {
+            let bytes = std::fs::read(path).expect("the PNG was written");
+            let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+            let mut reader = decoder.read_info().expect("the PNG header decodes");
+            let mut buffer = vec![0; reader.output_buffer_size().expect("the PNG fits in memory")];
+            let info = reader
+                .next_frame(&mut buffer)
+                .expect("the PNG pixels decode");
+            assert_eq!(info.color_type, png::ColorType::Rgb);
+            let pixels = buffer[..info.buffer_size()]
+                .chunks_exact(3)
+                .map(|rgb| [rgb[0], rgb[1], rgb[2]])
+                .collect();
+            DecodedPng {
+                size: (info.width, info.height),
+                pixels,
+            }
+        }
+
+        fn n_distinct_colours(&self) -> usize {
+            self.pixels
+                .iter()
+                .collect::<std::collections::HashSet<_>>()
+                .len()
+        }
+
+        fn n_pixels_of(&self, colour: RGBColor) -> usize {
+            let wanted = [colour.0, colour.1, colour.2];
+            self.pixels.iter().filter(|&&pixel| pixel == wanted).count()
+        }
+    }
+
+    /// Checks both files of a chart and returns the decoded PNG for further checks.
+    fn check_written_chart(
+        png_path: &Path,
+        svg_path: &Path,
+        expected_texts: &[&str],
+    ) -> DecodedPng {
+        let png = DecodedPng::read(png_path);
+        assert_eq!(png.size, (1200, 700));
+        assert!(
+            png.n_distinct_colours() > 1,
+            "the PNG is a single flat colour"
+        );
         let svg = std::fs::read_to_string(svg_path).expect("the SVG was written");
         assert!(
             svg.starts_with("<svg"),
@@ -1032,6 +1216,7 @@ mod tests {
         for text in expected_texts {
             assert!(svg.contains(text), "the SVG lacks the text {text:?}");
         }
+        png
     }
 
     #[test]
@@ -1056,7 +1241,7 @@ mod tests {
             &[marker("max 54", 54.0)],
         )
         .unwrap();
-        check_written_chart(
+        let png = check_written_chart(
             &png_path,
             &svg_path,
             &[
@@ -1067,6 +1252,28 @@ mod tests {
                 "frame",
                 "triangles",
             ],
+        );
+        // A legend swatch has well under 200 pixels; a line across the plot has thousands.
+        for colour in [PALETTE[0], PALETTE[1]] {
+            let n_pixels = png.n_pixels_of(colour);
+            assert!(n_pixels > 1000, "{colour:?} covers only {n_pixels} pixels");
+        }
+        assert!(
+            png.n_pixels_of(MARKER_COLOR) > 100,
+            "the marker line is missing"
+        );
+    }
+
+    #[test]
+    fn a_series_of_one_repeated_point_is_drawn_as_a_dot() {
+        let dir = tempfile::tempdir().unwrap();
+        // No label, so no legend swatch: any pixel of the series colour is the dot.
+        let repeated = series("", vec![(2.0, 5.0); 50]);
+        let (png_path, svg_path) = write_line(dir.path(), "repeated", &[repeated], &[]).unwrap();
+        let png = check_written_chart(&png_path, &svg_path, &["Test chart"]);
+        assert!(
+            png.n_pixels_of(PALETTE[0]) > 10,
+            "the repeated point is invisible"
         );
     }
 

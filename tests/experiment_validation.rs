@@ -1,0 +1,203 @@
+//! Experiment validation: every error names the file, the field path and what was expected, and
+//! every problem in a file is reported at once.
+
+mod common;
+
+use common::experiment::{quickstart, save};
+use roamsim::edge::experiment::{ExperimentError, load};
+use serde_json::{Value, json};
+
+/// Loads an edited quickstart and returns its problems as `field: problem` lines.
+fn problems_of(edit: impl FnOnce(&mut Value)) -> Vec<String> {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = quickstart();
+    edit(&mut experiment);
+    let path = save(dir.path(), "edited", &experiment);
+    match load(&path) {
+        Ok(_) => Vec::new(),
+        Err(ExperimentError { file, problems }) => {
+            assert_eq!(file, path, "the error names the experiment file");
+            problems
+                .iter()
+                .map(|p| format!("{}: {}", p.field, p.problem))
+                .collect()
+        }
+    }
+}
+
+fn assert_one_problem(edit: impl FnOnce(&mut Value), field: &str, expected: &str) {
+    let problems = problems_of(edit);
+    assert_eq!(problems.len(), 1, "{problems:#?}");
+    assert!(
+        problems[0].starts_with(&format!("{field}: ")) && problems[0].contains(expected),
+        "expected {field}: …{expected}…, got {problems:#?}"
+    );
+}
+
+#[test]
+fn the_shipped_quickstart_is_valid() {
+    assert_eq!(problems_of(|_| {}), Vec::<String>::new());
+}
+
+#[test]
+fn a_future_format_version_is_refused() {
+    assert_one_problem(
+        |e| e["format_version"] = json!(2),
+        "format_version",
+        "expected 1",
+    );
+}
+
+#[test]
+fn a_misspelt_field_is_named_with_its_path() {
+    assert_one_problem(
+        |e| {
+            e["view"]["fov_deg"] = json!(60);
+        },
+        "view.fov_deg",
+        "unknown field `fov_deg`, expected one of `width_px`",
+    );
+}
+
+#[test]
+fn a_wrong_type_is_named_with_its_path() {
+    assert_one_problem(
+        |e| e["flight"]["path"]["circle"]["radius_m"] = json!("far"),
+        "flight.path.circle.radius_m",
+        "expected f64",
+    );
+}
+
+#[test]
+fn every_semantic_problem_is_reported_at_once() {
+    let problems = problems_of(|e| {
+        e["view"]["fovy_deg"] = json!(180);
+        e["view"]["far_m"] = json!(0.5);
+        e["effects"]["audit"]["stride"] = json!(0);
+        e["name"] = json!("../escape");
+    });
+    let fields: Vec<&str> = problems
+        .iter()
+        .map(|p| p.split(": ").next().unwrap())
+        .collect();
+    assert_eq!(
+        fields,
+        [
+            "name",
+            "view.fovy_deg",
+            "view.far_m",
+            "effects.audit.stride"
+        ],
+        "{problems:#?}"
+    );
+    assert!(problems[1].contains("strictly between 0 and 180"));
+}
+
+#[test]
+fn an_unknown_algorithm_lists_the_known_ones() {
+    assert_one_problem(
+        |e| e["algorithms"][1]["name"] = json!("roam2"),
+        "algorithms[1].name",
+        "expected one of reference",
+    );
+}
+
+#[test]
+fn duplicate_labels_are_refused() {
+    assert_one_problem(
+        |e| e["algorithms"][1]["label"] = json!("reference τ=2px"),
+        "algorithms[1].label",
+        "expected unique labels",
+    );
+}
+
+#[test]
+fn an_algorithm_parameter_error_carries_the_entry_path() {
+    assert_one_problem(
+        |e| e["algorithms"][0]["tau_px"] = json!(-1),
+        "algorithms[0].tau_px",
+        "at least 0 pixels",
+    );
+    assert_one_problem(
+        |e| e["algorithms"][0]["zone"] = json!("round"),
+        "algorithms[0].zone",
+        "unknown variant `round`, expected `paper` or `conservative`",
+    );
+}
+
+#[test]
+fn a_missing_frame_count_is_reported() {
+    assert_one_problem(
+        |e| {
+            e["flight"].as_object_mut().unwrap().remove("frames");
+        },
+        "flight.frames",
+        "expected the number of frames",
+    );
+}
+
+#[test]
+fn waypoints_out_of_order_are_reported_by_index() {
+    assert_one_problem(
+        |e| {
+            e["flight"] = json!({
+                "look": {"along_path": {"pitch_deg": -10}},
+                "path": {"waypoints": {"interpolation": "linear", "points": [
+                    {"frame": 0, "position_m": [0, 0, 1000]},
+                    {"frame": 10, "position_m": [100, 0, 1000]},
+                    {"frame": 5, "position_m": [200, 0, 1000]}
+                ]}}
+            });
+        },
+        "flight.path.waypoints.points[2].frame",
+        "expected a frame after the previous waypoint's (10)",
+    );
+}
+
+#[test]
+fn a_missing_terrain_file_is_named() {
+    let problems = problems_of(|e| e["terrain"]["file"]["path"] = json!("nowhere/N00E000.hgt"));
+    assert_eq!(problems.len(), 1);
+    assert!(
+        problems[0].starts_with("terrain.file: ")
+            && problems[0].contains("nowhere/N00E000.hgt")
+            && problems[0].contains("cannot read the file"),
+        "{problems:#?}"
+    );
+}
+
+#[test]
+fn a_file_that_is_not_json_reports_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("broken.json");
+    std::fs::write(&path, "{\"format_version\": 1,\n  \"name\": }").unwrap();
+    let error = load(&path)
+        .err()
+        .expect("the experiment is invalid")
+        .to_string();
+    assert!(
+        error.contains("broken.json") && error.contains("line 2"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_recorded_log_with_a_nan_is_refused_before_anything_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("log.csv"),
+        "frame,x_m,y_m,z_m,yaw_deg,pitch_deg\n0,1000,1000,2000,0,-10\n1,1001,1000,nan,0,-10\n",
+    )
+    .unwrap();
+    let mut experiment = quickstart();
+    experiment["flight"] = json!({"path": {"recorded": {"path": "log.csv"}}});
+    let path = save(dir.path(), "recorded", &experiment);
+    let error = load(&path)
+        .err()
+        .expect("the experiment is invalid")
+        .to_string();
+    assert!(
+        error.contains("flight.path.recorded.path") && error.contains("log.csv, line 3"),
+        "{error}"
+    );
+}

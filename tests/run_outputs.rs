@@ -1,0 +1,185 @@
+//! Whole runs: determinism, the output files and their columns, the CLI's exit statuses.
+
+mod common;
+
+use common::experiment::{repository, save, short_quickstart};
+use roamsim::edge::output::columns::TIMING_COLUMNS;
+use roamsim::edge::session::{NoProgress, RunOptions, run_experiment};
+use std::path::Path;
+use std::process::Command;
+
+fn run_to(experiment: &Path, out: &Path, check_meshes: bool) {
+    let options = RunOptions {
+        out_dir: Some(out.to_path_buf()),
+        check_meshes,
+    };
+    run_experiment(experiment, &options, &mut NoProgress).unwrap();
+}
+
+/// frames.csv with the timing columns blanked.
+fn counts_only(csv: &str) -> String {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let timing: Vec<usize> = header
+        .iter()
+        .enumerate()
+        .filter(|(_, h)| TIMING_COLUMNS.contains(h))
+        .map(|(k, _)| k)
+        .collect();
+    assert!(!timing.is_empty());
+    lines
+        .map(|line| {
+            line.split(',')
+                .enumerate()
+                .map(|(k, v)| if timing.contains(&k) { "" } else { v })
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn the_same_experiment_twice_gives_identical_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let experiment = save(dir.path(), "short", &short_quickstart(40));
+    run_to(&experiment, &dir.path().join("first"), false);
+    run_to(&experiment, &dir.path().join("second"), true);
+    let read =
+        |name: &str| std::fs::read_to_string(dir.path().join(name).join("frames.csv")).unwrap();
+    let (first, second) = (read("first"), read("second"));
+    assert_eq!(first.lines().count(), 1 + 2 * 40);
+    assert_eq!(counts_only(&first), counts_only(&second));
+}
+
+#[test]
+fn a_run_writes_every_output_with_the_documented_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let experiment = save(dir.path(), "short", &short_quickstart(12));
+    let out = dir.path().join("out");
+    run_to(&experiment, &out, true);
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.starts_with(
+        "algorithm,frame,triangles,triangles_rendered,splits,merges,vertices_inserted,\
+         vertices_deleted,metric_evaluations,update_ns"
+    ));
+    for audit_column in [
+        "audit_projected_max_px",
+        "audit_projected_mean_px",
+        "audit_projected_p95_px",
+        "audit_view_angle_max_px",
+        "audit_view_angle_mean_px",
+        "audit_view_angle_p95_px",
+    ] {
+        assert!(header.contains(audit_column), "{header}");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["format_version"], 1);
+    assert_eq!(summary["terrain"]["side"], 1025);
+    assert_eq!(summary["terrain"]["voids_filled"], 21);
+    assert_eq!(
+        summary["terrain"]["crop_origin"],
+        serde_json::json!([88, 88])
+    );
+    assert_eq!(
+        summary["experiment"]["content_sha256"]
+            .as_str()
+            .unwrap()
+            .len(),
+        64
+    );
+    let first = &summary["algorithms"][0];
+    assert_eq!(first["label"], "reference τ=2px");
+    let triangles = &first["columns"]["triangles"];
+    assert!(triangles["max"].as_f64().unwrap() >= triangles["p95"].as_f64().unwrap());
+    assert!(triangles["mean"].as_f64().unwrap() > 2.0);
+    for plot in ["triangles", "update_time", "error"] {
+        for extension in ["png", "svg"] {
+            let file = out.join("plots").join(format!("{plot}.{extension}"));
+            assert!(
+                std::fs::metadata(&file).unwrap().len() > 1000,
+                "{}",
+                file.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn the_reference_rendered_count_is_below_its_total_when_culling() {
+    let dir = tempfile::tempdir().unwrap();
+    let experiment = save(dir.path(), "short", &short_quickstart(3));
+    let out = dir.path().join("out");
+    run_to(&experiment, &out, false);
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    for line in csv.lines().skip(1) {
+        let fields: Vec<u64> = line
+            .split(',')
+            .skip(2)
+            .take(2)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert!(fields[1] < fields[0] && fields[1] > 0, "{line}");
+    }
+}
+
+fn roamsim(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_roamsim"))
+        .args(args)
+        .current_dir(repository())
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn validate_exits_non_zero_on_an_invalid_experiment() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(10);
+    experiment["view"]["width_px"] = 0.into();
+    let path = save(dir.path(), "invalid", &experiment);
+    let output = roamsim(&["validate", path.to_str().unwrap()]);
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("invalid.json: view.width_px: 0: expected at least 1"),
+        "{stderr}"
+    );
+
+    let valid = roamsim(&["validate", "experiments/quickstart.json"]);
+    assert!(
+        valid.status.success(),
+        "{}",
+        String::from_utf8_lossy(&valid.stderr)
+    );
+}
+
+#[test]
+fn help_shows_an_example() {
+    let output = roamsim(&["run", "--help"]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("roamsim run experiments/quickstart.json"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn info_reports_preprocessing_time_and_bytes_per_sample() {
+    let output = roamsim(&["info", "experiments/data/N48E009.hgt"]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("ns per sample") && stdout.contains("bytes per sample"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("1201 × 1201") && stdout.contains("2049²"),
+        "{stdout}"
+    );
+}
