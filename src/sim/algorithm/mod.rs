@@ -5,8 +5,10 @@
 //! validate, cull and audit every algorithm the same way. No algorithm reads another's state.
 
 mod reference;
+mod wu;
 
 pub use reference::{Reference, ReferenceConfig, SplitThreshold};
+pub use wu::{BudgetConfig, Wu, WuConfig, initial_tau_px};
 
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::VertexSet;
@@ -44,12 +46,14 @@ pub trait LodAlgorithm {
 #[derive(Clone, Debug, PartialEq)]
 pub enum AlgorithmConfig {
     Reference(ReferenceConfig),
+    Wu(WuConfig),
 }
 
 impl AlgorithmConfig {
     pub fn name(&self) -> &'static str {
         match self {
             AlgorithmConfig::Reference(_) => reference::NAME,
+            AlgorithmConfig::Wu(_) => wu::NAME,
         }
     }
 
@@ -64,6 +68,7 @@ impl AlgorithmConfig {
             AlgorithmConfig::Reference(config) => {
                 Box::new(Reference::new(hierarchy, *config, view, speed))
             }
+            AlgorithmConfig::Wu(config) => Box::new(Wu::new(hierarchy, *config, view, speed)),
         }
     }
 }

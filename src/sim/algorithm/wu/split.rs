@@ -1,0 +1,129 @@
+//! Splitting a node: closure first (forced splits), then the node, its free boundary vertices,
+//! and the bookkeeping of the queues.
+
+use super::Wu;
+use super::nodes::NO_NODE;
+use super::wheel::Queue;
+use crate::sim::hierarchy::{GridPoint, VertexClass};
+
+impl Wu<'_> {
+    /// Splits a splittable node chosen by its life (not forced); `chain_depth` is how many splits
+    /// of this frame's chain lie above it.
+    pub(super) fn split(&mut self, node: u32, chain_depth: u32) {
+        self.activate_with_closure(node, false, chain_depth);
+    }
+
+    /// Activates `node` after everything its centre depends on.
+    fn activate_with_closure(&mut self, node: u32, forced: bool, chain_depth: u32) {
+        if self.is_active(node) {
+            return;
+        }
+        let (centre, _) = self.nodes.centre(node);
+        for parent in self.lattice.parents(centre).as_slice().to_vec() {
+            self.ensure_vertex_active(parent, chain_depth);
+        }
+        self.activate(node, forced, chain_depth);
+    }
+
+    /// Makes a vertex active by forcing the squares it needs.
+    fn ensure_vertex_active(&mut self, vertex: GridPoint, chain_depth: u32) {
+        if self.mesh.contains_point(&self.lattice, vertex) {
+            return;
+        }
+        match self.lattice.classify(vertex) {
+            VertexClass::Corner => {}
+            VertexClass::Square { half } => {
+                let node = self.nodes.node_of(vertex, half);
+                self.activate_with_closure(node, true, chain_depth);
+            }
+            VertexClass::Rotated { .. } => {
+                // A free vertex: active as soon as all its parents are.
+                for parent in self.lattice.parents(vertex).as_slice().to_vec() {
+                    self.ensure_vertex_active(parent, chain_depth);
+                }
+            }
+        }
+    }
+
+    /// Activates a node whose parents are active, and updates the queues around it.
+    fn activate(&mut self, node: u32, forced: bool, chain_depth: u32) {
+        let lattice = self.lattice;
+        let (centre, half) = self.nodes.centre(node);
+        self.wheels.remove(node);
+        self.mesh.insert(lattice.id(centre));
+        self.n_triangles += 2;
+        self.counters.inserted += 1;
+        self.counters.splits += 1;
+        self.counters.forced_splits += u64::from(forced);
+
+        // Free boundary vertices whose parents are now all active.
+        for boundary in lattice.boundary_vertices(centre, half) {
+            let parents = lattice.parents(boundary);
+            if !self.mesh.contains_point(&lattice, boundary)
+                && parents
+                    .as_slice()
+                    .iter()
+                    .all(|p| self.mesh.contains_point(&lattice, *p))
+            {
+                self.mesh.insert(lattice.id(boundary));
+                self.n_triangles += parents.len() as u64;
+                self.counters.inserted += 1;
+            }
+        }
+        // The nodes this one now depends on are no longer mergeable.
+        for parent in lattice.parents(centre).as_slice() {
+            for owner in lattice.parents(*parent).as_slice() {
+                if let VertexClass::Square { half } = lattice.classify(*owner) {
+                    let owner = self.nodes.node_of(*owner, half);
+                    if self.wheels.is_in(owner, Queue::Merge) {
+                        self.wheels.remove(owner);
+                    }
+                }
+            }
+        }
+        // The node itself is mergeable until something depends on it.
+        let life = self.life(node);
+        self.schedule_merge(node, life);
+        // Its sub-blocks become splittable.
+        if let Some(children) = self.nodes.children(node) {
+            self.schedule_children(children, forced, chain_depth);
+        }
+        debug_assert!(
+            self.nodes.parent(node) == NO_NODE || self.is_active(self.nodes.parent(node))
+        );
+    }
+
+    /// Queues the sub-blocks of a newly active node. After a real split they are tested now
+    /// (block-priority traversal: by decreasing error, stopping at the first that does not split;
+    /// the untested rest wait one frame). After a forced activation they are simply queued.
+    fn schedule_children(&mut self, children: [u32; 4], forced: bool, chain_depth: u32) {
+        let mut order = children;
+        if self.config.block_priority && !forced {
+            order.sort_by(|&a, &b| {
+                let error = |n: u32| {
+                    let (centre, half) = self.nodes.centre(n);
+                    self.hierarchy.node_error(centre, half)
+                };
+                error(b).total_cmp(&error(a)).then(a.cmp(&b))
+            });
+            for (k, &child) in order.iter().enumerate() {
+                let life = self.life(child);
+                let splits_now = life - (self.base as f64) <= 0.0;
+                self.schedule_split(child, life, chain_depth + 1);
+                if !splits_now {
+                    let next = self.link_after(1);
+                    for &rest in &order[k + 1..] {
+                        self.wheels.insert(rest, Queue::Split, next);
+                    }
+                    break;
+                }
+            }
+        } else {
+            let depth = if forced { 0 } else { chain_depth + 1 };
+            for child in order {
+                let life = self.life(child);
+                self.schedule_split(child, life, depth);
+            }
+        }
+    }
+}

@@ -1,0 +1,353 @@
+//! Wu's algorithm against the from-scratch reference, and its queues against their validator.
+//!
+//! The central property (fixed τ, no budget, speed bounds honoured, traversal options off): after
+//! every frame,
+//!   from-scratch(split iff ℓ ≤ 0)  ⊆  wu's mesh  ⊆  from-scratch(split iff ℓ < 1),
+//! checked on exhaustive small cases and on random terrains and flights.
+
+mod common;
+
+use common::{bumpy_terrain, camera_at, view_600};
+use glam::DVec3;
+use proptest::prelude::*;
+use roamsim::sim::algorithm::{
+    BudgetConfig, FrameInput, LodAlgorithm, Reference, ReferenceConfig, SplitThreshold, Wu,
+    WuConfig,
+};
+use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
+use roamsim::sim::mesh::validate::validate_reported;
+use roamsim::sim::metrics::view_angle_error_px;
+use roamsim::sim::stats::FrameStats;
+use roamsim::sim::terrain::{Heightfield, Spacing};
+use roamsim::sim::zone::{SpeedBound, ZoneVariant};
+
+const SPEED: SpeedBound = SpeedBound {
+    horizontal: 10.0,
+    vertical: 5.0,
+};
+
+fn fixed_tau(tau_px: f64, zone: ZoneVariant) -> WuConfig {
+    WuConfig {
+        tau_px: Some(tau_px),
+        budget: None,
+        zone,
+        block_priority: false,
+        depth_limit: None,
+        cone_culling: false,
+        wheel_links: 16,
+    }
+}
+
+/// A scene: one terrain, the reference pair that sandwiches Wu, and Wu itself.
+struct Sandwich<'h> {
+    hierarchy: &'h Hierarchy,
+    wu: Wu<'h>,
+    lower: Reference<'h>,
+    upper: Reference<'h>,
+    frame: u64,
+}
+
+impl<'h> Sandwich<'h> {
+    fn new(hierarchy: &'h Hierarchy, tau_px: f64, zone: ZoneVariant, speed: SpeedBound) -> Self {
+        let reference = |threshold| {
+            Reference::new(
+                hierarchy,
+                ReferenceConfig {
+                    tau_px,
+                    zone,
+                    threshold,
+                },
+                &view_600(),
+                speed,
+            )
+        };
+        Sandwich {
+            hierarchy,
+            wu: Wu::new(hierarchy, fixed_tau(tau_px, zone), &view_600(), speed),
+            lower: reference(SplitThreshold::LifeAtMost(0.0)),
+            upper: reference(SplitThreshold::LifeBelow(1.0)),
+            frame: 0,
+        }
+    }
+
+    /// Flies to `eye` and checks everything; `broken` says the move broke the speed bounds.
+    fn fly_to(&mut self, eye: DVec3, broken: bool) -> FrameStats {
+        let camera = camera_at(eye);
+        let input = FrameInput {
+            frame: self.frame,
+            camera: &camera,
+            speed_bound_broken: broken,
+        };
+        self.frame += 1;
+        let mut stats = FrameStats::default();
+        self.wu.update(&input, &mut stats);
+        let mut scratch = FrameStats::default();
+        self.lower.update(&input, &mut scratch);
+        self.upper.update(&input, &mut scratch);
+        let lattice = self.hierarchy.lattice();
+        if let Err(error) = validate_reported(lattice, self.wu.mesh(), stats.triangles) {
+            panic!("frame {}, eye {eye:?}: {error}", input.frame);
+        }
+        if let Err(error) = self.wu.validate_queues(true) {
+            panic!("frame {}, eye {eye:?}: {error}", input.frame);
+        }
+        assert!(
+            self.lower.mesh().is_subset(self.wu.mesh()),
+            "frame {}, eye {eye:?}: a vertex the eye is inside the zone of is missing",
+            input.frame
+        );
+        assert!(
+            self.wu.mesh().is_subset(self.upper.mesh()),
+            "frame {}, eye {eye:?}: a vertex whose life is ≥ 1 is still active",
+            input.frame
+        );
+        stats
+    }
+}
+
+/// A serpentine sweep over the terrain at `altitude`, in steps no longer than the speed bound.
+fn serpentine(hierarchy: &Hierarchy, altitude: f64, step: f64) -> Vec<DVec3> {
+    let (width, height) = hierarchy.field().extent();
+    let mut eyes = Vec::new();
+    let rows = (height / step).ceil() as usize;
+    let columns = (width / step).ceil() as usize;
+    for row in 0..=rows {
+        for k in 0..=columns {
+            let column = if row % 2 == 0 { k } else { columns - k };
+            eyes.push(DVec3::new(
+                (column as f64 * step).min(width),
+                (row as f64 * step).min(height),
+                altitude,
+            ));
+        }
+    }
+    eyes
+}
+
+#[test]
+fn wu_is_sandwiched_between_the_references_over_every_eye_of_a_9_by_9_terrain() {
+    let hierarchy = bumpy_terrain(3);
+    for zone in [ZoneVariant::Conservative, ZoneVariant::Paper] {
+        for tau_px in [0.5, 3.0, 40.0] {
+            for altitude in [-10.0, 30.0, 300.0] {
+                let mut scene = Sandwich::new(&hierarchy, tau_px, zone, SPEED);
+                for eye in serpentine(&hierarchy, altitude, 10.0) {
+                    scene.fly_to(eye, false);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn wu_is_sandwiched_between_the_references_over_every_eye_of_a_17_by_17_terrain() {
+    let hierarchy = bumpy_terrain(4);
+    for altitude in [5.0, 60.0, 2000.0] {
+        let mut scene = Sandwich::new(&hierarchy, 2.0, ZoneVariant::Conservative, SPEED);
+        let mut total_ops = 0;
+        for eye in serpentine(&hierarchy, altitude, 10.0) {
+            let stats = scene.fly_to(eye, false);
+            total_ops += stats.splits + stats.merges;
+        }
+        assert!(total_ops > 0, "the flight at {altitude} m changed nothing");
+    }
+}
+
+#[test]
+fn a_teleport_is_revalidated_not_kept_stale() {
+    let hierarchy = bumpy_terrain(5);
+    let mut scene = Sandwich::new(&hierarchy, 1.0, ZoneVariant::Conservative, SPEED);
+    scene.fly_to(DVec3::new(5000.0, 5000.0, 3000.0), false);
+    // Far away, the mesh is coarse; then the eye jumps onto the terrain: the runner flags the
+    // frame and Wu must recompute every queued life, or the lower sandwich bound fails.
+    let coarse = scene.wu.triangle_count();
+    let stats = scene.fly_to(DVec3::new(100.0, 100.0, 20.0), true);
+    assert!(scene.wu.triangle_count() > coarse, "{stats:?}");
+    for step in 1..20 {
+        scene.fly_to(DVec3::new(100.0 + 8.0 * step as f64, 100.0, 20.0), false);
+    }
+}
+
+#[test]
+fn without_the_violation_flag_a_teleport_would_leave_stale_lives() {
+    // The same teleport unflagged: the queues keep lives computed for the far eye, so Wu's mesh
+    // misses vertices the reference has. This is what the flag exists for.
+    let hierarchy = bumpy_terrain(5);
+    let view = view_600();
+    let mut wu = Wu::new(
+        &hierarchy,
+        fixed_tau(1.0, ZoneVariant::Conservative),
+        &view,
+        SPEED,
+    );
+    let mut reference = Reference::new(
+        &hierarchy,
+        ReferenceConfig {
+            tau_px: 1.0,
+            zone: ZoneVariant::Conservative,
+            threshold: SplitThreshold::LifeAtMost(0.0),
+        },
+        &view,
+        SPEED,
+    );
+    let mut stats = FrameStats::default();
+    for (frame, eye) in [
+        DVec3::new(5000.0, 5000.0, 3000.0),
+        DVec3::new(100.0, 100.0, 20.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let camera = camera_at(eye);
+        let input = FrameInput {
+            frame: frame as u64,
+            camera: &camera,
+            speed_bound_broken: false,
+        };
+        wu.update(&input, &mut stats);
+        reference.update(&input, &mut stats);
+    }
+    assert!(!reference.mesh().is_subset(wu.mesh()));
+}
+
+/// Random terrains of side 9, 17 or 33 and random walks that honour the speed bounds.
+fn terrain_and_walk() -> impl Strategy<Value = (u32, Vec<f32>, Vec<(f64, f64, f64)>, f64, bool)> {
+    (3u32..=5).prop_flat_map(|level| {
+        let side = (1usize << level) + 1;
+        (
+            Just(level),
+            prop::collection::vec(-30.0f32..30.0, side * side),
+            prop::collection::vec((-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0), 1..40),
+            prop_oneof![Just(0.0), 0.3f64..20.0],
+            any::<bool>(),
+        )
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn wu_is_sandwiched_on_random_terrains_and_flights(
+        (level, heights, walk, tau_px, paper_zone) in terrain_and_walk()
+    ) {
+        let side = (1usize << level) + 1;
+        let field = Heightfield::new(side, heights, Spacing { dx: 10.0, dy: 10.0 }).unwrap();
+        let hierarchy = Hierarchy::new(field);
+        let zone = if paper_zone { ZoneVariant::Paper } else { ZoneVariant::Conservative };
+        let mut scene = Sandwich::new(&hierarchy, tau_px, zone, SPEED);
+        let mut eye = DVec3::new(40.0, 40.0, 50.0);
+        for (dx, dy, dz) in walk {
+            // Steps within the bounds: |Δxy| ≤ 10/√2·√2 = 10, |Δz| ≤ 5.
+            eye += DVec3::new(dx * 7.0, dy * 7.0, dz * 5.0);
+            scene.fly_to(eye, false);
+        }
+    }
+}
+
+#[test]
+fn with_the_conservative_zone_every_removed_vertex_error_subtends_at_most_tau() {
+    // What Wu's max-nesting guarantees, with the conservative zone and the speed bounds
+    // honoured: each inactive vertex's own error ε (the vertical segment from its height to the
+    // midpoint of the edge it bisects) subtends at most τ from the eye. It does not bound the
+    // mesh's distance from the surface, where removed vertices' errors add up: see
+    // `max_nesting_does_not_bound_the_audited_surface_error_on_a_real_tile`.
+    let hierarchy = bumpy_terrain(5);
+    let tau_px = 8.0;
+    let mut scene = Sandwich::new(&hierarchy, tau_px, ZoneVariant::Conservative, SPEED);
+    let lattice = hierarchy.lattice();
+    let pixel_angle = view_600().pixel_angle();
+    let mut removed_checked = 0;
+    for eye in serpentine(&hierarchy, 150.0, 10.0) {
+        scene.fly_to(eye, false);
+        let mesh = scene.wu.mesh();
+        for id in 0..lattice.n_vertices() as u32 {
+            let p = lattice.point(id);
+            if mesh.contains(id) || lattice.classify(p) == VertexClass::Corner {
+                continue;
+            }
+            let position = hierarchy.field().position(p.i as usize, p.j as usize);
+            let epsilon = hierarchy.vertex_error(p);
+            let base = DVec3::new(position.x, position.y, position.z.min(position.z - epsilon));
+            let px = view_angle_error_px(eye, base, epsilon.abs(), pixel_angle);
+            assert!(px <= tau_px, "vertex {p:?} from {eye:?}: {px} px > τ");
+            removed_checked += 1;
+        }
+    }
+    assert!(
+        removed_checked > 10_000,
+        "only {removed_checked} removed vertices checked"
+    );
+}
+
+#[test]
+fn max_nesting_does_not_bound_the_audited_surface_error_on_a_real_tile() {
+    // The quickstart's first pose over the real SRTM crop, τ = 2 px, conservative zone: the
+    // audit finds the mesh more than τ away from the terrain somewhere, although every removed
+    // vertex's own error is within τ. Accumulated errors are what ROAM's max-plus-own bounds.
+    let experiment = roamsim::edge::experiment::load(
+        &common::experiment::repository().join("experiments/quickstart.json"),
+    )
+    .unwrap();
+    let hierarchy = Hierarchy::new(experiment.field.clone());
+    let mut wu = Wu::new(
+        &hierarchy,
+        fixed_tau(2.0, ZoneVariant::Conservative),
+        &experiment.view,
+        experiment.speed,
+    );
+    let camera = roamsim::sim::view::Camera::new(experiment.flight.pose(0), experiment.view);
+    let mut stats = FrameStats::default();
+    wu.update(
+        &FrameInput {
+            frame: 0,
+            camera: &camera,
+            speed_bound_broken: false,
+        },
+        &mut stats,
+    );
+    let mut auditor = roamsim::sim::audit::Auditor::new(
+        &hierarchy,
+        roamsim::sim::audit::AuditSettings { stride: 4 },
+    );
+    let audit = auditor.audit(&hierarchy, wu.mesh(), &camera);
+    let worst = audit.view_angle.unwrap().max;
+    assert!(worst > 2.0, "worst audited view-angle error {worst} px");
+}
+
+#[test]
+fn an_unreachable_budget_keeps_b_clamped_and_reports_it() {
+    let hierarchy = bumpy_terrain(4);
+    let config = WuConfig {
+        tau_px: Some(1.0),
+        budget: Some(BudgetConfig {
+            triangles: 1_000_000,
+            dead_band: 0,
+            base_limit: 20,
+            initial_tau_k: 1.5,
+        }),
+        ..fixed_tau(1.0, ZoneVariant::Conservative)
+    };
+    let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
+    let mut stats = FrameStats::default();
+    for frame in 0..60 {
+        let camera = camera_at(DVec3::new(80.0, 80.0, 400.0));
+        wu.update(
+            &FrameInput {
+                frame,
+                camera: &camera,
+                speed_bound_broken: false,
+            },
+            &mut stats,
+        );
+        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+        wu.validate_queues(false).unwrap();
+    }
+    assert_eq!(wu.base(), 20);
+    assert_eq!(stats.extra[1], 1.0, "base_clamped");
+    assert_eq!(
+        stats.triangles,
+        2 * 16 * 16,
+        "the whole mesh, short of the budget"
+    );
+}
