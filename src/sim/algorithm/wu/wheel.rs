@@ -75,7 +75,7 @@ impl Wheels {
 
     pub fn slot(&self, node: u32) -> Option<Slot> {
         let raw = self.slot[node as usize];
-        (raw != NOT_QUEUED).then(|| Slot {
+        (raw != NOT_QUEUED).then_some(Slot {
             queue: if raw & MERGE_BIT != 0 {
                 Queue::Merge
             } else {
