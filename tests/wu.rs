@@ -210,8 +210,11 @@ fn without_the_violation_flag_a_teleport_would_leave_stale_lives() {
     assert!(!reference.mesh().is_subset(wu.mesh()));
 }
 
+/// Terrain level, heights, walk steps, τ and whether to use the paper's zone.
+type RandomScene = (u32, Vec<f32>, Vec<(f64, f64, f64)>, f64, bool);
+
 /// Random terrains of side 9, 17 or 33 and random walks that honour the speed bounds.
-fn terrain_and_walk() -> impl Strategy<Value = (u32, Vec<f32>, Vec<(f64, f64, f64)>, f64, bool)> {
+fn terrain_and_walk() -> impl Strategy<Value = RandomScene> {
     (3u32..=5).prop_flat_map(|level| {
         let side = (1usize << level) + 1;
         (
