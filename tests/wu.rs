@@ -354,3 +354,114 @@ fn an_unreachable_budget_keeps_b_clamped_and_reports_it() {
         "the whole mesh, short of the budget"
     );
 }
+
+/// Flies Wu along a line over a 65×65 terrain; returns the total life recomputations and the
+/// final mesh size, validating every frame.
+fn fly_line(config: WuConfig, frames: u64, altitude: f64) -> (u64, u64, Vec<u64>) {
+    let hierarchy = bumpy_terrain(6);
+    let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
+    let mut lives = 0;
+    let mut counts = Vec::new();
+    for frame in 0..frames {
+        let eye = DVec3::new(20.0 + 5.0 * frame as f64, 300.0, altitude);
+        let camera = camera_at(eye);
+        let mut stats = FrameStats::default();
+        wu.update(
+            &FrameInput {
+                frame,
+                camera: &camera,
+                speed_bound_broken: false,
+            },
+            &mut stats,
+        );
+        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+        wu.validate_queues(false).unwrap();
+        lives += stats.metric_evaluations;
+        counts.push(stats.triangles);
+    }
+    (lives, wu.triangle_count(), counts)
+}
+
+#[test]
+fn block_priority_traversal_computes_fewer_lives() {
+    let plain = fixed_tau(6.0, ZoneVariant::Conservative);
+    let (lives_plain, _, _) = fly_line(plain, 80, 400.0);
+    let (lives_priority, _, _) = fly_line(
+        WuConfig {
+            block_priority: true,
+            ..plain
+        },
+        80,
+        400.0,
+    );
+    assert!(
+        lives_priority < lives_plain,
+        "block priority {lives_priority} vs plain {lives_plain}"
+    );
+}
+
+#[test]
+fn a_depth_limit_spreads_the_first_refinement_over_several_frames() {
+    let plain = fixed_tau(6.0, ZoneVariant::Conservative);
+    let (_, _, unlimited) = fly_line(plain, 1, 150.0);
+    let (_, _, limited) = fly_line(
+        WuConfig {
+            depth_limit: Some(2),
+            ..plain
+        },
+        1,
+        150.0,
+    );
+    assert!(
+        limited[0] < unlimited[0],
+        "limited {} vs unlimited {}",
+        limited[0],
+        unlimited[0]
+    );
+    // A hovering eye: the limited run catches up with the unlimited mesh within a few frames.
+    let hierarchy = bumpy_terrain(6);
+    let run = |config: WuConfig| {
+        let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
+        let camera = camera_at(DVec3::new(20.0, 300.0, 150.0));
+        let mut stats = FrameStats::default();
+        for frame in 0..20 {
+            wu.update(
+                &FrameInput {
+                    frame,
+                    camera: &camera,
+                    speed_bound_broken: false,
+                },
+                &mut stats,
+            );
+        }
+        wu.mesh().clone()
+    };
+    assert_eq!(
+        run(WuConfig {
+            depth_limit: Some(2),
+            ..plain
+        }),
+        run(plain)
+    );
+}
+
+#[test]
+fn a_budget_holds_the_triangle_count_near_the_budget() {
+    let config = WuConfig {
+        tau_px: None,
+        budget: Some(BudgetConfig {
+            triangles: 1500,
+            dead_band: 0,
+            base_limit: 1000,
+            initial_tau_k: 1.5,
+        }),
+        ..fixed_tau(1.0, ZoneVariant::Paper)
+    };
+    let (_, _, counts) = fly_line(config, 200, 150.0);
+    let settled = &counts[100..];
+    let mean = settled.iter().sum::<u64>() as f64 / settled.len() as f64;
+    assert!(
+        (mean - 1500.0).abs() < 150.0,
+        "mean {mean} over the second half"
+    );
+}

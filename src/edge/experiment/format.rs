@@ -224,6 +224,32 @@ pub struct ReferenceParameters {
     pub zone: Option<ZoneEntry>,
 }
 
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WuParameters {
+    /// Fixed τ; with a budget, the starting τ (default: the paper's formula).
+    #[serde(default)]
+    pub tau_px: Option<f64>,
+    #[serde(default)]
+    pub budget_triangles: Option<u64>,
+    #[serde(default)]
+    pub zone: Option<ZoneEntry>,
+    #[serde(default)]
+    pub dead_band_triangles: Option<u64>,
+    #[serde(default)]
+    pub base_limit: Option<i64>,
+    #[serde(default)]
+    pub initial_tau_k: Option<f64>,
+    #[serde(default)]
+    pub block_priority: Option<bool>,
+    #[serde(default)]
+    pub depth_limit: Option<u32>,
+    #[serde(default)]
+    pub cone_culling: Option<bool>,
+    #[serde(default)]
+    pub wheel_links: Option<u32>,
+}
+
 #[derive(Debug, Deserialize, Clone, Copy)]
 #[serde(rename_all = "snake_case")]
 pub enum ZoneEntry {

@@ -8,14 +8,16 @@
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
     LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry, TerrainFormatEntry,
-    ZoneEntry,
+    WuParameters, ZoneEntry,
 };
 use super::{ExperimentError, FieldProblem};
 use crate::edge::flight_log::read_flight_log;
 use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
-use crate::sim::algorithm::{AlgorithmConfig, ReferenceConfig, SplitThreshold};
+use crate::sim::algorithm::{
+    AlgorithmConfig, BudgetConfig, ReferenceConfig, SplitThreshold, WuConfig,
+};
 use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{
     Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, speed_violations,
@@ -34,7 +36,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 /// Algorithms this build knows, as the experiment file names them.
-pub const KNOWN_ALGORITHMS: &[&str] = &["reference"];
+pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "wu"];
 
 /// A validated, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -503,6 +505,8 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                     threshold: SplitThreshold::LifeAtMost(0.0),
                 }))
             }),
+            "wu" => decode::<WuParameters>(k, &parameters, problems)
+                .and_then(|p| check_wu(k, &p, problems)),
             other => {
                 problems.add(
                     format!("algorithms[{k}].name"),
@@ -553,6 +557,80 @@ fn check_tau(index: usize, tau_px: f64, problems: &mut Problems) -> Option<()> {
         );
         None
     }
+}
+
+/// Defaults of Wu's optional parameters (documented in docs/experiment-format.md).
+const WU_DEFAULT_BASE_LIMIT: i64 = 1000;
+const WU_DEFAULT_INITIAL_TAU_K: f64 = 1.5;
+const WU_DEFAULT_WHEEL_LINKS: u32 = 256;
+const WU_MAX_WHEEL_LINKS: u32 = 1 << 20;
+
+fn check_wu(index: usize, p: &WuParameters, problems: &mut Problems) -> Option<AlgorithmConfig> {
+    let field = |name: &str| format!("algorithms[{index}].{name}");
+    let n_problems = problems.list.len();
+    if p.tau_px.is_none() && p.budget_triangles.is_none() {
+        problems.add(
+            format!("algorithms[{index}]"),
+            "neither tau_px nor budget_triangles: expected a fixed τ, a triangle budget, or both",
+        );
+    }
+    if let Some(tau) = p.tau_px {
+        check_tau(index, tau, problems);
+    }
+    if p.budget_triangles == Some(0) {
+        problems.add(field("budget_triangles"), "0: expected at least 1 triangle");
+    }
+    if p.budget_triangles.is_none() {
+        for (name, given) in [
+            ("dead_band_triangles", p.dead_band_triangles.is_some()),
+            ("base_limit", p.base_limit.is_some()),
+            ("initial_tau_k", p.initial_tau_k.is_some()),
+        ] {
+            if given {
+                problems.add(
+                    field(name),
+                    "only applies with a budget: expected budget_triangles as well",
+                );
+            }
+        }
+    }
+    if let Some(limit) = p.base_limit
+        && limit < 0
+    {
+        problems.add(field("base_limit"), format!("{limit}: expected at least 0"));
+    }
+    if let Some(k) = p.initial_tau_k
+        && !(k > 0.0 && k.is_finite())
+    {
+        problems.add(
+            field("initial_tau_k"),
+            format!("{k}: expected a finite number above 0"),
+        );
+    }
+    let wheel_links = p.wheel_links.unwrap_or(WU_DEFAULT_WHEEL_LINKS);
+    if !(2..=WU_MAX_WHEEL_LINKS).contains(&wheel_links) {
+        problems.add(
+            field("wheel_links"),
+            format!("{wheel_links}: expected 2 to {WU_MAX_WHEEL_LINKS}"),
+        );
+    }
+    if problems.list.len() > n_problems {
+        return None;
+    }
+    Some(AlgorithmConfig::Wu(WuConfig {
+        tau_px: p.tau_px,
+        budget: p.budget_triangles.map(|triangles| BudgetConfig {
+            triangles,
+            dead_band: p.dead_band_triangles.unwrap_or(0),
+            base_limit: p.base_limit.unwrap_or(WU_DEFAULT_BASE_LIMIT),
+            initial_tau_k: p.initial_tau_k.unwrap_or(WU_DEFAULT_INITIAL_TAU_K),
+        }),
+        zone: zone_variant(p.zone),
+        block_priority: p.block_priority.unwrap_or(false),
+        depth_limit: p.depth_limit,
+        cone_culling: p.cone_culling.unwrap_or(false),
+        wheel_links,
+    }))
 }
 
 fn zone_variant(zone: Option<ZoneEntry>) -> ZoneVariant {

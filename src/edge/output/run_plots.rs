@@ -2,10 +2,12 @@
 //! error per frame (when the audit ran). One line per algorithm label.
 
 use super::columns::{RunColumns, value};
-use super::plots::{LineChart, PlotError, Series, write_line_chart};
+use super::plots::{LineChart, Marker, PlotError, Series, write_line_chart};
+use crate::sim::stats::summarise;
 use std::path::Path;
 
-/// Writes `triangles`, `update_time` and (when audited) `error` as PNG and SVG into `dir`.
+/// Writes `triangles`, `update_time`, `error` (when audited) and `base_b` (when an algorithm
+/// reports Wu's base) as PNG and SVG into `dir`.
 pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result<(), PlotError> {
     let series_of = |column: &str, scale: f64| -> Vec<Series> {
         runs.iter()
@@ -41,6 +43,7 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
             markers: &[],
         },
     )?;
+    write_base_plot(dir, runs)?;
     if audited {
         write_line_chart(
             dir,
@@ -55,4 +58,64 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
         )?;
     }
     Ok(())
+}
+
+/// b per frame for every run that has it. One run: its min, max and mean as marked lines.
+/// Several: the same figures in each legend label.
+fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
+    let mut series = Vec::new();
+    let mut figures = Vec::new();
+    for run in runs.iter().filter(|r| r.extra_columns.contains(&"base_b")) {
+        let points: Vec<(f64, f64)> = run
+            .frames
+            .iter()
+            .filter_map(|f| value(run, f, "base_b").map(|b| (f.frame as f64, b)))
+            .collect();
+        let values: Vec<f64> = points.iter().map(|p| p.1).collect();
+        let Some(summary) = summarise(&values) else {
+            continue;
+        };
+        let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+        figures.push((min, summary.max, summary.mean));
+        series.push(Series {
+            label: run.label.to_string(),
+            points,
+        });
+    }
+    if series.is_empty() {
+        return Ok(());
+    }
+    let markers: Vec<Marker> = if series.len() == 1 {
+        let (min, max, mean) = figures[0];
+        vec![
+            Marker {
+                label: format!("max {max}"),
+                y: max,
+            },
+            Marker {
+                label: format!("mean {mean:.2}"),
+                y: mean,
+            },
+            Marker {
+                label: format!("min {min}"),
+                y: min,
+            },
+        ]
+    } else {
+        for (s, (min, max, mean)) in series.iter_mut().zip(&figures) {
+            s.label = format!("{} (min {min}, max {max}, mean {mean:.2})", s.label);
+        }
+        Vec::new()
+    };
+    write_line_chart(
+        dir,
+        "base_b",
+        &LineChart {
+            title: "Base b of the life axis per frame",
+            x_label: "frame",
+            y_label: "b (frames)",
+            series: &series,
+            markers: &markers,
+        },
+    )
 }

@@ -133,7 +133,7 @@ pub struct Wu<'h> {
     previous_count: u64,
     counters: Counters,
     due: Vec<u32>,
-    split_work: Vec<(u32, u32)>,
+    split_work: Vec<(u32, f64, u32)>,
     merge_work: Vec<(u32, f64)>,
 }
 
@@ -255,7 +255,7 @@ impl<'h> Wu<'h> {
                     let next = self.link_after(1);
                     self.wheels.insert(node, Queue::Split, next);
                 } else {
-                    self.split_work.push((node, chain_depth));
+                    self.split_work.push((node, life, chain_depth));
                 }
             }
         }
@@ -313,10 +313,10 @@ impl<'h> Wu<'h> {
     }
 
     fn run_split_work(&mut self) {
-        while let Some((node, chain_depth)) = self.split_work.pop() {
+        while let Some((node, life, chain_depth)) = self.split_work.pop() {
             // A node re-queued since it was listed follows its newer entry.
             if self.is_splittable(node) && !self.wheels.is_in(node, Queue::Split) {
-                self.split(node, chain_depth);
+                self.split(node, life, chain_depth);
             }
         }
     }

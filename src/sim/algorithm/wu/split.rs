@@ -9,12 +9,13 @@ use crate::sim::hierarchy::{GridPoint, VertexClass};
 impl Wu<'_> {
     /// Splits a splittable node chosen by its life (not forced); `chain_depth` is how many splits
     /// of this frame's chain lie above it.
-    pub(super) fn split(&mut self, node: u32, chain_depth: u32) {
-        self.activate_with_closure(node, false, chain_depth);
+    pub(super) fn split(&mut self, node: u32, life: f64, chain_depth: u32) {
+        self.activate_with_closure(node, Some(life), chain_depth);
     }
 
-    /// Activates `node` after everything its centre depends on.
-    fn activate_with_closure(&mut self, node: u32, forced: bool, chain_depth: u32) {
+    /// Activates `node` after everything its centre depends on. `known_life` is its life when it
+    /// splits by its own criterion; forced activations have none.
+    fn activate_with_closure(&mut self, node: u32, known_life: Option<f64>, chain_depth: u32) {
         if self.is_active(node) {
             return;
         }
@@ -22,7 +23,7 @@ impl Wu<'_> {
         for parent in self.lattice.parents(centre).as_slice().to_vec() {
             self.ensure_vertex_active(parent, chain_depth);
         }
-        self.activate(node, forced, chain_depth);
+        self.activate(node, known_life, chain_depth);
     }
 
     /// Makes a vertex active by forcing the squares it needs.
@@ -34,7 +35,7 @@ impl Wu<'_> {
             VertexClass::Corner => {}
             VertexClass::Square { half } => {
                 let node = self.nodes.node_of(vertex, half);
-                self.activate_with_closure(node, true, chain_depth);
+                self.activate_with_closure(node, None, chain_depth);
             }
             VertexClass::Rotated { .. } => {
                 // A free vertex: active as soon as all its parents are.
@@ -46,7 +47,8 @@ impl Wu<'_> {
     }
 
     /// Activates a node whose parents are active, and updates the queues around it.
-    fn activate(&mut self, node: u32, forced: bool, chain_depth: u32) {
+    fn activate(&mut self, node: u32, known_life: Option<f64>, chain_depth: u32) {
+        let forced = known_life.is_none();
         let lattice = self.lattice;
         let (centre, half) = self.nodes.centre(node);
         self.wheels.remove(node);
@@ -82,7 +84,10 @@ impl Wu<'_> {
             }
         }
         // The node itself is mergeable until something depends on it.
-        let life = self.life(node);
+        let life = match known_life {
+            Some(life) => life,
+            None => self.life(node),
+        };
         self.schedule_merge(node, life);
         // Its sub-blocks become splittable.
         if let Some(children) = self.nodes.children(node) {
@@ -93,12 +98,16 @@ impl Wu<'_> {
         );
     }
 
-    /// Queues the sub-blocks of a newly active node. After a real split they are tested now
-    /// (block-priority traversal: by decreasing error, stopping at the first that does not split;
-    /// the untested rest wait one frame). After a forced activation they are simply queued.
+    /// Queues the sub-blocks of a newly active node. After a real split they are tested now. With
+    /// block-priority traversal they are tested by decreasing error and testing stops at the
+    /// first that does not split: its untested siblings take its key (the paper's premise that
+    /// siblings' errors "are in the same direction"), so they cost no life computation until that
+    /// key runs out. This is a heuristic: a sibling can need splitting before the key it took.
+    /// A forced activation is a split too; its sub-blocks start a new chain (depth 0).
     fn schedule_children(&mut self, children: [u32; 4], forced: bool, chain_depth: u32) {
         let mut order = children;
-        if self.config.block_priority && !forced {
+        let depth = if forced { 0 } else { chain_depth + 1 };
+        if self.config.block_priority {
             order.sort_by(|&a, &b| {
                 let error = |n: u32| {
                     let (centre, half) = self.nodes.centre(n);
@@ -108,18 +117,16 @@ impl Wu<'_> {
             });
             for (k, &child) in order.iter().enumerate() {
                 let life = self.life(child);
-                let splits_now = life - (self.base as f64) <= 0.0;
-                self.schedule_split(child, life, chain_depth + 1);
-                if !splits_now {
-                    let next = self.link_after(1);
+                let key = life - self.base as f64;
+                self.schedule_split(child, life, depth);
+                if let Some(link) = self.link_for(key) {
                     for &rest in &order[k + 1..] {
-                        self.wheels.insert(rest, Queue::Split, next);
+                        self.wheels.insert(rest, Queue::Split, link);
                     }
                     break;
                 }
             }
         } else {
-            let depth = if forced { 0 } else { chain_depth + 1 };
             for child in order {
                 let life = self.life(child);
                 self.schedule_split(child, life, depth);

@@ -1,0 +1,80 @@
+//! Per-frame update of Wu's algorithm at a 6000-triangle budget on the Table 1 flight
+//! (`experiments/wu-table1.json`), against the from-scratch reference at the same τ.
+//!
+//! Both start from the same warmed-up point of the flight (Wu's queues in steady state) and then
+//! advance one frame per iteration along the circle, so every measured update is a real frame.
+//! Run with `cargo bench --bench wu_update`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use roamsim::edge::experiment;
+use roamsim::sim::algorithm::{
+    AlgorithmConfig, FrameInput, LodAlgorithm, Reference, ReferenceConfig, SplitThreshold, Wu,
+};
+use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::stats::FrameStats;
+use roamsim::sim::view::Camera;
+use std::path::Path;
+
+const WARM_UP_FRAMES: u64 = 300;
+
+fn drive(algorithm: &mut dyn LodAlgorithm, experiment: &experiment::Experiment, frame: u64) {
+    let n_frames = experiment.flight.n_frames();
+    let camera = Camera::new(experiment.flight.pose(frame % n_frames), experiment.view);
+    let mut stats = FrameStats::default();
+    algorithm.update(
+        &FrameInput {
+            frame,
+            camera: &camera,
+            speed_bound_broken: false,
+        },
+        &mut stats,
+    );
+}
+
+fn per_frame_update(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/wu-table1.json");
+    let experiment = experiment::load(&path).expect("the shipped experiment loads");
+    let hierarchy = Hierarchy::new(experiment.field.clone());
+    let spec = experiment
+        .algorithms
+        .iter()
+        .find(|s| s.label == "wu budget=6000")
+        .expect("the 6000-triangle entry");
+    let AlgorithmConfig::Wu(config) = spec.config else {
+        panic!("not a wu entry");
+    };
+    let mut wu = Wu::new(&hierarchy, config, &experiment.view, experiment.speed);
+    let mut reference = Reference::new(
+        &hierarchy,
+        ReferenceConfig {
+            tau_px: wu.tau_px(),
+            zone: config.zone,
+            threshold: SplitThreshold::LifeAtMost(0.0),
+        },
+        &experiment.view,
+        experiment.speed,
+    );
+    for frame in 0..WARM_UP_FRAMES {
+        drive(&mut wu, &experiment, frame);
+        drive(&mut reference, &experiment, frame);
+    }
+    let mut group = c.benchmark_group("per_frame_update_6000_triangles");
+    let mut frame = WARM_UP_FRAMES;
+    group.bench_function("wu", |b| {
+        b.iter(|| {
+            drive(&mut wu, &experiment, frame);
+            frame += 1;
+        })
+    });
+    let mut frame = WARM_UP_FRAMES;
+    group.bench_function("reference_same_tau", |b| {
+        b.iter(|| {
+            drive(&mut reference, &experiment, frame);
+            frame += 1;
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, per_frame_update);
+criterion_main!(benches);
