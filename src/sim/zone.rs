@@ -74,6 +74,12 @@ pub fn zone_radius(delta: f64, theta: f64) -> f64 {
     delta / (2.0 * theta.sin())
 }
 
+/// r per metre of error for the angular tolerance `theta`: 1/(2 sin θ) with θ clamped to π/2,
+/// +∞ for θ = 0. Computed once per run, not per node.
+pub fn radius_per_error(theta: f64) -> f64 {
+    zone_radius(1.0, theta)
+}
+
 /// The split zone of the square node at `node` (half-size `half`) for the angular tolerance
 /// `theta`, or `None` when its error δ is 0.
 pub fn split_zone(
@@ -83,11 +89,23 @@ pub fn split_zone(
     theta: f64,
     variant: ZoneVariant,
 ) -> Option<ZoneBox> {
-    let delta = f64::from(hierarchy.node_error(node, half));
+    split_zone_scaled(hierarchy, node, half, radius_per_error(theta), variant)
+}
+
+/// [`split_zone`] with r/δ precomputed by [`radius_per_error`].
+pub fn split_zone_scaled(
+    hierarchy: &Hierarchy,
+    node: GridPoint,
+    half: u32,
+    radius_per_error: f64,
+    variant: ZoneVariant,
+) -> Option<ZoneBox> {
+    let (delta, z_min, z_max) = hierarchy.node_error_and_range(node, half);
+    let delta = f64::from(delta);
     if delta <= 0.0 {
         return None;
     }
-    let r = zone_radius(delta, theta);
+    let r = delta * radius_per_error;
     let spacing = hierarchy.field().spacing();
     let x = f64::from(node.i) * spacing.dx;
     let y = f64::from(node.j) * spacing.dy;
@@ -97,7 +115,6 @@ pub fn split_zone(
             half: DVec3::new(2.0 * r, 2.0 * r, r),
         },
         ZoneVariant::Conservative => {
-            let (z_min, z_max) = hierarchy.node_height_range(node, half);
             let (z_min, z_max) = (f64::from(z_min), f64::from(z_max));
             ZoneBox {
                 centre: DVec3::new(x, y, 0.5 * (z_min + z_max)),

@@ -51,9 +51,16 @@ pub struct Hierarchy {
     field: Heightfield,
     lattice: Lattice,
     square_index: SquareIndex,
-    node_error: Vec<f32>,
-    node_z_min: Vec<f32>,
-    node_z_max: Vec<f32>,
+    /// Per square node, contiguous so that one node's data is one cache access.
+    nodes: Vec<NodeData>,
+}
+
+/// What preprocessing stores per square node.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct NodeData {
+    error: f32,
+    z_min: f32,
+    z_max: f32,
 }
 
 impl Hierarchy {
@@ -68,9 +75,7 @@ impl Hierarchy {
             field,
             lattice,
             square_index,
-            node_error: vec![0.0; n_squares],
-            node_z_min: vec![0.0; n_squares],
-            node_z_max: vec![0.0; n_squares],
+            nodes: vec![NodeData::default(); n_squares],
         };
         hierarchy.compute_node_data();
         hierarchy
@@ -105,19 +110,25 @@ impl Hierarchy {
 
     /// Wu's node error δ of the square node at `p`.
     pub fn node_error(&self, p: GridPoint, half: u32) -> f32 {
-        self.node_error[self.square_index.index(p, half)]
+        self.nodes[self.square_index.index(p, half)].error
     }
 
     /// Lowest and highest sample height in the closed block of the square node at `p`.
     pub fn node_height_range(&self, p: GridPoint, half: u32) -> (f32, f32) {
-        let k = self.square_index.index(p, half);
-        (self.node_z_min[k], self.node_z_max[k])
+        let node = &self.nodes[self.square_index.index(p, half)];
+        (node.z_min, node.z_max)
+    }
+
+    /// Wu's node error δ and the block's height range of the square node at `p`, in one access.
+    pub fn node_error_and_range(&self, p: GridPoint, half: u32) -> (f32, f32, f32) {
+        let node = &self.nodes[self.square_index.index(p, half)];
+        (node.error, node.z_min, node.z_max)
     }
 
     /// Bytes per sample of the heights and Wu's node data.
     pub fn bytes_per_sample(&self) -> f64 {
         let heights = self.field.n_samples() * std::mem::size_of::<f32>();
-        let nodes = self.square_index.n_squares() * 3 * std::mem::size_of::<f32>();
+        let nodes = self.square_index.n_squares() * std::mem::size_of::<NodeData>();
         (heights + nodes) as f64 / self.field.n_samples() as f64
     }
 
@@ -179,16 +190,18 @@ impl Hierarchy {
                     }
                     Some(sub_blocks) => {
                         for sub in sub_blocks {
-                            let s = self.square_index.index(sub, half / 2);
-                            error = error.max(f64::from(self.node_error[s]));
-                            z_min = z_min.min(self.node_z_min[s]);
-                            z_max = z_max.max(self.node_z_max[s]);
+                            let sub = self.nodes[self.square_index.index(sub, half / 2)];
+                            error = error.max(f64::from(sub.error));
+                            z_min = z_min.min(sub.z_min);
+                            z_max = z_max.max(sub.z_max);
                         }
                     }
                 }
-                self.node_error[k] = round_up(error);
-                self.node_z_min[k] = z_min;
-                self.node_z_max[k] = z_max;
+                self.nodes[k] = NodeData {
+                    error: round_up(error),
+                    z_min,
+                    z_max,
+                };
             }
             half *= 2;
         }
@@ -284,7 +297,7 @@ mod tests {
     #[test]
     fn a_plane_has_zero_error_everywhere() {
         let h = hierarchy(17, |i, j| 3.0 * i as f32 - 2.0 * j as f32 + 7.0);
-        assert!(h.node_error.iter().all(|&e| e == 0.0));
+        assert!(h.nodes.iter().all(|n| n.error == 0.0));
         let nested = h.nested_vertex_errors(NestingRule::MaxPlusOwn);
         assert!(nested.iter().all(|&e| e == 0.0));
     }

@@ -50,7 +50,7 @@ use crate::sim::hierarchy::{Hierarchy, Lattice};
 use crate::sim::mesh::VertexSet;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
-use crate::sim::zone::{SpeedBound, ZoneVariant};
+use crate::sim::zone::{SpeedBound, ZoneVariant, radius_per_error};
 use glam::DVec3;
 use nodes::{LifeRule, NO_NODE, Nodes};
 use wheel::{Queue, Wheels};
@@ -157,7 +157,7 @@ impl<'h> Wu<'h> {
             lattice,
             nodes,
             rule: LifeRule {
-                theta: tau_px * view.pixel_angle(),
+                radius_per_error: radius_per_error(tau_px * view.pixel_angle()),
                 zone: config.zone,
                 speed,
             },
