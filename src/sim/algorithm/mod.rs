@@ -4,8 +4,10 @@
 //! [`LodAlgorithm::update`]. It exposes its mesh as the shared [`VertexSet`] so the runner can
 //! validate, cull and audit every algorithm the same way. No algorithm reads another's state.
 
+pub mod lindstrom;
 mod reference;
 
+pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold};
 
 use crate::sim::hierarchy::Hierarchy;
@@ -44,12 +46,14 @@ pub trait LodAlgorithm {
 #[derive(Clone, Debug, PartialEq)]
 pub enum AlgorithmConfig {
     Reference(ReferenceConfig),
+    Lindstrom(LindstromConfig),
 }
 
 impl AlgorithmConfig {
     pub fn name(&self) -> &'static str {
         match self {
             AlgorithmConfig::Reference(_) => reference::NAME,
+            AlgorithmConfig::Lindstrom(_) => lindstrom::NAME,
         }
     }
 
@@ -63,6 +67,9 @@ impl AlgorithmConfig {
         match self {
             AlgorithmConfig::Reference(config) => {
                 Box::new(Reference::new(hierarchy, *config, view, speed))
+            }
+            AlgorithmConfig::Lindstrom(config) => {
+                Box::new(Lindstrom::new(hierarchy, *config, view))
             }
         }
     }
