@@ -7,15 +7,15 @@
 
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
-    LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry, TerrainFormatEntry,
-    ZoneEntry,
+    LindstromParameters, LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry,
+    TerrainFormatEntry, ZoneEntry,
 };
 use super::{ExperimentError, FieldProblem};
 use crate::edge::flight_log::read_flight_log;
 use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
-use crate::sim::algorithm::{AlgorithmConfig, ReferenceConfig, SplitThreshold};
+use crate::sim::algorithm::{AlgorithmConfig, LindstromConfig, ReferenceConfig, SplitThreshold};
 use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{
     Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, speed_violations,
@@ -34,7 +34,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 /// Algorithms this build knows, as the experiment file names them.
-pub const KNOWN_ALGORITHMS: &[&str] = &["reference"];
+pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "lindstrom"];
 
 /// A validated, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -503,6 +503,14 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                     threshold: SplitThreshold::LifeAtMost(0.0),
                 }))
             }),
+            "lindstrom" => decode::<LindstromParameters>(k, &parameters, problems).and_then(|p| {
+                check_tau(k, p.tau_px, problems)?;
+                check_block_level(k, p.block_level, problems)?;
+                Some(AlgorithmConfig::Lindstrom(LindstromConfig {
+                    tau_px: p.tau_px,
+                    block_level: p.block_level,
+                }))
+            }),
             other => {
                 problems.add(
                     format!("algorithms[{k}].name"),
@@ -550,6 +558,21 @@ fn check_tau(index: usize, tau_px: f64, problems: &mut Problems) -> Option<()> {
         problems.add(
             format!("algorithms[{index}].tau_px"),
             format!("{tau_px}: expected a finite tolerance of at least 0 pixels"),
+        );
+        None
+    }
+}
+
+/// Lindstrom's blocks have (2^k + 1)² samples; the largest grid has level 15.
+fn check_block_level(index: usize, block_level: u32, problems: &mut Problems) -> Option<()> {
+    if (1..=15).contains(&block_level) {
+        Some(())
+    } else {
+        problems.add(
+            format!("algorithms[{index}].block_level"),
+            format!(
+                "{block_level}: expected a block level k from 1 to 15 (blocks of (2^k+1)² samples)"
+            ),
         );
         None
     }
