@@ -130,42 +130,67 @@ fn eye_heights(hierarchy: &Hierarchy) -> Vec<f64> {
     ]
 }
 
-fn check_every_eye(level: u32, taus: &[f64], block_levels: &[u32]) -> (u64, u64, f64) {
+/// What the exhaustive runs saw, summed over every frame.
+#[derive(Debug, Default)]
+struct Seen {
+    fewest_triangles: u64,
+    most_triangles: u64,
+    /// Sums of the extra columns.
+    extra: [f64; 6],
+}
+
+impl Seen {
+    /// The views differed, and every kind of block decision and both kinds of vertex decision
+    /// happened, so the comparison exercised every path of the coarse step.
+    fn covers_every_decision(&self) {
+        assert!(self.fewest_triangles < self.most_triangles, "{self:?}");
+        for column in [
+            BLOCKS_COARSEST,
+            BLOCKS_FINEST,
+            BLOCKS_PARTIAL,
+            VERTICES_EVALUATED,
+            VERTICES_BY_INTERVAL,
+            FORCED_ACTIVATIONS,
+        ] {
+            assert!(
+                self.extra[column] > 0.0,
+                "column {column} never counted: {self:?}"
+            );
+        }
+    }
+}
+
+fn check_every_eye(level: u32, taus: &[f64], block_levels: &[u32]) -> Seen {
     let hierarchy = bumpy_terrain(level);
     let eyes = eyes_over(&hierarchy, &eye_heights(&hierarchy));
-    let (mut fewest, mut most, mut decided_by_interval) = (u64::MAX, 0, 0.0);
+    let mut seen = Seen {
+        fewest_triangles: u64::MAX,
+        ..Seen::default()
+    };
     for &tau_px in taus {
         for &block_level in block_levels {
             let mut scene = Scene::new(&hierarchy, tau_px, block_level);
             for &eye in &eyes {
                 let stats = scene.frame_matches_brute_force(eye);
-                fewest = fewest.min(stats.triangles);
-                most = most.max(stats.triangles);
-                decided_by_interval += stats.extra[VERTICES_BY_INTERVAL];
+                seen.fewest_triangles = seen.fewest_triangles.min(stats.triangles);
+                seen.most_triangles = seen.most_triangles.max(stats.triangles);
+                for (sum, value) in seen.extra.iter_mut().zip(&stats.extra) {
+                    *sum += value;
+                }
             }
         }
     }
-    (fewest, most, decided_by_interval)
+    seen
 }
 
 #[test]
 fn every_eye_over_a_9_by_9_terrain_gives_the_brute_force_mesh() {
-    let (fewest, most, by_interval) = check_every_eye(3, &[0.5, 2.0, 8.0, 40.0], &[1, 2, 3]);
-    assert!(fewest < most, "the views must differ: {fewest}..{most}");
-    assert!(
-        by_interval > 0.0,
-        "the interval tests must decide something"
-    );
+    check_every_eye(3, &[0.5, 2.0, 8.0, 40.0], &[1, 2, 3]).covers_every_decision();
 }
 
 #[test]
 fn every_eye_over_a_17_by_17_terrain_gives_the_brute_force_mesh() {
-    let (fewest, most, by_interval) = check_every_eye(4, &[1.0, 4.0, 16.0], &[1, 2, 4]);
-    assert!(fewest < most, "the views must differ: {fewest}..{most}");
-    assert!(
-        by_interval > 0.0,
-        "the interval tests must decide something"
-    );
+    check_every_eye(4, &[1.0, 4.0, 16.0], &[1, 2, 4]).covers_every_decision();
 }
 
 #[test]
@@ -340,4 +365,47 @@ fn an_experiment_with_a_bad_lindstrom_entry_names_each_field() {
     assert!(problems[1].starts_with("algorithms[1].tau_px: "));
     assert!(problems[2].starts_with("algorithms[2]") && problems[2].contains("block_level"));
     assert!(problems[3].starts_with("algorithms[3]") && problems[3].contains("zone"));
+}
+
+/// `bumpy_terrain(level)` with its heights mapped by `height` and its posts `post_m` apart.
+fn reshaped_bumpy(level: u32, post_m: f64, height: impl Fn(f32) -> f32) -> Hierarchy {
+    let bumpy = bumpy_terrain(level);
+    let field = bumpy.field();
+    let heights = field.heights().iter().map(|&z| height(z)).collect();
+    let spacing = Spacing {
+        dx: post_m,
+        dy: post_m,
+    };
+    Hierarchy::new(Heightfield::new(field.side(), heights, spacing).unwrap())
+}
+
+#[test]
+fn scaling_terrain_and_eye_by_four_changes_no_decision() {
+    let small = bumpy_terrain(4);
+    let large = reshaped_bumpy(4, 40.0, |z| 4.0 * z);
+    for block_level in [1, 3] {
+        let mut small_scene = Scene::new(&small, 1.5, block_level);
+        let mut large_scene = Scene::new(&large, 1.5, block_level);
+        for eye in [DVec3::new(35.0, 60.0, 45.0), DVec3::new(-40.0, 170.0, 12.5)] {
+            let small_stats = small_scene.frame_matches_brute_force(eye);
+            let large_stats = large_scene.frame_matches_brute_force(4.0 * eye);
+            assert!(small_scene.algorithm.mesh() == large_scene.algorithm.mesh());
+            assert_eq!(small_stats.extra, large_stats.extra);
+        }
+    }
+}
+
+#[test]
+fn millimetre_relief_and_ten_kilometre_heights_still_match_the_brute_force() {
+    let millimetres = reshaped_bumpy(4, 10.0, |z| 1e-4 * z);
+    let high = reshaped_bumpy(4, 10.0, |z| 10_000.0 + z);
+    let deep = reshaped_bumpy(4, 10.0, |z| z - 10_000.0);
+    for (hierarchy, eye_z) in [(&millimetres, 0.3), (&high, 10_050.0), (&deep, -9_950.0)] {
+        for tau_px in [0.0, 0.01, 1.0] {
+            let mut scene = Scene::new(hierarchy, tau_px, 2);
+            for eye in eyes_over(hierarchy, &[eye_z]) {
+                scene.frame_matches_brute_force(eye);
+            }
+        }
+    }
 }

@@ -115,11 +115,17 @@ pub struct Lindstrom<'h> {
 
 impl<'h> Lindstrom<'h> {
     /// Preprocesses the blocks (O(samples · log samples)); the mesh starts as the base mesh.
+    /// τ must be finite and ≥ 0 (the experiment validation guarantees it).
     pub fn new(
         hierarchy: &'h Hierarchy,
         config: LindstromConfig,
         view: &ViewSettings,
     ) -> Lindstrom<'h> {
+        assert!(
+            config.tau_px.is_finite() && config.tau_px >= 0.0,
+            "Lindstrom's τ must be finite and at least 0, not {}",
+            config.tau_px
+        );
         let lattice = hierarchy.lattice();
         let nested_errors = hierarchy.nested_vertex_errors(NestingRule::Max);
         let blocks = BlockTree::new(hierarchy, &nested_errors, config.block_level);
