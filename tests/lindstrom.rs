@@ -409,3 +409,47 @@ fn millimetre_relief_and_ten_kilometre_heights_still_match_the_brute_force() {
         }
     }
 }
+
+#[test]
+fn a_checked_run_of_the_real_tile_writes_the_lindstrom_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = common::experiment::short_quickstart(3);
+    experiment["algorithms"] = serde_json::json!([
+        { "name": "lindstrom", "label": "lindstrom τ=2", "tau_px": 2, "block_level": 4 }
+    ]);
+    let path = common::experiment::save(dir.path(), "lindstrom", &experiment);
+    let out = dir.path().join("out");
+    let options = roamsim::edge::session::RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: true,
+    };
+    roamsim::edge::session::run_experiment(
+        &path,
+        &options,
+        &mut roamsim::edge::session::NoProgress,
+    )
+    .unwrap();
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|line| line.split(',').collect()).collect();
+    assert_eq!(rows.len(), 3);
+    for row in &rows {
+        let value = |name: &str| row[column(name)].parse::<f64>().unwrap();
+        assert!(value("triangles") > 2.0);
+        assert_eq!(
+            value("vertices_evaluated") + value("vertices_by_interval"),
+            (1025.0 * 1025.0) - 4.0
+        );
+        assert_eq!(
+            value("blocks_coarsest") + value("blocks_finest") + value("blocks_partial"),
+            5461.0,
+            "1 + 4 + … + 4^6 blocks of 17² samples on a 1025² grid"
+        );
+        assert!(
+            value("forced_activations") > 0.0,
+            "closure forces parents on a real tile"
+        );
+    }
+}

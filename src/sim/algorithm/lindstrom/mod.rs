@@ -1,8 +1,8 @@
 //! `lindstrom`: Lindstrom et al.'s 1996 continuous LOD for height fields, on the 4-8 family.
 //!
 //! Each frame is computed from scratch in two steps, as in the paper: a *coarse* block-based step
-//! ([`coarse`]) that decides whole blocks of a quadtree ([`blocks`]) by interval tests on their
-//! δ range, and a *fine* vertex-based step ([`fine`]) that keeps, bottom-up, the vertices whose
+//! (`coarse.rs`) that decides whole blocks of a quadtree (`blocks.rs`) by interval tests on their
+//! δ range, and a *fine* vertex-based step (`fine.rs`) that keeps, bottom-up, the vertices whose
 //! projected error reaches τ and whatever depends on them. No queues, no state carried between
 //! frames but the previous mesh (for the inserted/deleted counts): the per-frame cost grows with
 //! the vertices the step must look at, which is the contrast with Wu's and ROAM's coherence.
@@ -10,7 +10,7 @@
 //! # The criterion
 //!
 //! δ(v) is v's nested error under Lindstrom's max rule
-//! ([`NestingRule::Max`](crate::sim::hierarchy::NestingRule::Max)). Its projection is the
+//! ([`NestingRule::Max`]). Its projection is the
 //! paper's vertical-projection error λ·δ·√(dx²+dy²)/(dx²+dy²+dz²), λ = (h/2)/tan(fovy/2), with
 //! (dx, dy, dz) = v − eye ([`vertical_projection_error_px`]).
 //! A vertex is **kept** when δ > 0 and its projected error is **≥ τ** (non-strict); it is
@@ -34,7 +34,7 @@
 //!   smallest δ projects to τ or more. Between the two, per vertex: δ ≥ τ/g_min kept, δ <
 //!   τ/g_max removed (binary searches in the δ-sorted list), the rest evaluated exactly.
 //! - **Bottom-up.** Per frame, finest level first: a vertex stays if it is kept or a vertex that
-//!   depends on it stayed (one level finer); see [`fine`]. Parents are activated across block
+//!   depends on it stayed (one level finer); see `fine.rs`. Parents are activated across block
 //!   borders wherever they lie.
 //! - **Counters.** `metric_evaluations` = `vertices_evaluated` = exact evaluations of the metric;
 //!   `vertices_by_interval` = vertices decided by interval tests (whole skipped subtrees
@@ -151,7 +151,7 @@ impl<'h> Lindstrom<'h> {
         self.blocks.block_level()
     }
 
-    /// Checks the block quadtree against the hierarchy (see [`validate`]). O(samples).
+    /// Checks the block quadtree against the hierarchy (see `validate.rs`). O(samples).
     pub fn validate_blocks(&self) -> Result<(), BlockTreeError> {
         let nested_errors = self.hierarchy.nested_vertex_errors(NestingRule::Max);
         validate::validate_blocks(&self.blocks, self.hierarchy, &nested_errors)
