@@ -15,7 +15,7 @@
 //! whole subtree, the largest δ and the number of vertices. Sorting by δ is what lets a frame
 //! decide a node's vertices by interval tests without looking at them one by one
 //! ([`super::coarse`]). Memory: 8 bytes per sample (a `u32` id and an `f32` δ per vertex) plus
-//! about 64 bytes per node; the build is O(samples · log samples) (one sort) and holds, while it
+//! about 72 bytes per node; the build is O(samples · log samples) (one sort) and holds, while it
 //! runs, 12 more bytes per sample (the (node, δ, id) triples being sorted) besides the 4 bytes
 //! per sample of the nested errors it is given.
 
