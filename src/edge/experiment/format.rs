@@ -250,6 +250,15 @@ pub struct WuParameters {
     pub wheel_links: Option<u32>,
 }
 
+/// Parameters of `lindstrom`: τ in pixels and the block level k (blocks of (2^k + 1)² samples,
+/// 1 ≤ k ≤ 15; a k above the terrain's level means one block).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LindstromParameters {
+    pub tau_px: f64,
+    pub block_level: u32,
+}
+
 #[derive(Debug, Deserialize, Clone, Copy)]
 #[serde(rename_all = "snake_case")]
 pub enum ZoneEntry {

@@ -7,8 +7,8 @@
 
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
-    LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry, TerrainFormatEntry,
-    WuParameters, ZoneEntry,
+    LindstromParameters, LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry,
+    TerrainFormatEntry, WuParameters, ZoneEntry,
 };
 use super::{ExperimentError, FieldProblem};
 use crate::edge::flight_log::read_flight_log;
@@ -16,7 +16,7 @@ use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
 use crate::sim::algorithm::{
-    AlgorithmConfig, BudgetConfig, ReferenceConfig, SplitThreshold, WuConfig,
+    AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, SplitThreshold, WuConfig,
 };
 use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{
@@ -36,7 +36,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 /// Algorithms this build knows, as the experiment file names them.
-pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "wu"];
+pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "wu", "lindstrom"];
 
 /// A validated, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -507,6 +507,14 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
             }),
             "wu" => decode::<WuParameters>(k, &parameters, problems)
                 .and_then(|p| check_wu(k, &p, problems)),
+            "lindstrom" => decode::<LindstromParameters>(k, &parameters, problems).and_then(|p| {
+                check_tau(k, p.tau_px, problems)?;
+                check_block_level(k, p.block_level, problems)?;
+                Some(AlgorithmConfig::Lindstrom(LindstromConfig {
+                    tau_px: p.tau_px,
+                    block_level: p.block_level,
+                }))
+            }),
             other => {
                 problems.add(
                     format!("algorithms[{k}].name"),
@@ -631,6 +639,21 @@ fn check_wu(index: usize, p: &WuParameters, problems: &mut Problems) -> Option<A
         cone_culling: p.cone_culling.unwrap_or(false),
         wheel_links,
     }))
+}
+
+/// Lindstrom's blocks have (2^k + 1)² samples; the largest grid has level 15.
+fn check_block_level(index: usize, block_level: u32, problems: &mut Problems) -> Option<()> {
+    if (1..=15).contains(&block_level) {
+        Some(())
+    } else {
+        problems.add(
+            format!("algorithms[{index}].block_level"),
+            format!(
+                "{block_level}: expected a block level k from 1 to 15 (blocks of (2^k+1)² samples)"
+            ),
+        );
+        None
+    }
 }
 
 fn zone_variant(zone: Option<ZoneEntry>) -> ZoneVariant {

@@ -4,9 +4,11 @@
 //! [`LodAlgorithm::update`]. It exposes its mesh as the shared [`VertexSet`] so the runner can
 //! validate, cull and audit every algorithm the same way. No algorithm reads another's state.
 
+pub mod lindstrom;
 mod reference;
 mod wu;
 
+pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold};
 pub use wu::{BudgetConfig, Wu, WuConfig, initial_tau_px};
 
@@ -47,6 +49,7 @@ pub trait LodAlgorithm {
 pub enum AlgorithmConfig {
     Reference(ReferenceConfig),
     Wu(WuConfig),
+    Lindstrom(LindstromConfig),
 }
 
 impl AlgorithmConfig {
@@ -54,6 +57,7 @@ impl AlgorithmConfig {
         match self {
             AlgorithmConfig::Reference(_) => reference::NAME,
             AlgorithmConfig::Wu(_) => wu::NAME,
+            AlgorithmConfig::Lindstrom(_) => lindstrom::NAME,
         }
     }
 
@@ -69,6 +73,9 @@ impl AlgorithmConfig {
                 Box::new(Reference::new(hierarchy, *config, view, speed))
             }
             AlgorithmConfig::Wu(config) => Box::new(Wu::new(hierarchy, *config, view, speed)),
+            AlgorithmConfig::Lindstrom(config) => {
+                Box::new(Lindstrom::new(hierarchy, *config, view))
+            }
         }
     }
 }

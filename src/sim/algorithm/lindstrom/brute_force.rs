@@ -1,0 +1,50 @@
+//! The brute-force reference for Lindstrom's criterion: every vertex evaluated exactly, no
+//! blocks, no interval tests, closure by activating parents recursively (top-down).
+//!
+//! It shares with the algorithm only the criterion itself ([`super::keeps_vertex`]) and the
+//! metric; it is the ground truth of the differential tests. O(samples) per call.
+
+use super::keeps_vertex;
+use crate::sim::hierarchy::{GridPoint, Hierarchy};
+use crate::sim::mesh::VertexSet;
+use crate::sim::metrics::vertical_projection_error_px;
+use glam::DVec3;
+
+/// What the from-scratch evaluation needs: the terrain, every vertex's nested error under
+/// Lindstrom's max rule (indexed by vertex id), the eye, λ and τ.
+#[derive(Clone, Copy, Debug)]
+pub struct FromScratchView<'a> {
+    pub hierarchy: &'a Hierarchy,
+    pub nested_errors: &'a [f32],
+    pub eye: DVec3,
+    pub lambda: f64,
+    pub tau_px: f64,
+}
+
+/// The mesh Lindstrom's criterion asks for at this view: the closure under parents of every
+/// vertex with δ > 0 whose vertical-projection error is at least τ.
+pub fn mesh_from_scratch(view: &FromScratchView) -> VertexSet {
+    let lattice = view.hierarchy.lattice();
+    let field = view.hierarchy.field();
+    let mut mesh = VertexSet::base_mesh(lattice);
+    let mut stack: Vec<GridPoint> = Vec::new();
+    for j in 0..lattice.side() {
+        for i in 0..lattice.side() {
+            let point = GridPoint::new(i, j);
+            let delta = view.nested_errors[lattice.id(point) as usize];
+            let position = field.position(i as usize, j as usize);
+            let projected =
+                vertical_projection_error_px(view.eye, position, f64::from(delta), view.lambda);
+            if !keeps_vertex(delta, projected, view.tau_px) {
+                continue;
+            }
+            stack.push(point);
+            while let Some(vertex) = stack.pop() {
+                if mesh.insert(lattice.id(vertex)) {
+                    stack.extend(lattice.parents(vertex).as_slice());
+                }
+            }
+        }
+    }
+    mesh
+}

@@ -1,0 +1,236 @@
+//! `lindstrom`: Lindstrom et al.'s 1996 continuous LOD for height fields, on the 4-8 family.
+//!
+//! Each frame is computed from scratch in two steps, as in the paper: a *coarse* block-based step
+//! (`coarse.rs`) that decides whole blocks of a quadtree (`blocks.rs`) by interval tests on their
+//! δ range, and a *fine* vertex-based step (`fine.rs`) that keeps, bottom-up, the vertices whose
+//! projected error reaches τ and whatever depends on them. No queues, no state carried between
+//! frames but the previous mesh (for the inserted/deleted counts): the per-frame cost grows with
+//! the vertices the step must look at, which is the contrast with Wu's and ROAM's coherence.
+//!
+//! # The criterion
+//!
+//! δ(v) is v's nested error under Lindstrom's max rule
+//! ([`NestingRule::Max`]). Its projection is the
+//! paper's vertical-projection error λ·δ·√(dx²+dy²)/(dx²+dy²+dz²), λ = (h/2)/tan(fovy/2), with
+//! (dx, dy, dz) = v − eye ([`vertical_projection_error_px`]).
+//! A vertex is **kept** when δ > 0 and its projected error is **≥ τ** (non-strict); it is
+//! removed when the projection is below τ, which is the paper's removal test. δ = 0 vertices are
+//! never kept for themselves (they would only add flat triangles), so τ = 0 gives exactly the
+//! vertices with δ > 0 (and their parents, which have δ > 0 too under the max rule). An eye at a
+//! vertex projects its δ > 0 to +∞: kept. The mesh is the closure under parents of the kept
+//! vertices; [`mesh_from_scratch`] computes the same mesh with no blocks at all.
+//!
+//! # Decisions the paper leaves to the implementation
+//!
+//! - **Blocks.** `block_level` k gives blocks of (2^k + 1)² samples, the leaves of a complete
+//!   quadtree whose nodes are blocks of (2^k + 1)² samples at strides 1, 2, 4, … (the paper's
+//!   discrete block levels). A node owns the 4-8 vertices its stride adds; the root owns the
+//!   coarsest 2k levels. k is clamped to the terrain's level n (k ≥ n: one block).
+//! - **Interval tests.** A block's box is its square × its samples' height range; the projection
+//!   factor is bounded over the box analytically ([`ProjectionBounds`]), with a relative margin
+//!   ([`INTERVAL_MARGIN`]) so rounding can never make an interval decision disagree with the
+//!   exact criterion. The tests are conservative: a block is called "coarsest" only when even
+//!   its largest δ projects below τ from every point of its box, "finest" only when even its
+//!   smallest δ projects to τ or more. Between the two, per vertex: δ ≥ τ/g_min kept, δ <
+//!   τ/g_max removed (binary searches in the δ-sorted list), the rest evaluated exactly.
+//! - **Bottom-up.** Per frame, finest level first: a vertex stays if it is kept or a vertex that
+//!   depends on it stayed (one level finer); see `fine.rs`. Parents are activated across block
+//!   borders wherever they lie.
+//! - **Counters.** `metric_evaluations` = `vertices_evaluated` = exact evaluations of the metric;
+//!   `vertices_by_interval` = vertices decided by interval tests (whole skipped subtrees
+//!   included), so the two add up to the non-corner vertices every frame.
+//!   `forced_activations` = vertices in the mesh that do not meet the criterion themselves.
+//!   `blocks_coarsest` / `blocks_finest` / `blocks_partial` classify every node of the quadtree
+//!   by its own vertices (nodes in a skipped subtree are coarsest); they add up to the node
+//!   count. `splits` / `merges` = vertices entering / leaving the mesh since the previous frame
+//!   (one 4-8 diamond split or merge each: what an incremental renderer would apply), equal to
+//!   `vertices_inserted` / `vertices_deleted`.
+//!
+//! Memory: 8 bytes per sample for the blocks, one bit per sample per mesh (two meshes).
+//! Per frame: O(nodes visited + vertices evaluated + mesh).
+
+mod blocks;
+mod brute_force;
+mod coarse;
+mod fine;
+mod validate;
+
+pub use brute_force::{FromScratchView, mesh_from_scratch};
+pub use coarse::{INTERVAL_MARGIN, ProjectionBounds};
+pub use validate::BlockTreeError;
+
+use super::{FrameInput, LodAlgorithm};
+use crate::sim::hierarchy::{Hierarchy, NestingRule};
+use crate::sim::mesh::VertexSet;
+use crate::sim::stats::FrameStats;
+use crate::sim::view::ViewSettings;
+use blocks::BlockTree;
+use coarse::{CoarseFrame, select_blocks};
+use fine::{LevelBuckets, activate_bottom_up};
+
+#[cfg(doc)]
+use crate::sim::metrics::vertical_projection_error_px;
+
+pub(super) const NAME: &str = "lindstrom";
+
+const EXTRA_COLUMNS: &[&str] = &[
+    "blocks_coarsest",
+    "blocks_finest",
+    "blocks_partial",
+    "vertices_evaluated",
+    "vertices_by_interval",
+    "forced_activations",
+];
+
+/// Parameters of Lindstrom's algorithm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LindstromConfig {
+    /// Screen-space tolerance τ in pixels (finite, ≥ 0).
+    pub tau_px: f64,
+    /// k: blocks of (2^k + 1)² samples (1..=15; clamped to the terrain's level).
+    pub block_level: u32,
+}
+
+/// Whether a vertex of nested error `delta` whose vertical-projection error is `projected_px`
+/// meets Lindstrom's criterion: δ > 0 and projected ≥ τ.
+pub fn keeps_vertex(delta: f32, projected_px: f64, tau_px: f64) -> bool {
+    delta > 0.0 && projected_px >= tau_px
+}
+
+/// Lindstrom's algorithm. Per frame: O(nodes visited + vertices evaluated + mesh); the
+/// per-frame buffers (stack, level lists, meshes, active lists) are reused.
+pub struct Lindstrom<'h> {
+    hierarchy: &'h Hierarchy,
+    config: LindstromConfig,
+    lambda: f64,
+    blocks: BlockTree,
+    mesh: VertexSet,
+    active: Vec<u32>,
+    previous_mesh: VertexSet,
+    previous_active: Vec<u32>,
+    n_triangles: u64,
+    node_stack: Vec<u32>,
+    kept: LevelBuckets,
+}
+
+impl<'h> Lindstrom<'h> {
+    /// Preprocesses the blocks (O(samples · log samples)); the mesh starts as the base mesh.
+    /// τ must be finite and ≥ 0 (the experiment validation guarantees it).
+    pub fn new(
+        hierarchy: &'h Hierarchy,
+        config: LindstromConfig,
+        view: &ViewSettings,
+    ) -> Lindstrom<'h> {
+        assert!(
+            config.tau_px.is_finite() && config.tau_px >= 0.0,
+            "Lindstrom's τ must be finite and at least 0, not {}",
+            config.tau_px
+        );
+        let lattice = hierarchy.lattice();
+        let nested_errors = hierarchy.nested_vertex_errors(NestingRule::Max);
+        let blocks = BlockTree::new(hierarchy, &nested_errors, config.block_level);
+        let mesh = VertexSet::base_mesh(lattice);
+        let active: Vec<u32> = mesh.iter().collect();
+        Lindstrom {
+            hierarchy,
+            config,
+            lambda: view.pixels_per_unit(),
+            blocks,
+            previous_mesh: mesh.clone(),
+            previous_active: active.clone(),
+            mesh,
+            active,
+            n_triangles: 2,
+            node_stack: Vec::new(),
+            kept: LevelBuckets::new(lattice),
+        }
+    }
+
+    /// The effective block level k (after clamping to the terrain).
+    pub fn block_level(&self) -> u32 {
+        self.blocks.block_level()
+    }
+
+    /// Checks the block quadtree against the hierarchy (see `validate.rs`). O(samples).
+    pub fn validate_blocks(&self) -> Result<(), BlockTreeError> {
+        let nested_errors = self.hierarchy.nested_vertex_errors(NestingRule::Max);
+        validate::validate_blocks(&self.blocks, self.hierarchy, &nested_errors)
+    }
+
+    /// Nodes in the block quadtree.
+    pub fn n_blocks(&self) -> usize {
+        self.blocks.nodes().len()
+    }
+}
+
+impl LodAlgorithm for Lindstrom<'_> {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn extra_columns(&self) -> &'static [&'static str] {
+        EXTRA_COLUMNS
+    }
+
+    fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
+        let lattice = self.hierarchy.lattice();
+        std::mem::swap(&mut self.mesh, &mut self.previous_mesh);
+        std::mem::swap(&mut self.active, &mut self.previous_active);
+        for &id in &self.active {
+            self.mesh.remove(id);
+        }
+        self.active.clear();
+        for corner in lattice.corners() {
+            self.mesh.insert(lattice.id(corner));
+            self.active.push(lattice.id(corner));
+        }
+        self.n_triangles = 2;
+
+        let frame = CoarseFrame {
+            hierarchy: self.hierarchy,
+            blocks: &self.blocks,
+            eye: input.camera.eye,
+            lambda: self.lambda,
+            tau_px: self.config.tau_px,
+        };
+        self.kept.clear();
+        let counts = select_blocks(&frame, &mut self.node_stack, &mut self.kept);
+        self.n_triangles +=
+            activate_bottom_up(lattice, &mut self.kept, &mut self.mesh, &mut self.active);
+        let n_non_corner = (self.active.len() - 4) as u64;
+
+        stats.triangles = self.n_triangles;
+        stats.vertices_inserted = self
+            .active
+            .iter()
+            .filter(|&&id| !self.previous_mesh.contains(id))
+            .count() as u64;
+        stats.vertices_deleted = self
+            .previous_active
+            .iter()
+            .filter(|&&id| !self.mesh.contains(id))
+            .count() as u64;
+        stats.splits = stats.vertices_inserted;
+        stats.merges = stats.vertices_deleted;
+        stats.metric_evaluations = counts.vertices_evaluated;
+        stats.extra = vec![
+            counts.blocks_coarsest as f64,
+            counts.blocks_finest as f64,
+            counts.blocks_partial as f64,
+            counts.vertices_evaluated as f64,
+            counts.vertices_by_interval as f64,
+            (n_non_corner - counts.vertices_kept) as f64,
+        ];
+    }
+
+    fn mesh(&self) -> &VertexSet {
+        &self.mesh
+    }
+
+    fn triangle_count(&self) -> u64 {
+        self.n_triangles
+    }
+}
+
+#[cfg(test)]
+mod tests;
