@@ -1,7 +1,10 @@
 //! Per-frame update of Wu's algorithm at a 6000-triangle budget on the Table 1 flight
 //! (`experiments/wu-table1.json`), against the from-scratch reference at the same τ.
 //!
-//! Both start from the same warmed-up point of the flight (Wu's queues in steady state) and then
+//! Three measurements: `wu` as the experiment runs it (budget counted on cone-culled triangles,
+//! which costs an O(triangles) count per frame), `wu_budget_on_all_triangles` (the same budget on
+//! the whole mesh: the queue work alone), and the reference at the same τ.
+//! All start from the same warmed-up point of the flight (Wu's queues in steady state) and then
 //! advance one frame per iteration along the circle, so every measured update is a real frame.
 //! Run with `cargo bench --bench wu_update`.
 
@@ -44,6 +47,12 @@ fn per_frame_update(c: &mut Criterion) {
         panic!("not a wu entry");
     };
     let mut wu = Wu::new(&hierarchy, config, &experiment.view, experiment.speed);
+    // The same budget counted on all triangles: the queue work without the O(T) cone count.
+    let uncounted = roamsim::sim::algorithm::WuConfig {
+        cone_culling: false,
+        ..config
+    };
+    let mut wu_no_cone = Wu::new(&hierarchy, uncounted, &experiment.view, experiment.speed);
     let mut reference = Reference::new(
         &hierarchy,
         ReferenceConfig {
@@ -56,6 +65,7 @@ fn per_frame_update(c: &mut Criterion) {
     );
     for frame in 0..WARM_UP_FRAMES {
         drive(&mut wu, &experiment, frame);
+        drive(&mut wu_no_cone, &experiment, frame);
         drive(&mut reference, &experiment, frame);
     }
     let mut group = c.benchmark_group("per_frame_update_6000_triangles");
@@ -63,6 +73,13 @@ fn per_frame_update(c: &mut Criterion) {
     group.bench_function("wu", |b| {
         b.iter(|| {
             drive(&mut wu, &experiment, frame);
+            frame += 1;
+        })
+    });
+    let mut frame = WARM_UP_FRAMES;
+    group.bench_function("wu_budget_on_all_triangles", |b| {
+        b.iter(|| {
+            drive(&mut wu_no_cone, &experiment, frame);
             frame += 1;
         })
     });

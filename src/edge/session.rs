@@ -96,7 +96,7 @@ pub fn run_experiment(
         violation_frames: &violation_frames,
         effects: experiment.effects,
     };
-    let mut results: Vec<(Vec<FrameStats>, &'static [&'static str])> = Vec::new();
+    let mut results: Vec<AlgorithmResult> = Vec::new();
     for spec in &experiment.algorithms {
         let mut algorithm = spec
             .config
@@ -106,7 +106,11 @@ pub fn run_experiment(
             progress.advance(done)
         });
         progress.finish();
-        results.push((frames?, algorithm.extra_columns()));
+        results.push(AlgorithmResult {
+            frames: frames?,
+            extra_columns: algorithm.extra_columns(),
+            facts: algorithm.run_facts(),
+        });
     }
 
     write_outputs(&experiment, &preprocessing, &results, &out_dir)?;
@@ -119,20 +123,27 @@ pub fn run_experiment(
     })
 }
 
+/// One algorithm's run.
+struct AlgorithmResult {
+    frames: Vec<FrameStats>,
+    extra_columns: &'static [&'static str],
+    facts: Vec<(&'static str, f64)>,
+}
+
 fn write_outputs(
     experiment: &Experiment,
     preprocessing: &Preprocessing,
-    results: &[(Vec<FrameStats>, &'static [&'static str])],
+    results: &[AlgorithmResult],
     out_dir: &Path,
 ) -> Result<(), RunFailure> {
     let runs: Vec<RunColumns> = experiment
         .algorithms
         .iter()
         .zip(results)
-        .map(|(spec, (frames, extra_columns))| RunColumns {
+        .map(|(spec, result)| RunColumns {
             label: &spec.label,
-            extra_columns,
-            frames,
+            extra_columns: result.extra_columns,
+            frames: &result.frames,
         })
         .collect();
     let audited = experiment.effects.audit.is_some();
@@ -153,7 +164,15 @@ fn write_outputs(
         .iter()
         .map(|s| s.config.name())
         .collect();
-    let summary = summary_json(experiment, preprocessing, &runs, &parameters, &names);
+    let facts: Vec<_> = results.iter().map(|r| r.facts.clone()).collect();
+    let summary = summary_json(
+        experiment,
+        preprocessing,
+        &runs,
+        &parameters,
+        &names,
+        &facts,
+    );
     let summary_path = staged.path().join("summary.json");
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";
     std::fs::write(&summary_path, text).map_err(io_error(&summary_path))?;

@@ -25,6 +25,7 @@ pub fn summary_json(
     runs: &[RunColumns],
     parameters: &[Value],
     names: &[&str],
+    facts: &[Vec<(&'static str, f64)>],
 ) -> Value {
     let audited = experiment.effects.audit.is_some();
     let columns = numeric_columns(runs, audited);
@@ -32,7 +33,8 @@ pub fn summary_json(
         .iter()
         .zip(parameters)
         .zip(names)
-        .map(|((run, parameters), name)| {
+        .zip(facts)
+        .map(|(((run, parameters), name), facts)| {
             let mut summaries = Map::new();
             for column in &columns {
                 let values: Vec<f64> = run
@@ -51,6 +53,7 @@ pub fn summary_json(
                 "label": run.label,
                 "name": name,
                 "parameters": parameters,
+                "facts": facts.iter().map(|(k, v)| (k.to_string(), json!(v))).collect::<Map<String, Value>>(),
                 "frames": run.frames.len(),
                 "columns": summaries,
             })

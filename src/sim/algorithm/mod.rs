@@ -42,6 +42,10 @@ pub trait LodAlgorithm {
     fn mesh(&self) -> &VertexSet;
     /// The algorithm's own triangle count (validated against the mesh in checked runs).
     fn triangle_count(&self) -> u64;
+    /// Facts about the run worth reporting once (e.g. the τ a budget started from).
+    fn run_facts(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
 }
 
 /// An algorithm and its parameters, as validated from an experiment.

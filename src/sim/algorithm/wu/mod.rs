@@ -416,6 +416,13 @@ impl LodAlgorithm for Wu<'_> {
     fn triangle_count(&self) -> u64 {
         self.n_triangles
     }
+
+    fn run_facts(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("tau_px", self.tau_px),
+            ("wheel_links", f64::from(self.wheels.n_links())),
+        ]
+    }
 }
 
 impl Wu<'_> {
