@@ -50,6 +50,10 @@ enum Command {
         /// Validate every algorithm's mesh after every frame (slower).
         #[arg(long)]
         check: bool,
+        /// Threads running algorithm entries side by side (default: one per core). Counts and
+        /// meshes do not depend on it; use 1 for timing comparisons.
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Check an experiment file without running it; exits non-zero when it is invalid.
     #[command(after_help = EXAMPLES)]
@@ -69,7 +73,8 @@ fn main() -> ExitCode {
             experiment,
             out,
             check,
-        } => run(&experiment, out, check),
+            threads,
+        } => run(&experiment, out, check, threads),
         Command::Validate { experiment } => validate(&experiment),
         Command::Info { path } => info(&path),
     };
@@ -82,16 +87,22 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(path: &Path, out: Option<PathBuf>, check: bool) -> Result<(), String> {
+fn run(
+    path: &Path,
+    out: Option<PathBuf>,
+    check: bool,
+    threads: Option<usize>,
+) -> Result<(), String> {
     let options = RunOptions {
         out_dir: out,
         check_meshes: check,
+        threads,
     };
     let started = Instant::now();
     let outcome = if std::io::stderr().is_terminal() {
-        run_experiment(path, &options, &mut BarProgress { bar: None })
+        run_experiment(path, &options, &BarProgress::new())
     } else {
-        run_experiment(path, &options, &mut NoProgress)
+        run_experiment(path, &options, &NoProgress)
     }
     .map_err(|e| e.to_string())?;
     if !outcome.speed_violation_frames.is_empty() {
@@ -105,10 +116,11 @@ fn run(path: &Path, out: Option<PathBuf>, check: bool) -> Result<(), String> {
         );
     }
     println!(
-        "{}: {} frames in {:.2} s (preprocessing {:.3} s); wrote {}",
+        "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s); wrote {}",
         outcome.experiment_name,
         outcome.frames,
         started.elapsed().as_secs_f64(),
+        outcome.threads,
         outcome.preprocessing_seconds,
         outcome.out_dir.display()
     );
@@ -215,34 +227,35 @@ fn describe_preprocessing(field: Heightfield) {
     );
 }
 
-/// An indicatif bar per algorithm.
+/// One indicatif bar for all the frames of all the entries.
 struct BarProgress {
-    bar: Option<ProgressBar>,
+    bar: ProgressBar,
 }
 
-impl ProgressSink for BarProgress {
-    fn start(&mut self, label: &str, total_frames: u64) {
-        let bar = ProgressBar::new(total_frames);
+impl BarProgress {
+    fn new() -> BarProgress {
+        let bar = ProgressBar::hidden();
         if let Ok(style) =
-            ProgressStyle::with_template("{msg:>24} [{bar:40}] {pos}/{len} frames ({eta})")
+            ProgressStyle::with_template("running [{bar:40}] {pos}/{len} frames ({eta})")
         {
             bar.set_style(style.progress_chars("=> "));
         }
-        bar.set_message(label.to_string());
-        self.bar = Some(bar);
+        BarProgress { bar }
+    }
+}
+
+impl ProgressSink for BarProgress {
+    fn start(&self, total_frames: u64) {
+        self.bar.set_length(total_frames);
+        self.bar
+            .set_draw_target(indicatif::ProgressDrawTarget::stderr());
     }
 
-    fn advance(&mut self, frames_done: u64) {
-        if let Some(bar) = &self.bar
-            && (frames_done.is_multiple_of(16) || frames_done == bar.length().unwrap_or(0))
-        {
-            bar.set_position(frames_done);
-        }
+    fn advance(&self, frames: u64) {
+        self.bar.inc(frames);
     }
 
-    fn finish(&mut self) {
-        if let Some(bar) = self.bar.take() {
-            bar.finish();
-        }
+    fn finish(&self) {
+        self.bar.finish_and_clear();
     }
 }

@@ -9,11 +9,16 @@ use std::path::Path;
 use std::process::Command;
 
 fn run_to(experiment: &Path, out: &Path, check_meshes: bool) {
+    run_with_threads(experiment, out, check_meshes, 1);
+}
+
+fn run_with_threads(experiment: &Path, out: &Path, check_meshes: bool, threads: usize) {
     let options = RunOptions {
         out_dir: Some(out.to_path_buf()),
         check_meshes,
+        threads: Some(threads),
     };
-    run_experiment(experiment, &options, &mut NoProgress).unwrap();
+    run_experiment(experiment, &options, &NoProgress).unwrap();
 }
 
 /// frames.csv with the timing columns blanked.
@@ -40,13 +45,13 @@ fn counts_only(csv: &str) -> String {
 }
 
 #[test]
-fn the_same_experiment_twice_gives_identical_counts() {
+fn the_same_experiment_twice_gives_identical_counts_whatever_the_thread_count() {
     let dir = tempfile::tempdir().unwrap();
     let short = short_quickstart(40);
     let n_algorithms = short["algorithms"].as_array().unwrap().len();
     let experiment = save(dir.path(), "short", &short);
-    run_to(&experiment, &dir.path().join("first"), false);
-    run_to(&experiment, &dir.path().join("second"), true);
+    run_with_threads(&experiment, &dir.path().join("first"), false, 1);
+    run_with_threads(&experiment, &dir.path().join("second"), true, 3);
     let read =
         |name: &str| std::fs::read_to_string(dir.path().join(name).join("frames.csv")).unwrap();
     let (first, second) = (read("first"), read("second"));
@@ -183,5 +188,62 @@ fn info_reports_preprocessing_time_and_bytes_per_sample() {
     assert!(
         stdout.contains("1201 × 1201") && stdout.contains("2049²"),
         "{stdout}"
+    );
+}
+
+#[test]
+fn a_sweep_expands_into_labelled_entries_compared_in_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(6);
+    experiment["algorithms"] = serde_json::json!([
+        {"name": "wu", "label": "wu", "sweep": {"tau_px": [2, 8], "zone": ["paper", "conservative"]}},
+        {"name": "reference", "tau_px": 2}
+    ]);
+    let path = save(dir.path(), "sweep", &experiment);
+    let out = dir.path().join("out");
+    run_with_threads(&path, &out, true, 2);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let labels: Vec<&str> = summary["algorithms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a["label"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            "wu tau_px=2, zone=\"paper\"",
+            "wu tau_px=2, zone=\"conservative\"",
+            "wu tau_px=8, zone=\"paper\"",
+            "wu tau_px=8, zone=\"conservative\"",
+            "reference",
+        ]
+    );
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 5 * 6);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert_eq!(report.lines().filter(|l| l.starts_with("| wu tau_px=")).count(), 4);
+    assert!(report.contains("Pareto front"), "{report}");
+    for extension in ["png", "svg"] {
+        assert!(out.join(format!("plots/accuracy_vs_time.{extension}")).exists());
+    }
+}
+
+#[test]
+fn a_bad_sweep_names_its_entry() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(6);
+    experiment["algorithms"] = serde_json::json!([
+        {"name": "wu", "sweep": {"tau_px": [2, -1]}}
+    ]);
+    let path = save(dir.path(), "bad-sweep", &experiment);
+    let error = roamsim::edge::experiment::load(&path)
+        .err()
+        .expect("invalid")
+        .to_string();
+    assert!(
+        error.contains("algorithms[0] (tau_px=-1).tau_px: -1: expected a finite tolerance"),
+        "{error}"
     );
 }

@@ -3,7 +3,11 @@
 //! The central property (fixed τ, no budget, speed bounds honoured, traversal options off): after
 //! every frame,
 //!   from-scratch(split iff ℓ ≤ 0)  ⊆  wu's mesh  ⊆  from-scratch(split iff ℓ < 1),
-//! checked on exhaustive small cases and on random terrains and flights.
+//! checked on exhaustive small cases and on random terrains and flights. The upper bound needs
+//! nested zones (a block's zone contains its sub-blocks'), which only the conservative variant
+//! guarantees: with the paper's boxes, centred on different vertices, a block can have ℓ ≥ 1
+//! while a sub-block that keeps it active has ℓ < 1. So the upper bound is checked for the
+//! conservative zone, the lower bound for both.
 
 mod common;
 
@@ -44,6 +48,7 @@ struct Sandwich<'h> {
     wu: Wu<'h>,
     lower: Reference<'h>,
     upper: Reference<'h>,
+    zone: ZoneVariant,
     frame: u64,
 }
 
@@ -66,12 +71,14 @@ impl<'h> Sandwich<'h> {
             wu: Wu::new(hierarchy, fixed_tau(tau_px, zone), &view_600(), speed),
             lower: reference(SplitThreshold::LifeAtMost(0.0)),
             upper: reference(SplitThreshold::LifeBelow(1.0)),
+            zone,
             frame: 0,
         }
     }
 
     /// Flies to `eye` and checks everything; `broken` says the move broke the speed bounds.
     fn fly_to(&mut self, eye: DVec3, broken: bool) -> FrameStats {
+        let zones_nest = self.zone == ZoneVariant::Conservative;
         let camera = camera_at(eye);
         let input = FrameInput {
             frame: self.frame,
@@ -97,7 +104,7 @@ impl<'h> Sandwich<'h> {
             input.frame
         );
         assert!(
-            self.wu.mesh().is_subset(self.upper.mesh()),
+            !zones_nest || self.wu.mesh().is_subset(self.upper.mesh()),
             "frame {}, eye {eye:?}: a vertex whose life is ≥ 1 is still active",
             input.frame
         );

@@ -1,37 +1,43 @@
 //! One `roamsim run`: load the experiment, preprocess, run every algorithm over the flight,
 //! write the outputs all-or-nothing.
 //!
-//! Algorithms run one after another in the experiment's order, each from its own fresh state on
-//! the shared preprocessed terrain, so the counts and meshes do not depend on anything but the
-//! experiment. Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing).
+//! Every algorithm entry (sweep points included) runs from its own fresh state on the shared
+//! preprocessed terrain, in parallel on a rayon pool of `threads` threads; results are collected
+//! in the experiment's order, so the outputs do not depend on the thread count (timings do:
+//! entries running side by side share the cores; use one thread for timing comparisons).
+//! Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing).
 
-use crate::edge::experiment::{self, Experiment, ExperimentError};
+use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::StagedDir;
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::plots::PlotError;
+use crate::edge::output::report_md::{ReportInputs, report_markdown};
 use crate::edge::output::run_plots::write_run_plots;
 use crate::edge::output::summary_json::{Preprocessing, summary_json};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{RunError, RunInputs, run_algorithm};
 use crate::sim::stats::FrameStats;
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Receives progress: one phase per algorithm.
-pub trait ProgressSink {
-    fn start(&mut self, label: &str, total_frames: u64);
-    fn advance(&mut self, frames_done: u64);
-    fn finish(&mut self);
+/// Receives progress from every running algorithm at once (so it must be `Sync`).
+pub trait ProgressSink: Sync {
+    /// The total number of frames all entries will run.
+    fn start(&self, total_frames: u64);
+    /// `frames` more frames are done.
+    fn advance(&self, frames: u64);
+    fn finish(&self);
 }
 
 /// Progress that goes nowhere.
 pub struct NoProgress;
 
 impl ProgressSink for NoProgress {
-    fn start(&mut self, _: &str, _: u64) {}
-    fn advance(&mut self, _: u64) {}
-    fn finish(&mut self) {}
+    fn start(&self, _: u64) {}
+    fn advance(&self, _: u64) {}
+    fn finish(&self) {}
 }
 
 /// How to run.
@@ -41,6 +47,8 @@ pub struct RunOptions {
     pub out_dir: Option<PathBuf>,
     /// Validate every mesh every frame.
     pub check_meshes: bool,
+    /// Threads running algorithm entries side by side; `None`: one per core.
+    pub threads: Option<usize>,
 }
 
 /// What a finished run produced.
@@ -50,6 +58,7 @@ pub struct RunOutcome {
     pub frames: u64,
     pub speed_violation_frames: Vec<u64>,
     pub preprocessing_seconds: f64,
+    pub threads: usize,
 }
 
 /// Why a run produced nothing.
@@ -66,13 +75,15 @@ pub enum RunFailure {
     },
     #[error("{0}")]
     Plot(#[from] PlotError),
+    #[error("cannot start {threads} worker threads: {message}")]
+    Threads { threads: usize, message: String },
 }
 
 /// Runs an experiment file.
 pub fn run_experiment(
     path: &Path,
     options: &RunOptions,
-    progress: &mut dyn ProgressSink,
+    progress: &dyn ProgressSink,
 ) -> Result<RunOutcome, RunFailure> {
     let mut experiment = experiment::load(path)?;
     experiment.effects.check_meshes = options.check_meshes;
@@ -96,46 +107,83 @@ pub fn run_experiment(
         violation_frames: &violation_frames,
         effects: experiment.effects,
     };
-    let mut results: Vec<AlgorithmResult> = Vec::new();
-    for spec in &experiment.algorithms {
+    let threads = options
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| RunFailure::Threads {
+            threads,
+            message: e.to_string(),
+        })?;
+    let n_frames = experiment.flight.n_frames();
+    progress.start(n_frames * experiment.algorithms.len() as u64);
+    let run_one = |spec: &AlgorithmSpec| -> Result<AlgorithmResult, RunError> {
         let mut algorithm = spec
             .config
             .build(&hierarchy, &experiment.view, experiment.speed);
-        progress.start(&spec.label, experiment.flight.n_frames());
+        let mut reported = 0;
         let frames = run_algorithm(&inputs, &spec.label, algorithm.as_mut(), &mut |done| {
-            progress.advance(done)
-        });
-        progress.finish();
-        results.push(AlgorithmResult {
-            frames: frames?,
+            if done.is_multiple_of(16) || done == n_frames {
+                progress.advance(done - reported);
+                reported = done;
+            }
+        })?;
+        Ok(AlgorithmResult {
+            memory_bytes: algorithm.memory_bytes(),
+            frames,
             extra_columns: algorithm.extra_columns(),
             facts: algorithm.run_facts(),
-        });
-    }
+        })
+    };
+    let results: Vec<Result<AlgorithmResult, RunError>> =
+        pool.install(|| experiment.algorithms.par_iter().map(run_one).collect());
+    progress.finish();
+    let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
 
-    write_outputs(&experiment, &preprocessing, &results, &out_dir)?;
+    let context = OutputContext {
+        experiment: &experiment,
+        preprocessing: &preprocessing,
+        hierarchy_bytes: hierarchy.bytes_per_sample() * hierarchy.field().n_samples() as f64,
+        threads,
+    };
+    write_outputs(&context, &results, &out_dir)?;
     Ok(RunOutcome {
         out_dir,
         experiment_name: experiment.name.clone(),
         frames: experiment.flight.n_frames(),
         speed_violation_frames: violation_frames,
         preprocessing_seconds: preprocessing.seconds,
+        threads,
     })
 }
 
 /// One algorithm's run.
 struct AlgorithmResult {
+    memory_bytes: usize,
     frames: Vec<FrameStats>,
     extra_columns: &'static [&'static str],
     facts: Vec<(&'static str, f64)>,
 }
 
+/// What the writers need besides the results.
+struct OutputContext<'a> {
+    experiment: &'a Experiment,
+    preprocessing: &'a Preprocessing,
+    /// Bytes of the shared preprocessed terrain (heights and Wu's node table).
+    hierarchy_bytes: f64,
+    threads: usize,
+}
+
 fn write_outputs(
-    experiment: &Experiment,
-    preprocessing: &Preprocessing,
+    context: &OutputContext,
     results: &[AlgorithmResult],
     out_dir: &Path,
 ) -> Result<(), RunFailure> {
+    let experiment = context.experiment;
+    let preprocessing = context.preprocessing;
     let runs: Vec<RunColumns> = experiment
         .algorithms
         .iter()
@@ -176,6 +224,20 @@ fn write_outputs(
     let summary_path = staged.path().join("summary.json");
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";
     std::fs::write(&summary_path, text).map_err(io_error(&summary_path))?;
+    let n_samples = experiment.field.n_samples() as f64;
+    let bytes_per_sample: Vec<f64> = results
+        .iter()
+        .map(|r| (context.hierarchy_bytes + r.memory_bytes as f64) / n_samples)
+        .collect();
+    let report = report_markdown(&ReportInputs {
+        experiment,
+        runs: &runs,
+        names: &names,
+        bytes_per_sample: &bytes_per_sample,
+        threads: context.threads,
+    });
+    let report_path = staged.path().join("report.md");
+    std::fs::write(&report_path, report).map_err(io_error(&report_path))?;
     if experiment.plots {
         let plots = staged.path().join("plots");
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;

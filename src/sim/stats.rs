@@ -96,3 +96,46 @@ mod tests {
         assert_eq!(summarise(&[]), None);
     }
 }
+
+/// Indices of the points on the Pareto front when both coordinates are to be minimised: no other
+/// point is at least as good in both and better in one. Sorted by increasing x; points with a
+/// non-finite coordinate are left out.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len())
+        .filter(|&k| points[k].0.is_finite() && points[k].1.is_finite())
+        .collect();
+    order.sort_by(|&a, &b| {
+        points[a]
+            .0
+            .total_cmp(&points[b].0)
+            .then(points[a].1.total_cmp(&points[b].1))
+    });
+    let mut front = Vec::new();
+    let mut best_y = f64::INFINITY;
+    for k in order {
+        if points[k].1 < best_y {
+            best_y = points[k].1;
+            front.push(k);
+        }
+    }
+    front
+}
+
+#[cfg(test)]
+mod pareto_tests {
+    use super::pareto_front;
+
+    #[test]
+    fn the_front_keeps_only_undominated_points_in_x_order() {
+        let points = [
+            (3.0, 1.0),
+            (1.0, 5.0),
+            (2.0, 2.0),
+            (2.5, 3.0),
+            (1.0, 6.0),
+            (f64::NAN, 0.0),
+        ];
+        assert_eq!(pareto_front(&points), vec![1, 2, 0]);
+        assert!(pareto_front(&[]).is_empty());
+    }
+}

@@ -473,22 +473,105 @@ fn check_pitch(field: &str, pitch_deg: f64, problems: &mut Problems) {
     }
 }
 
+/// Most entries one sweep may expand into.
+const MAX_SWEEP_POINTS: usize = 10_000;
+
+/// An algorithm entry after sweep expansion: where it came from, for error paths.
+struct ExpandedEntry {
+    /// `algorithms[k]`, or `algorithms[k] (tau_px=0.5)` for a sweep point.
+    origin: String,
+    name: String,
+    label: String,
+    parameters: serde_json::Map<String, Value>,
+}
+
+/// Expands every entry's `"sweep": {"parameter": [values…], …}` into the cartesian product of
+/// its lists (parameters in alphabetical order, the first one outermost); each point is an
+/// entry whose label is the entry's label followed by ` parameter=value, …`.
+fn expand_sweeps(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<ExpandedEntry> {
+    let mut expanded = Vec::new();
+    for (k, entry) in entries.iter().enumerate() {
+        let label = entry.label.clone().unwrap_or_else(|| entry.name.clone());
+        let mut parameters = entry.parameters.clone();
+        let Some(sweep) = parameters.remove("sweep") else {
+            expanded.push(ExpandedEntry {
+                origin: format!("algorithms[{k}]"),
+                name: entry.name.clone(),
+                label,
+                parameters,
+            });
+            continue;
+        };
+        let Some(sweep) = sweep.as_object().filter(|s| !s.is_empty()) else {
+            problems.add(
+                format!("algorithms[{k}].sweep"),
+                "expected a non-empty object of parameter lists, e.g. {\"tau_px\": [1, 2, 4]}",
+            );
+            continue;
+        };
+        let mut axes: Vec<(&String, &Vec<Value>)> = Vec::new();
+        for (parameter, values) in sweep {
+            match values.as_array().filter(|v| !v.is_empty()) {
+                Some(values) if !["name", "label", "sweep"].contains(&parameter.as_str()) => {
+                    axes.push((parameter, values))
+                }
+                _ => problems.add(
+                    format!("algorithms[{k}].sweep.{parameter}"),
+                    "expected a non-empty list of values of an algorithm parameter",
+                ),
+            }
+        }
+        let points: usize = axes.iter().map(|(_, v)| v.len()).product();
+        if points > MAX_SWEEP_POINTS {
+            problems.add(
+                format!("algorithms[{k}].sweep"),
+                format!("{points} points: expected at most {MAX_SWEEP_POINTS}"),
+            );
+            continue;
+        }
+        for point in 0..points {
+            let mut parameters = parameters.clone();
+            let mut suffix = Vec::new();
+            let mut rest = point;
+            let mut chosen = Vec::new();
+            for (parameter, values) in axes.iter().rev() {
+                chosen.push((*parameter, &values[rest % values.len()]));
+                rest /= values.len();
+            }
+            chosen.reverse();
+            for (parameter, value) in chosen {
+                parameters.insert(parameter.clone(), value.clone());
+                suffix.push(format!("{parameter}={value}"));
+            }
+            let suffix = suffix.join(", ");
+            expanded.push(ExpandedEntry {
+                origin: format!("algorithms[{k}] ({suffix})"),
+                name: entry.name.clone(),
+                label: format!("{label} {suffix}"),
+                parameters,
+            });
+        }
+    }
+    expanded
+}
+
 fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<AlgorithmSpec> {
     if entries.is_empty() {
         problems.add("algorithms", "empty: expected at least one algorithm");
     }
     let mut labels = HashSet::new();
     let mut specs = Vec::new();
-    for (k, entry) in entries.iter().enumerate() {
-        let label = entry.label.clone().unwrap_or_else(|| entry.name.clone());
+    for entry in expand_sweeps(entries, problems) {
+        let k = &entry.origin;
+        let label = entry.label.clone();
         if label.is_empty() || label.contains(['\n', '\r']) {
             problems.add(
-                format!("algorithms[{k}].label"),
+                format!("{k}.label"),
                 format!("{label:?}: expected a non-empty, single-line label"),
             );
         } else if !labels.insert(label.clone()) {
             problems.add(
-                format!("algorithms[{k}].label"),
+                format!("{k}.label"),
                 format!(
                     "{label:?} is already used by an earlier entry: expected unique labels \
                      (give this entry a \"label\")"
@@ -496,6 +579,7 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
             );
         }
         let parameters = Value::Object(entry.parameters.clone());
+        let k = k.as_str();
         let config = match entry.name.as_str() {
             "reference" => decode::<ReferenceParameters>(k, &parameters, problems).and_then(|p| {
                 check_tau(k, p.tau_px, problems)?;
@@ -517,7 +601,7 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
             }),
             other => {
                 problems.add(
-                    format!("algorithms[{k}].name"),
+                    format!("{k}.name"),
                     format!(
                         "{other:?} is not an algorithm this build knows: expected one of {}",
                         KNOWN_ALGORITHMS.join(", ")
@@ -538,7 +622,7 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
 }
 
 fn decode<T: serde::de::DeserializeOwned>(
-    index: usize,
+    origin: &str,
     parameters: &Value,
     problems: &mut Problems,
 ) -> Option<T> {
@@ -546,21 +630,21 @@ fn decode<T: serde::de::DeserializeOwned>(
         .map_err(|error| {
             let inner = error.path().to_string();
             let field = if inner == "." {
-                format!("algorithms[{index}]")
+                origin.to_string()
             } else {
-                format!("algorithms[{index}].{inner}")
+                format!("{origin}.{inner}")
             };
             problems.add(field, error.into_inner().to_string());
         })
         .ok()
 }
 
-fn check_tau(index: usize, tau_px: f64, problems: &mut Problems) -> Option<()> {
+fn check_tau(origin: &str, tau_px: f64, problems: &mut Problems) -> Option<()> {
     if tau_px >= 0.0 && tau_px.is_finite() {
         Some(())
     } else {
         problems.add(
-            format!("algorithms[{index}].tau_px"),
+            format!("{origin}.tau_px"),
             format!("{tau_px}: expected a finite tolerance of at least 0 pixels"),
         );
         None
@@ -573,17 +657,17 @@ const WU_DEFAULT_INITIAL_TAU_K: f64 = 1.5;
 const WU_DEFAULT_WHEEL_LINKS: u32 = 256;
 const WU_MAX_WHEEL_LINKS: u32 = 1 << 20;
 
-fn check_wu(index: usize, p: &WuParameters, problems: &mut Problems) -> Option<AlgorithmConfig> {
-    let field = |name: &str| format!("algorithms[{index}].{name}");
+fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<AlgorithmConfig> {
+    let field = |name: &str| format!("{origin}.{name}");
     let n_problems = problems.list.len();
     if p.tau_px.is_none() && p.budget_triangles.is_none() {
         problems.add(
-            format!("algorithms[{index}]"),
+            origin.to_string(),
             "neither tau_px nor budget_triangles: expected a fixed τ, a triangle budget, or both",
         );
     }
     if let Some(tau) = p.tau_px {
-        check_tau(index, tau, problems);
+        check_tau(origin, tau, problems);
     }
     if p.budget_triangles == Some(0) {
         problems.add(field("budget_triangles"), "0: expected at least 1 triangle");
@@ -642,12 +726,12 @@ fn check_wu(index: usize, p: &WuParameters, problems: &mut Problems) -> Option<A
 }
 
 /// Lindstrom's blocks have (2^k + 1)² samples; the largest grid has level 15.
-fn check_block_level(index: usize, block_level: u32, problems: &mut Problems) -> Option<()> {
+fn check_block_level(origin: &str, block_level: u32, problems: &mut Problems) -> Option<()> {
     if (1..=15).contains(&block_level) {
         Some(())
     } else {
         problems.add(
-            format!("algorithms[{index}].block_level"),
+            format!("{origin}.block_level"),
             format!(
                 "{block_level}: expected a block level k from 1 to 15 (blocks of (2^k+1)² samples)"
             ),

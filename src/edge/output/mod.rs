@@ -4,5 +4,6 @@ pub mod atomic_dir;
 pub mod columns;
 pub mod frames_csv;
 pub mod plots;
+pub mod report_md;
 pub mod run_plots;
 pub mod summary_json;

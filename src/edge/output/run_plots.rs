@@ -2,12 +2,15 @@
 //! error per frame (when the audit ran). One line per algorithm label.
 
 use super::columns::{RunColumns, value};
-use super::plots::{LineChart, Marker, PlotError, Series, write_line_chart};
-use crate::sim::stats::summarise;
+use super::plots::{
+    LineChart, Marker, PlotError, ScatterChart, ScatterPoint, Series, write_line_chart,
+    write_scatter_chart,
+};
+use crate::sim::stats::{pareto_front, summarise};
 use std::path::Path;
 
-/// Writes `triangles`, `update_time`, `error` (when audited) and `base_b` (when an algorithm
-/// reports Wu's base) as PNG and SVG into `dir`.
+/// Writes `triangles`, `update_time`, `error` and `accuracy_vs_time` (when audited) and `base_b`
+/// (when an algorithm reports Wu's base) as PNG and SVG into `dir`.
 pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result<(), PlotError> {
     let series_of = |column: &str, scale: f64| -> Vec<Series> {
         runs.iter()
@@ -45,6 +48,7 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
     )?;
     write_base_plot(dir, runs)?;
     if audited {
+        write_accuracy_vs_time(dir, runs)?;
         write_line_chart(
             dir,
             "error",
@@ -116,6 +120,40 @@ fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
             y_label: "b (frames)",
             series: &series,
             markers: &markers,
+        },
+    )
+}
+
+/// Audited p95 error (mean over frames) against median update time, one point per entry, the
+/// Pareto front joined.
+fn write_accuracy_vs_time(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
+    let points: Vec<ScatterPoint> = runs
+        .iter()
+        .map(|run| {
+            let column = |name: &str| -> Vec<f64> {
+                run.frames
+                    .iter()
+                    .filter_map(|f| value(run, f, name))
+                    .collect()
+            };
+            ScatterPoint {
+                label: run.label.to_string(),
+                x: summarise(&column("update_ns")).map_or(f64::NAN, |s| s.p50 / 1e3),
+                y: summarise(&column("audit_projected_p95_px")).map_or(f64::NAN, |s| s.mean),
+            }
+        })
+        .collect();
+    let front = pareto_front(&points.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>());
+    write_scatter_chart(
+        dir,
+        "accuracy_vs_time",
+        &ScatterChart {
+            title: "What accuracy costs in time (Pareto front in red)",
+            x_label: "median update time per frame (µs, log scale)",
+            y_label: "audited projected error, p95 (px)",
+            points: &points,
+            front: &front,
+            log_x: true,
         },
     )
 }

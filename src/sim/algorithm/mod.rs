@@ -42,6 +42,8 @@ pub trait LodAlgorithm {
     fn mesh(&self) -> &VertexSet;
     /// The algorithm's own triangle count (validated against the mesh in checked runs).
     fn triangle_count(&self) -> u64;
+    /// Heap bytes of the algorithm's own state (not the shared preprocessed terrain).
+    fn memory_bytes(&self) -> usize;
     /// Facts about the run worth reporting once (e.g. the τ a budget started from).
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
         Vec::new()

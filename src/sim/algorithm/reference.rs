@@ -203,4 +203,13 @@ impl LodAlgorithm for Reference<'_> {
     fn triangle_count(&self) -> u64 {
         self.n_triangles
     }
+
+    fn memory_bytes(&self) -> usize {
+        let list = |v: &Vec<u32>| v.capacity() * std::mem::size_of::<u32>();
+        self.mesh.memory_bytes()
+            + self.previous_mesh.memory_bytes()
+            + list(&self.active)
+            + list(&self.previous_active)
+            + self.stack.capacity() * std::mem::size_of::<(GridPoint, u32)>()
+    }
 }

@@ -63,6 +63,11 @@ impl VertexSet {
         self.len
     }
 
+    /// Heap bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        self.words.capacity() * std::mem::size_of::<u64>()
+    }
+
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }

@@ -56,6 +56,13 @@ pub(super) struct BlockTree {
 }
 
 impl BlockTree {
+    /// Heap bytes held.
+    pub(super) fn memory_bytes(&self) -> usize {
+        self.nodes.capacity() * std::mem::size_of::<BlockNode>()
+            + self.owned_ids.capacity() * std::mem::size_of::<u32>()
+            + self.owned_deltas.capacity() * std::mem::size_of::<f32>()
+    }
+
     /// Builds the tree for blocks of (2^`block_level` + 1)² samples; a `block_level` beyond the
     /// terrain's level means one block (the root) and 0 is taken as 1.
     pub(super) fn new(hierarchy: &Hierarchy, nested_errors: &[f32], block_level: u32) -> BlockTree {

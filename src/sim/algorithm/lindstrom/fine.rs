@@ -36,6 +36,14 @@ impl LevelBuckets {
         }
     }
 
+    /// Heap bytes held.
+    pub(super) fn memory_bytes(&self) -> usize {
+        self.levels
+            .iter()
+            .map(|l| l.capacity() * std::mem::size_of::<u32>())
+            .sum()
+    }
+
     pub(super) fn clear(&mut self) {
         for level in &mut self.levels {
             level.clear();

@@ -230,6 +230,17 @@ impl LodAlgorithm for Lindstrom<'_> {
     fn triangle_count(&self) -> u64 {
         self.n_triangles
     }
+
+    fn memory_bytes(&self) -> usize {
+        let list = |v: &Vec<u32>| v.capacity() * std::mem::size_of::<u32>();
+        self.blocks.memory_bytes()
+            + self.mesh.memory_bytes()
+            + self.previous_mesh.memory_bytes()
+            + list(&self.active)
+            + list(&self.previous_active)
+            + list(&self.node_stack)
+            + self.kept.memory_bytes()
+    }
 }
 
 #[cfg(test)]

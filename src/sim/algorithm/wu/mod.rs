@@ -26,8 +26,12 @@
 //! clamp reported. Without a budget, b stays 0 (fixed τ).
 //!
 //! **Traversal options.** Block-priority traversal tests a split node's children by decreasing
-//! error and stops at the first that does not split (the rest wait a frame, untested). A depth
-//! limit caps the chain of splits one frame makes below a node split from the queues.
+//! error and stops at the first that does not split; the untested rest take its key (the paper's
+//! premise that siblings' errors go the same way), or wait one frame when that key is infinite.
+//! A heuristic: a sibling may need splitting before that key runs out. A depth limit caps the
+//! chain of splits one frame makes below a node split from the queues. Splits and merges that
+//! come due through a revalidation or an overflow wrap are acted on even in a frame whose base
+//! shift defers the other kind (only the due wheel link is deferred).
 //!
 //! **Cone culling** (`cull.rs`), when asked for, counts the triangles inside a cone around the
 //! view frustum; the budget then counts those.
@@ -296,12 +300,23 @@ impl<'h> Wu<'h> {
         self.due = due;
     }
 
-    /// Recomputes every queued life (first frame, or the speed bounds were broken).
+    /// Recomputes every queued life once (first frame, or the speed bounds were broken): all
+    /// links are emptied first, so a node rescheduled into a later link is not recomputed again.
     fn revalidate_all(&mut self) {
         for queue in [Queue::Split, Queue::Merge] {
+            let mut all = std::mem::take(&mut self.due);
+            all.clear();
             for link in 0..self.wheels.n_links() + 2 {
-                self.recompute_link(queue, link);
+                self.wheels.take_link(queue, link, &mut all);
             }
+            for &node in &all {
+                let life = self.life(node);
+                match queue {
+                    Queue::Split => self.schedule_split(node, life, 0),
+                    Queue::Merge => self.schedule_merge(node, life),
+                }
+            }
+            self.due = all;
         }
         if !self.started {
             let root = self.nodes.root();
@@ -353,25 +368,28 @@ impl LodAlgorithm for Wu<'_> {
 
         let shift = budget::base_shift(self.config.budget, self.previous_count, self.base);
         self.base = shift.new_base;
-        if !self.started || input.speed_bound_broken {
+        let revalidated = !self.started || input.speed_bound_broken;
+        if revalidated {
             self.revalidate_all();
             self.started = true;
         }
-        if self.frame.is_multiple_of(n_links) {
+        if self.frame.is_multiple_of(n_links) && !revalidated {
             self.recompute_link(Queue::Split, self.wheels.overflow_link());
             self.recompute_link(Queue::Merge, self.wheels.overflow_link());
         }
         match shift.direction {
             // More triangles than the budget: more merges, splits deferred.
+            // (The later link first: a node from `now` rescheduled one frame ahead is then not
+            // recomputed twice.)
             budget::Direction::Down => {
                 self.defer_link(Queue::Split, now);
-                self.recompute_link(Queue::Merge, now);
                 self.recompute_link(Queue::Merge, next);
+                self.recompute_link(Queue::Merge, now);
             }
             // Fewer: more splits, merges deferred.
             budget::Direction::Up => {
-                self.recompute_link(Queue::Split, now);
                 self.recompute_link(Queue::Split, next);
+                self.recompute_link(Queue::Split, now);
                 self.defer_link(Queue::Merge, now);
             }
             budget::Direction::Stay => {
@@ -417,6 +435,14 @@ impl LodAlgorithm for Wu<'_> {
         self.n_triangles
     }
 
+    fn memory_bytes(&self) -> usize {
+        self.mesh.memory_bytes()
+            + self.wheels.memory_bytes()
+            + self.due.capacity() * std::mem::size_of::<u32>()
+            + self.split_work.capacity() * std::mem::size_of::<(u32, f64, u32)>()
+            + self.merge_work.capacity() * std::mem::size_of::<(u32, f64)>()
+    }
+
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
         vec![
             ("tau_px", self.tau_px),
@@ -428,7 +454,8 @@ impl LodAlgorithm for Wu<'_> {
 impl Wu<'_> {
     /// Checks the queues against the mesh (see `validate.rs`); `check_lives` also checks that
     /// every queued node sits in a link that comes due no later than its key allows (only
-    /// meaningful at a fixed base).
+    /// meaningful at a fixed base, without block priority and without a depth limit, which both
+    /// delay nodes on purpose).
     pub fn validate_queues(&self, check_lives: bool) -> Result<(), String> {
         validate::validate(self, check_lives)
     }

@@ -120,6 +120,12 @@ impl Wu<'_> {
                 let key = life - self.base as f64;
                 self.schedule_split(child, life, depth);
                 if let Some(link) = self.link_for(key) {
+                    // An infinite key must not park siblings that may have finite lives.
+                    let link = if link == self.wheels.parked_link() {
+                        self.link_after(1)
+                    } else {
+                        link
+                    };
                     for &rest in &order[k + 1..] {
                         self.wheels.insert(rest, Queue::Split, link);
                     }

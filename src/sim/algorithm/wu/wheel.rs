@@ -53,6 +53,16 @@ impl Wheels {
         }
     }
 
+    /// Heap bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        (self.heads.capacity()
+            + self.counts.capacity()
+            + self.prev.capacity()
+            + self.next.capacity()
+            + self.slot.capacity())
+            * std::mem::size_of::<u32>()
+    }
+
     pub fn n_links(&self) -> u32 {
         self.n_links
     }

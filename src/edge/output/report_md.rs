@@ -1,0 +1,156 @@
+//! `report.md`: the run's comparison table, readable as it is and on a code host.
+//!
+//! One row per algorithm entry (sweep points included): triangles, the audited error, update
+//! time, operations per frame and per split or merge, and memory per sample; then the entries on
+//! the accuracy-versus-time Pareto front. Every figure comes from `frames.csv`'s columns; the
+//! definitions are under the table.
+
+use super::columns::{RunColumns, value};
+use crate::edge::experiment::Experiment;
+use crate::sim::stats::{pareto_front, summarise};
+use std::fmt::Write;
+
+/// What the report is made from.
+pub struct ReportInputs<'a> {
+    pub experiment: &'a Experiment,
+    pub runs: &'a [RunColumns<'a>],
+    pub names: &'a [&'a str],
+    pub bytes_per_sample: &'a [f64],
+    pub threads: usize,
+}
+
+/// One row's figures.
+struct Row {
+    triangles: f64,
+    rendered: f64,
+    error: Option<(f64, f64, f64)>,
+    update_p50_us: f64,
+    update_p95_us: f64,
+    operations_per_frame: f64,
+    evaluations_per_operation: Option<f64>,
+}
+
+fn row(run: &RunColumns) -> Row {
+    let column = |name: &str| -> Vec<f64> {
+        run.frames
+            .iter()
+            .filter_map(|f| value(run, f, name))
+            .collect()
+    };
+    let mean = |name: &str| summarise(&column(name)).map_or(f64::NAN, |s| s.mean);
+    let update = summarise(&column("update_ns"));
+    let error = summarise(&column("audit_projected_max_px")).and_then(|max| {
+        let mean = summarise(&column("audit_projected_mean_px"))?;
+        let p95 = summarise(&column("audit_projected_p95_px"))?;
+        Some((max.max, mean.mean, p95.mean))
+    });
+    let operations: f64 = run
+        .frames
+        .iter()
+        .map(|f| (f.splits + f.merges) as f64)
+        .sum();
+    let evaluations: f64 = run.frames.iter().map(|f| f.metric_evaluations as f64).sum();
+    Row {
+        triangles: mean("triangles"),
+        rendered: mean("triangles_rendered"),
+        error,
+        update_p50_us: update.map_or(f64::NAN, |s| s.p50 / 1e3),
+        update_p95_us: update.map_or(f64::NAN, |s| s.p95 / 1e3),
+        operations_per_frame: operations / run.frames.len().max(1) as f64,
+        evaluations_per_operation: (operations > 0.0).then(|| evaluations / operations),
+    }
+}
+
+/// The report's text.
+pub fn report_markdown(inputs: &ReportInputs) -> String {
+    let experiment = inputs.experiment;
+    let terrain = &experiment.terrain;
+    let mut out = String::new();
+    let _ = writeln!(out, "# {}: comparison\n", experiment.name);
+    if let Some(description) = &experiment.description {
+        let _ = writeln!(out, "{description}\n");
+    }
+    let _ = writeln!(
+        out,
+        "Terrain {} ({}², dx {:.2} m, dy {:.2} m); {} flight of {} frames; window {}×{}, fovy {:.1}°; {}; culling {}. \
+         Timings measured with {} thread(s) running entries side by side{}.\n",
+        terrain.source,
+        terrain.side,
+        terrain.spacing.dx,
+        terrain.spacing.dy,
+        experiment.flight_kind,
+        experiment.flight.n_frames(),
+        experiment.view.width_px,
+        experiment.view.height_px,
+        experiment.view.fovy.to_degrees(),
+        match experiment.effects.audit {
+            Some(a) => format!("audited every {} samples", a.stride),
+            None => "not audited".to_string(),
+        },
+        if experiment.effects.culling {
+            "on"
+        } else {
+            "off"
+        },
+        inputs.threads,
+        if inputs.threads > 1 {
+            " (for timing comparisons run with --threads 1)"
+        } else {
+            ""
+        },
+    );
+    let _ = writeln!(
+        out,
+        "| entry | algorithm | triangles | rendered | error max / mean / p95 (px) | update p50 / p95 (µs) | splits + merges per frame | evaluations per split or merge | bytes per sample |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|");
+    let rows: Vec<Row> = inputs.runs.iter().map(row).collect();
+    for (k, (run, r)) in inputs.runs.iter().zip(&rows).enumerate() {
+        let error = r.error.map_or("—".to_string(), |(max, mean, p95)| {
+            format!("{max:.2} / {mean:.3} / {p95:.2}")
+        });
+        let per_operation = r
+            .evaluations_per_operation
+            .map_or("—".to_string(), |e| format!("{e:.1}"));
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.0} | {:.0} | {} | {:.1} / {:.1} | {:.1} | {} | {:.2} |",
+            run.label.replace('|', "\\|"),
+            inputs.names[k],
+            r.triangles,
+            r.rendered,
+            error,
+            r.update_p50_us,
+            r.update_p95_us,
+            r.operations_per_frame,
+            per_operation,
+            inputs.bytes_per_sample[k],
+        );
+    }
+    let points: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.update_p50_us, r.error.map_or(f64::NAN, |e| e.2)))
+        .collect();
+    let front = pareto_front(&points);
+    if !front.is_empty() {
+        let labels: Vec<&str> = front.iter().map(|&k| inputs.runs[k].label).collect();
+        let _ = writeln!(
+            out,
+            "\nOn the accuracy-versus-time Pareto front (no other entry is both faster and more \
+             accurate; median update time against audited p95 error): {}.",
+            labels.join(", ")
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\n**Columns.** *triangles*, *rendered*: means per frame of the whole mesh and of the \
+         triangles meeting the view volume. *error*: the audited projected screen-space error — the \
+         largest of any frame, and the means over frames of each frame's mean and 95th percentile. \
+         *update*: median and 95th percentile of the per-frame update time. *splits + merges*: the \
+         algorithm's operations per frame. *evaluations per split or merge*: metric (or valid-life) \
+         evaluations over the flight divided by its splits and merges. *bytes per sample*: the \
+         shared preprocessed terrain (heights and Wu's node table, 8 B/sample) plus the \
+         algorithm's own state at the end of the run, per height sample."
+    );
+    out
+}
