@@ -422,13 +422,10 @@ fn a_checked_run_of_the_real_tile_writes_the_lindstrom_columns() {
     let options = roamsim::edge::session::RunOptions {
         out_dir: Some(out.clone()),
         check_meshes: true,
+        threads: Some(1),
     };
-    roamsim::edge::session::run_experiment(
-        &path,
-        &options,
-        &mut roamsim::edge::session::NoProgress,
-    )
-    .unwrap();
+    roamsim::edge::session::run_experiment(&path, &options, &roamsim::edge::session::NoProgress)
+        .unwrap();
     let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();

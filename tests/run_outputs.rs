@@ -223,10 +223,19 @@ fn a_sweep_expands_into_labelled_entries_compared_in_the_report() {
     let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 5 * 6);
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert_eq!(report.lines().filter(|l| l.starts_with("| wu tau_px=")).count(), 4);
+    assert_eq!(
+        report
+            .lines()
+            .filter(|l| l.starts_with("| wu tau_px="))
+            .count(),
+        4
+    );
     assert!(report.contains("Pareto front"), "{report}");
     for extension in ["png", "svg"] {
-        assert!(out.join(format!("plots/accuracy_vs_time.{extension}")).exists());
+        assert!(
+            out.join(format!("plots/accuracy_vs_time.{extension}"))
+                .exists()
+        );
     }
 }
 
