@@ -7,7 +7,7 @@
 
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
-    LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry, TerrainFormatEntry,
+    LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, RoamParameters, TerrainEntry, TerrainFormatEntry,
     ZoneEntry,
 };
 use super::{ExperimentError, FieldProblem};
@@ -15,7 +15,9 @@ use crate::edge::flight_log::read_flight_log;
 use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
-use crate::sim::algorithm::{AlgorithmConfig, ReferenceConfig, SplitThreshold};
+use crate::sim::algorithm::{
+    AlgorithmConfig, ReferenceConfig, RoamConfig, RoamGoal, SplitThreshold,
+};
 use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{
     Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, speed_violations,
@@ -34,7 +36,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 /// Algorithms this build knows, as the experiment file names them.
-pub const KNOWN_ALGORITHMS: &[&str] = &["reference"];
+pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "roam", "roam-rebuild"];
 
 /// A validated, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -503,6 +505,22 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                     threshold: SplitThreshold::LifeAtMost(0.0),
                 }))
             }),
+            name @ ("roam" | "roam-rebuild") => decode::<RoamParameters>(k, &parameters, problems)
+                .and_then(|p| {
+                    let config = roam_config(k, &p, problems)?;
+                    if name == "roam" {
+                        Some(AlgorithmConfig::Roam(config))
+                    } else if config.deferral {
+                        problems.add(
+                            format!("algorithms[{k}].deferral"),
+                            "true: roam-rebuild starts from scratch every frame, expected false \
+                             or absent",
+                        );
+                        None
+                    } else {
+                        Some(AlgorithmConfig::RoamRebuild(config))
+                    }
+                }),
             other => {
                 problems.add(
                     format!("algorithms[{k}].name"),
@@ -541,6 +559,37 @@ fn decode<T: serde::de::DeserializeOwned>(
             problems.add(field, error.into_inner().to_string());
         })
         .ok()
+}
+
+fn roam_config(index: usize, p: &RoamParameters, problems: &mut Problems) -> Option<RoamConfig> {
+    let goal = match (p.target_triangles, p.tau_px) {
+        (Some(target), None) => RoamGoal::TargetTriangles(target),
+        (None, Some(tau)) => {
+            check_tau(index, tau, problems)?;
+            RoamGoal::TolerancePx(tau)
+        }
+        _ => {
+            problems.add(
+                format!("algorithms[{index}]"),
+                "expected exactly one of \"target_triangles\" and \"tau_px\"",
+            );
+            return None;
+        }
+    };
+    if p.deferral && matches!(goal, RoamGoal::TargetTriangles(_)) {
+        problems.add(
+            format!("algorithms[{index}].deferral"),
+            "true with \"target_triangles\": deferral needs a fixed crossover, expected \
+             \"tau_px\" (or no deferral)",
+        );
+        return None;
+    }
+    Some(RoamConfig {
+        goal,
+        deferral: p.deferral,
+        culling_flags: p.culling_flags,
+        strips: p.strips,
+    })
 }
 
 fn check_tau(index: usize, tau_px: f64, problems: &mut Problems) -> Option<()> {

@@ -5,8 +5,10 @@
 //! validate, cull and audit every algorithm the same way. No algorithm reads another's state.
 
 mod reference;
+mod roam;
 
 pub use reference::{Reference, ReferenceConfig, SplitThreshold};
+pub use roam::{BintreeError, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild};
 
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::VertexSet;
@@ -44,12 +46,16 @@ pub trait LodAlgorithm {
 #[derive(Clone, Debug, PartialEq)]
 pub enum AlgorithmConfig {
     Reference(ReferenceConfig),
+    Roam(RoamConfig),
+    RoamRebuild(RoamConfig),
 }
 
 impl AlgorithmConfig {
     pub fn name(&self) -> &'static str {
         match self {
             AlgorithmConfig::Reference(_) => reference::NAME,
+            AlgorithmConfig::Roam(_) => roam::NAME,
+            AlgorithmConfig::RoamRebuild(_) => roam::REBUILD_NAME,
         }
     }
 
@@ -63,6 +69,10 @@ impl AlgorithmConfig {
         match self {
             AlgorithmConfig::Reference(config) => {
                 Box::new(Reference::new(hierarchy, *config, view, speed))
+            }
+            AlgorithmConfig::Roam(config) => Box::new(Roam::new(hierarchy, *config, speed)),
+            AlgorithmConfig::RoamRebuild(config) => {
+                Box::new(RoamRebuild::new(hierarchy, *config, speed))
             }
         }
     }
