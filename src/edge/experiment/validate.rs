@@ -7,8 +7,8 @@
 
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
-    LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, RoamParameters, TerrainEntry, TerrainFormatEntry,
-    ZoneEntry,
+    LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, RoamParameters, TerrainEntry,
+    TerrainFormatEntry, ZoneEntry,
 };
 use super::{ExperimentError, FieldProblem};
 use crate::edge::flight_log::read_flight_log;

@@ -165,10 +165,6 @@ impl Bintree {
         self.n_leaves
     }
 
-    pub fn n_triangles(&self) -> usize {
-        self.triangles.len()
-    }
-
     /// Every triangle, leaves and interior, in slot order.
     pub fn iter(&self) -> impl Iterator<Item = (TriangleKey, &BinTriangle)> {
         self.triangles.iter()

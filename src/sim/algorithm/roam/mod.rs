@@ -133,6 +133,8 @@ struct Core<'h> {
     scratch: Vec<TriangleKey>,
     /// Key of the last split, for tests.
     last_split: Option<QueueKey>,
+    /// Always on; a unit test turns it off to show the paper's literal loop oscillating.
+    oscillation_guard: bool,
 }
 
 impl<'h> Core<'h> {
@@ -158,6 +160,7 @@ impl<'h> Core<'h> {
             counters: FrameCounters::default(),
             scratch: Vec::new(),
             last_split: None,
+            oscillation_guard: true,
         }
     }
 
@@ -225,7 +228,12 @@ impl<'h> Core<'h> {
         if self.deferring() {
             self.schedule_triangle(camera, key, value);
         }
-        Some(QueueKey::triangle(self.bintree.lattice(), value, split, apex))
+        Some(QueueKey::triangle(
+            self.bintree.lattice(),
+            value,
+            split,
+            apex,
+        ))
     }
 
     fn diamond_key(&mut self, camera: &Camera, primary: TriangleKey) -> Option<QueueKey> {
@@ -242,8 +250,7 @@ impl<'h> Core<'h> {
     fn schedule_triangle(&mut self, camera: &Camera, key: TriangleKey, value: f64) {
         let tau = self.tau().unwrap_or(0.0);
         let context = self.context(camera);
-        let frames =
-            context.safe_frames(self.bintree.get(key), value, tau, self.speed_per_frame);
+        let frames = context.safe_frames(self.bintree.get(key), value, tau, self.speed_per_frame);
         self.schedule(frames, Due::Split(key));
     }
 
@@ -252,7 +259,10 @@ impl<'h> Core<'h> {
         let context = self.context(camera);
         let speed = self.speed_per_frame;
         let mut frames = if value <= tau { MAX_DEFERRAL_FRAMES } else { 0 };
-        for parent in diamond_parents(&self.bintree, primary).into_iter().flatten() {
+        for parent in diamond_parents(&self.bintree, primary)
+            .into_iter()
+            .flatten()
+        {
             let triangle = self.bintree.get(parent);
             let flag = if self.config.culling_flags {
                 context.classify(triangle)
@@ -402,13 +412,10 @@ impl<'h> Core<'h> {
         }
     }
 
-    /// An upper bound on split/merge iterations in one frame.
+    /// An upper bound on split/merge iterations in one frame: under the guard each vertex is
+    /// inserted at most once and removed at most once per frame.
     fn iteration_cap(&self) -> u64 {
-        let target = match self.config.goal {
-            RoamGoal::TargetTriangles(n) => n,
-            RoamGoal::TolerancePx(_) => 0,
-        };
-        8 * (self.bintree.n_triangles() as u64 + target) + 64
+        2 * self.bintree.lattice().n_vertices() as u64 + 64
     }
 
     /// Fixed τ: split above τ, merge at or below.
@@ -439,6 +446,10 @@ impl<'h> Core<'h> {
 
     /// Target count: the dual-queue loop with the oscillation guard (see the module comment).
     fn adapt_to_target(&mut self, camera: &Camera, target: u64, split_only: bool) {
+        if !self.oscillation_guard {
+            self.adapt_to_target_unguarded(camera, target);
+            return;
+        }
         let mut lowest_split: Option<QueueKey> = None;
         let mut highest_merge: Option<QueueKey> = None;
         let mut remaining = self.iteration_cap();
@@ -495,6 +506,35 @@ impl<'h> Core<'h> {
                 _ => {}
             }
             break;
+        }
+    }
+
+    /// The paper's loop as written, without the guard: while too large merge, while too small
+    /// or the top split beats the bottom merge split. Only the iteration cap stops it.
+    fn adapt_to_target_unguarded(&mut self, camera: &Camera, target: u64) {
+        let mut remaining = self.iteration_cap();
+        loop {
+            if remaining == 0 {
+                self.counters.guard_stops += 1;
+                break;
+            }
+            remaining -= 1;
+            let top = self.queues.top_split().filter(|(_, key)| key.value > 0.0);
+            let bottom = self.queues.bottom_merge();
+            if self.bintree.n_leaves() > target {
+                let Some((diamond, _)) = bottom else {
+                    break;
+                };
+                self.merge(camera, diamond);
+                continue;
+            }
+            let beats = matches!((top, bottom), (Some((_, t)), Some((_, b))) if t > b);
+            match top {
+                Some((triangle, _)) if self.bintree.n_leaves() < target || beats => {
+                    self.split(camera, triangle);
+                }
+                _ => break,
+            }
         }
     }
 
@@ -654,7 +694,8 @@ fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
     ];
     let effects = usize::from(config.culling_flags) * 2 + usize::from(config.strips) * 4;
     if incremental {
-        INCREMENTAL[effects + usize::from(config.deferral && matches!(config.goal, RoamGoal::TolerancePx(_)))]
+        INCREMENTAL[effects
+            + usize::from(config.deferral && matches!(config.goal, RoamGoal::TolerancePx(_)))]
     } else {
         REBUILD[effects / 2]
     }
@@ -676,7 +717,8 @@ impl<'h> Roam<'h> {
         for root in core.bintree.roots() {
             let triangle = core.bintree.get(root);
             if let Some(split) = triangle.split_vertex() {
-                let key = QueueKey::triangle(core.bintree.lattice(), 0.0, split, triangle.shape.apex);
+                let key =
+                    QueueKey::triangle(core.bintree.lattice(), 0.0, split, triangle.shape.apex);
                 core.queues.split.push(root, key);
             }
         }
@@ -722,9 +764,8 @@ impl LodAlgorithm for Roam<'_> {
         core.frame = input.frame;
         core.counters = FrameCounters::default();
         let orientation = (camera.forward, camera.up);
-        let revalidate = !core.deferring()
-            || input.speed_bound_broken
-            || self.orientation != Some(orientation);
+        let revalidate =
+            !core.deferring() || input.speed_bound_broken || self.orientation != Some(orientation);
         self.orientation = Some(orientation);
         if revalidate {
             core.counters.revalidations = 1;
@@ -890,12 +931,9 @@ mod tests {
 
     fn assert_valid(core: &Core, camera: &Camera) {
         let context = core.context(camera);
-        if let Err(error) = validate::validate(
-            &core.bintree,
-            &core.queues,
-            &context,
-            PriorityCheck::Exact,
-        ) {
+        if let Err(error) =
+            validate::validate(&core.bintree, &core.queues, &context, PriorityCheck::Exact)
+        {
             panic!("{error}");
         }
     }
@@ -911,21 +949,28 @@ mod tests {
         let mut state = 12345u64;
         let (mut splits, mut merges) = (0, 0);
         for _ in 0..400 {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let choice = (state >> 33) % 10;
             if choice < 6 {
                 // Split a leaf picked by grid position, not by priority.
-                let leaves: Vec<TriangleKey> = roam.core.queues.split.iter().map(|(k, _)| *k).collect();
+                let leaves: Vec<TriangleKey> =
+                    roam.core.queues.split.iter().map(|(k, _)| *k).collect();
                 let mut ordered: Vec<(u64, TriangleKey)> = leaves
                     .iter()
                     .map(|&k| {
                         let t = roam.core.bintree.get(k).shape;
                         let lattice = hierarchy.lattice();
-                        ((u64::from(lattice.id(t.apex)) << 32) | u64::from(lattice.id(t.left)), k)
+                        (
+                            (u64::from(lattice.id(t.apex)) << 32) | u64::from(lattice.id(t.left)),
+                            k,
+                        )
                     })
                     .collect();
                 ordered.sort();
-                if let Some(&(_, key)) = ordered.get((state >> 20) as usize % ordered.len().max(1)) {
+                if let Some(&(_, key)) = ordered.get((state >> 20) as usize % ordered.len().max(1))
+                {
                     roam.core.split(&camera, key);
                     splits += 1;
                 }
@@ -935,8 +980,14 @@ mod tests {
             }
             assert_valid(&roam.core, &camera);
         }
-        assert!(splits > 100 && merges > 50, "{splits} splits, {merges} merges");
-        assert!(roam.core.counters.forced > 0, "no forced split was exercised");
+        assert!(
+            splits > 100 && merges > 50,
+            "{splits} splits, {merges} merges"
+        );
+        assert!(
+            roam.core.counters.forced > 0,
+            "no forced split was exercised"
+        );
     }
 
     #[test]
@@ -947,6 +998,42 @@ mod tests {
     #[test]
     fn every_split_and_merge_keeps_the_flags_valid_with_culling() {
         exercise(true);
+    }
+
+    fn run_frame(roam: &mut Roam, frame: u64, camera: &Camera) -> FrameStats {
+        let mut stats = FrameStats::default();
+        roam.update(
+            &FrameInput {
+                frame,
+                camera,
+                speed_bound_broken: false,
+            },
+            &mut stats,
+        );
+        stats
+    }
+
+    #[test]
+    fn the_papers_loop_oscillates_on_an_odd_budget_and_the_guard_stops_it() {
+        let hierarchy = bumpy(4);
+        let camera = camera(40.0, 30.0, 0.7);
+        let budget = RoamConfig {
+            goal: RoamGoal::TargetTriangles(41),
+            ..config(false)
+        };
+        let mut literal = Roam::new(&hierarchy, budget, STILL);
+        literal.core.oscillation_guard = false;
+        let stats = run_frame(&mut literal, 0, &camera);
+        // Split to 42, merge to 40, split to 42, … until the cap.
+        assert_eq!(literal.core.counters.guard_stops, 1, "{stats:?}");
+        assert!(stats.splits + stats.merges >= literal.core.iteration_cap() - 1);
+
+        let mut guarded = Roam::new(&hierarchy, budget, STILL);
+        let first = run_frame(&mut guarded, 0, &camera);
+        assert!(first.triangles <= 41 && first.splits < 41, "{first:?}");
+        let second = run_frame(&mut guarded, 1, &camera);
+        assert_eq!((second.splits, second.merges), (0, 0));
+        assert_valid(&guarded.core, &camera);
     }
 
     #[test]

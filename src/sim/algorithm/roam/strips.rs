@@ -58,10 +58,8 @@ impl StripCounter {
             let next = self.leaves.get(k + 1).map(|&n| corners(n));
             last_two = match next {
                 Some(next) => {
-                    let shared: Vec<GridPoint> = vertices
-                        .into_iter()
-                        .filter(|v| next.contains(v))
-                        .collect();
+                    let shared: Vec<GridPoint> =
+                        vertices.into_iter().filter(|v| next.contains(v)).collect();
                     (shared.len() == 2).then(|| (shared[0], shared[1]))
                 }
                 None => None,
