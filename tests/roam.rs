@@ -173,7 +173,6 @@ fn a_target_flight_with_every_effect_stays_valid_and_within_budget() {
     let strips = &frames[10];
     let per_strip = extra(&roam, strips, "triangles_per_strip");
     assert!((1.0..=10.0).contains(&per_strip), "{per_strip}");
-    assert!(extra(&roam, strips, "outside_triangles") > 0.0);
 }
 
 #[test]

@@ -23,8 +23,12 @@
 //! `queues.rs`. Within a frame, a triangle is split only if its key is above every key merged so
 //! far this frame, and a diamond is merged only if its key is below every key split so far. So a
 //! diamond merged in a frame is not split again in that frame and vice versa: each element
-//! changes at most once per frame and the loop ends. An iteration cap (a multiple of the mesh
-//! size) backs that up; refusals and cap hits are counted in `oscillation_guard_stops`.
+//! changes at most once per frame and the loop ends. An iteration cap (twice the number of grid
+//! vertices: each vertex inserted and removed at most once) backs that up; refusals and cap hits
+//! are counted in `oscillation_guard_stops`. The paper's loop as written (split while too small
+//! or while the top split beats the bottom merge, merge while too large) flips forever between
+//! two meshes when the target cannot be met exactly; a unit test runs it with the guard off to
+//! show that.
 //!
 //! **Effects**, each costing nothing when off:
 //! - deferral (§7.3, fixed τ only): every priority is recomputed only when the bound of
@@ -38,6 +42,10 @@
 //! **`roam-rebuild`** resets the bintree to the two base triangles every frame and splits greedily
 //! from the split queue only (no merges, no coherence): the reference of "what incremental
 //! split/merge saves".
+//!
+//! Culling flags have no column of their own: the runner's `triangles_rendered` shows their
+//! effect. Without them, eq. 3's near-plane rule gives every triangle behind the eye +∞, so a
+//! budget is spent behind the camera: scenes that care should turn them on.
 //!
 //! Counters: `splits`/`merges` are diamond operations (forced ones included), so for `roam`
 //! `vertices_inserted = splits` and `vertices_deleted = merges`; `roam-rebuild` reports the
@@ -545,13 +553,6 @@ impl<'h> Core<'h> {
         }
     }
 
-    fn outside_leaves(&self) -> u64 {
-        self.bintree
-            .iter()
-            .filter(|(_, t)| t.is_leaf() && t.flag == CullFlag::Outside)
-            .count() as u64
-    }
-
     /// The extra columns' values in the order of [`columns`].
     fn extras(&mut self, columns: &[&str], mesh_changed: bool) -> Vec<f64> {
         let counters = self.counters;
@@ -565,7 +566,6 @@ impl<'h> Core<'h> {
                 "oscillation_guard_stops" => counters.guard_stops as f64,
                 "deferred" => counters.deferred as f64,
                 "revalidations" => counters.revalidations as f64,
-                "outside_triangles" => self.outside_leaves() as f64,
                 "triangles_per_strip" => self.strips.update(&self.bintree, mesh_changed),
                 _ => f64::NAN,
             })
@@ -596,7 +596,7 @@ fn diamond_priority_fresh(
 
 /// The extra columns of a run: the base ones, then those of the effects that are on.
 fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
-    const INCREMENTAL: [&[&str]; 8] = [
+    const INCREMENTAL: [&[&str]; 4] = [
         &[
             "forced_splits",
             "split_queue",
@@ -612,24 +612,6 @@ fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
             "oscillation_guard_stops",
             "deferred",
             "revalidations",
-        ],
-        &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
-            "outside_triangles",
-        ],
-        &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
-            "deferred",
-            "revalidations",
-            "outside_triangles",
         ],
         &[
             "forced_splits",
@@ -647,57 +629,24 @@ fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
             "oscillation_guard_stops",
             "deferred",
             "revalidations",
-            "triangles_per_strip",
-        ],
-        &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
-            "outside_triangles",
-            "triangles_per_strip",
-        ],
-        &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
-            "deferred",
-            "revalidations",
-            "outside_triangles",
             "triangles_per_strip",
         ],
     ];
-    const REBUILD: [&[&str]; 4] = [
+    const REBUILD: [&[&str]; 2] = [
         &["forced_splits", "split_queue", "priority_recomputations"],
         &[
             "forced_splits",
             "split_queue",
             "priority_recomputations",
-            "outside_triangles",
-        ],
-        &[
-            "forced_splits",
-            "split_queue",
-            "priority_recomputations",
-            "triangles_per_strip",
-        ],
-        &[
-            "forced_splits",
-            "split_queue",
-            "priority_recomputations",
-            "outside_triangles",
             "triangles_per_strip",
         ],
     ];
-    let effects = usize::from(config.culling_flags) * 2 + usize::from(config.strips) * 4;
+    let strips = usize::from(config.strips);
     if incremental {
-        INCREMENTAL[effects
-            + usize::from(config.deferral && matches!(config.goal, RoamGoal::TolerancePx(_)))]
+        let deferral = config.deferral && matches!(config.goal, RoamGoal::TolerancePx(_));
+        INCREMENTAL[usize::from(deferral) + 2 * strips]
     } else {
-        REBUILD[effects / 2]
+        REBUILD[strips]
     }
 }
 
