@@ -220,33 +220,43 @@ fn at_a_fixed_target_the_dual_queue_and_the_rebuild_reach_the_same_crossover_wit
 #[test]
 fn deferral_never_lets_a_priority_cross_tau_unseen_and_gives_the_same_meshes() {
     let hierarchy = bumpy_terrain(5);
-    let deferred_config = RoamConfig {
-        deferral: true,
-        ..tolerance(1.0)
-    };
-    let mut deferred = Roam::new(&hierarchy, deferred_config, SPEED);
-    let mut full = Roam::new(&hierarchy, tolerance(1.0), SPEED);
-    let mut total_deferred = 0.0;
-    let mut recomputations = (0, 0);
-    for (frame, camera) in straight_flight(60).iter().enumerate() {
-        let frame = frame as u64;
-        let stats = step(&mut deferred, &hierarchy, frame, camera, false);
-        let reference = step(&mut full, &hierarchy, frame, camera, false);
-        if let Err(error) = deferred.validate(camera, PriorityCheck::SameSideOf(1.0)) {
-            panic!("frame {frame}: {error}");
+    for culling_flags in [false, true] {
+        let full_config = RoamConfig {
+            culling_flags,
+            ..tolerance(1.0)
+        };
+        let deferred_config = RoamConfig {
+            deferral: true,
+            ..full_config
+        };
+        let mut deferred = Roam::new(&hierarchy, deferred_config, SPEED);
+        let mut full = Roam::new(&hierarchy, full_config, SPEED);
+        let mut total_deferred = 0.0;
+        let mut recomputations = (0, 0);
+        for (frame, camera) in straight_flight(60).iter().enumerate() {
+            let frame = frame as u64;
+            let stats = step(&mut deferred, &hierarchy, frame, camera, false);
+            let reference = step(&mut full, &hierarchy, frame, camera, false);
+            if let Err(error) = deferred.validate(camera, PriorityCheck::SameSideOf(1.0)) {
+                panic!("flags {culling_flags}, frame {frame}: {error}");
+            }
+            assert_eq!(
+                deferred.mesh(),
+                full.mesh(),
+                "flags {culling_flags}, frame {frame}"
+            );
+            total_deferred += extra(&deferred, &stats, "deferred");
+            recomputations.0 += stats.metric_evaluations;
+            recomputations.1 += reference.metric_evaluations;
         }
-        assert_eq!(deferred.mesh(), full.mesh(), "frame {frame}");
-        total_deferred += extra(&deferred, &stats, "deferred");
-        recomputations.0 += stats.metric_evaluations;
-        recomputations.1 += reference.metric_evaluations;
+        assert!(total_deferred > 0.0, "flags {culling_flags}");
+        assert!(
+            recomputations.0 < recomputations.1,
+            "flags {culling_flags}: deferral recomputed {} priorities, full recomputation {}",
+            recomputations.0,
+            recomputations.1
+        );
     }
-    assert!(total_deferred > 0.0);
-    assert!(
-        recomputations.0 < recomputations.1,
-        "deferral recomputed {} priorities, full recomputation {}",
-        recomputations.0,
-        recomputations.1
-    );
 }
 
 #[test]
@@ -420,5 +430,22 @@ mod experiment_entries {
             problems[0].contains("unknown field `strip`"),
             "{problems:?}"
         );
+    }
+}
+
+#[test]
+fn a_turning_camera_revalidates_every_frame_under_deferral() {
+    // Eq. 3 depends on the view direction and the experiment bounds only the eye's speed.
+    let hierarchy = bumpy_terrain(5);
+    let config = RoamConfig {
+        deferral: true,
+        ..tolerance(1.0)
+    };
+    let mut roam = Roam::new(&hierarchy, config, SPEED);
+    for (frame, camera) in turning_flight(10).iter().enumerate() {
+        let stats = step(&mut roam, &hierarchy, frame as u64, camera, false);
+        assert_eq!(extra(&roam, &stats, "revalidations"), 1.0, "frame {frame}");
+        assert_eq!(extra(&roam, &stats, "deferred"), 0.0, "frame {frame}");
+        roam.validate(camera, PriorityCheck::Exact).unwrap();
     }
 }
