@@ -45,7 +45,7 @@ pub struct BinTriangle {
     pub right: Option<TriangleKey>,
     /// For a split triangle: the other triangle split at the same vertex.
     pub partner: Option<TriangleKey>,
-    /// 0 when the triangle is entirely outside the view volume, see `priority.rs`.
+    /// The §7.1 frustum flag of the triangle's wedgie (kept only with culling flags on).
     pub flag: CullFlag,
 }
 

@@ -70,7 +70,7 @@ use crate::sim::zone::SpeedBound;
 use bintree::{Bintree, CullFlag, TriangleKey};
 use glam::DVec3;
 use merge::{diamond_parents, is_mergeable, primary_parent};
-use priority::{MAX_DEFERRAL_FRAMES, PriorityContext};
+use priority::PriorityContext;
 use queues::{QueueKey, Queues};
 use split::{SplitLog, split_cost};
 use std::cmp::Reverse;
@@ -89,8 +89,8 @@ pub enum RoamGoal {
     TolerancePx(f64),
 }
 
-/// Parameters of `roam` and `roam-rebuild` (the rebuild ignores nothing: its experiment entry
-/// may not ask for deferral).
+/// Parameters of `roam` and `roam-rebuild` (the rebuild never defers: its constructor turns
+/// `deferral` off, and the experiment validator refuses it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RoamConfig {
     pub goal: RoamGoal,
@@ -266,7 +266,7 @@ impl<'h> Core<'h> {
         let tau = self.tau().unwrap_or(0.0);
         let context = self.context(camera);
         let speed = self.speed_per_frame;
-        let mut frames = if value <= tau { MAX_DEFERRAL_FRAMES } else { 0 };
+        let mut frames = if value <= tau { u64::MAX } else { 0 };
         for parent in diamond_parents(&self.bintree, primary)
             .into_iter()
             .flatten()
@@ -292,7 +292,13 @@ impl<'h> Core<'h> {
         self.schedule(frames, Due::Merge(primary));
     }
 
+    /// Queues `due` for the first frame its priority may have crossed τ. A priority that can
+    /// never change (zero thickness: always 0) is not queued at all, so the wheel holds at most
+    /// the recomputations of the next [`priority::MAX_DEFERRAL_FRAMES`] frames.
     fn schedule(&mut self, safe_frames: u64, due: Due) {
+        if safe_frames == u64::MAX {
+            return;
+        }
         self.wheel
             .entry(self.frame + 1 + safe_frames)
             .or_default()

@@ -45,8 +45,8 @@ use crate::sim::terrain::Heightfield;
 use crate::sim::view::Camera;
 use glam::DVec3;
 
-/// The longest a priority is ever deferred, in frames.
-pub const MAX_DEFERRAL_FRAMES: u64 = 1 << 16;
+/// The longest a priority is ever deferred, in frames (bounds the deferral wheel's size).
+pub const MAX_DEFERRAL_FRAMES: u64 = 1 << 12;
 
 /// What priority evaluation reads: the camera, the terrain and the nested thicknesses.
 pub struct PriorityContext<'a> {
@@ -110,12 +110,13 @@ impl PriorityContext<'_> {
     }
 
     /// How many more frames the triangle's priority `value` is guaranteed to stay on its side
-    /// of `tau` while the eye moves at most `speed` metres per frame and the orientation stays.
+    /// of `tau` while the eye moves at most `speed` metres per frame and the orientation stays;
+    /// `u64::MAX` when it can never change (zero thickness).
     pub fn safe_frames(&self, triangle: &BinTriangle, value: f64, tau: f64, speed: f64) -> u64 {
         let thickness = self.thickness_of(triangle);
         if thickness == 0.0 {
-            // Priority 0 whatever the eye does.
-            return MAX_DEFERRAL_FRAMES;
+            // Priority 0 whatever the eye does: never worth recomputing.
+            return u64::MAX;
         }
         if speed == 0.0 {
             return MAX_DEFERRAL_FRAMES;
