@@ -7,7 +7,8 @@ mod common;
 use common::view_600;
 use glam::DVec3;
 use roamsim::sim::algorithm::{
-    AlgorithmConfig, FrameInput, LindstromConfig, ReferenceConfig, SplitThreshold, WuConfig,
+    AlgorithmConfig, FrameInput, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
+    SplitThreshold, WuConfig,
 };
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
@@ -48,6 +49,20 @@ fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
             block_level,
         }));
     }
+    let roam = RoamConfig {
+        goal: RoamGoal::TolerancePx(tau_px),
+        deferral: false,
+        culling_flags: false,
+        strips: false,
+    };
+    configs.push(AlgorithmConfig::Roam(roam));
+    configs.push(AlgorithmConfig::Roam(RoamConfig {
+        deferral: true,
+        culling_flags: true,
+        strips: true,
+        ..roam
+    }));
+    configs.push(AlgorithmConfig::RoamRebuild(roam));
     configs
 }
 
@@ -81,15 +96,13 @@ fn rough(side: usize, spacing: f64, amplitude: f32) -> Hierarchy {
     terrain(side, spacing, |i, j| amplitude * noise(i, j) as f32)
 }
 
-fn camera(eye: DVec3, view: ViewSettings) -> Camera {
-    Camera::new(
-        &Pose {
-            position: eye,
-            yaw: 0.7,
-            pitch: -0.4,
-        },
-        view,
-    )
+/// The pose the tests fly with: looking north-east and down.
+fn pose(eye: DVec3) -> Pose {
+    Pose {
+        position: eye,
+        yaw: 0.7,
+        pitch: -0.4,
+    }
 }
 
 /// Runs `config` over the eyes (one frame each, in order) and returns the final mesh; every
@@ -101,9 +114,22 @@ fn final_mesh(
     speed: SpeedBound,
     eyes: &[DVec3],
 ) -> VertexSet {
+    let poses: Vec<Pose> = eyes.iter().map(|&e| pose(e)).collect();
+    final_mesh_from(hierarchy, config, view, speed, &poses)
+}
+
+/// [`final_mesh`] with explicit poses.
+fn final_mesh_from(
+    hierarchy: &Hierarchy,
+    config: &AlgorithmConfig,
+    view: ViewSettings,
+    speed: SpeedBound,
+    poses: &[Pose],
+) -> VertexSet {
     let mut algorithm = config.build(hierarchy, &view, speed);
-    for (frame, &eye) in eyes.iter().enumerate() {
-        let camera = camera(eye, view);
+    for (frame, pose) in poses.iter().enumerate() {
+        let eye = pose.position;
+        let camera = Camera::new(pose, view);
         let mut stats = FrameStats::default();
         algorithm.update(
             &FrameInput {
@@ -149,16 +175,16 @@ fn flat_terrain_gives_the_base_mesh_for_every_eye_and_tolerance() {
 
 #[test]
 fn tau_zero_gives_full_resolution_on_rough_terrain() {
+    // Looking straight down from 1 km, the whole terrain is in view (culling flags cull nothing).
     let hierarchy = rough(17, 10.0, 50.0);
     let full = full_grid(&hierarchy);
+    let above = Pose {
+        position: DVec3::new(80.0, 80.0, 1000.0),
+        yaw: 0.0,
+        pitch: -std::f64::consts::FRAC_PI_2,
+    };
     for config in every_algorithm(0.0) {
-        let mesh = final_mesh(
-            &hierarchy,
-            &config,
-            view_600(),
-            SPEED,
-            &[DVec3::new(-3e4, 5e4, 9e4)],
-        );
+        let mesh = final_mesh_from(&hierarchy, &config, view_600(), SPEED, &[above]);
         assert_eq!(mesh, full, "{config:?}");
     }
 }

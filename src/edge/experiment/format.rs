@@ -259,6 +259,22 @@ pub struct LindstromParameters {
     pub block_level: u32,
 }
 
+/// Parameters of `roam` and `roam-rebuild`: exactly one of `target_triangles` and `tau_px`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoamParameters {
+    #[serde(default)]
+    pub target_triangles: Option<u64>,
+    #[serde(default)]
+    pub tau_px: Option<f64>,
+    #[serde(default)]
+    pub deferral: bool,
+    #[serde(default)]
+    pub culling_flags: bool,
+    #[serde(default)]
+    pub strips: bool,
+}
+
 #[derive(Debug, Deserialize, Clone, Copy)]
 #[serde(rename_all = "snake_case")]
 pub enum ZoneEntry {

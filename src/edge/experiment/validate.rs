@@ -7,8 +7,8 @@
 
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
-    LindstromParameters, LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, TerrainEntry,
-    TerrainFormatEntry, WuParameters, ZoneEntry,
+    LindstromParameters, LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, RoamParameters,
+    TerrainEntry, TerrainFormatEntry, WuParameters, ZoneEntry,
 };
 use super::{ExperimentError, FieldProblem};
 use crate::edge::flight_log::read_flight_log;
@@ -16,7 +16,8 @@ use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
 use crate::sim::algorithm::{
-    AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, SplitThreshold, WuConfig,
+    AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
+    SplitThreshold, WuConfig,
 };
 use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{
@@ -36,7 +37,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 /// Algorithms this build knows, as the experiment file names them.
-pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "wu", "lindstrom"];
+pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "wu", "lindstrom", "roam", "roam-rebuild"];
 
 /// A validated, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -599,6 +600,22 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                     block_level: p.block_level,
                 }))
             }),
+            name @ ("roam" | "roam-rebuild") => decode::<RoamParameters>(k, &parameters, problems)
+                .and_then(|p| {
+                    let config = roam_config(k, &p, problems)?;
+                    if name == "roam" {
+                        Some(AlgorithmConfig::Roam(config))
+                    } else if config.deferral {
+                        problems.add(
+                            format!("{k}.deferral"),
+                            "true: roam-rebuild starts from scratch every frame, expected false \
+                             or absent",
+                        );
+                        None
+                    } else {
+                        Some(AlgorithmConfig::RoamRebuild(config))
+                    }
+                }),
             other => {
                 problems.add(
                     format!("{k}.name"),
@@ -637,6 +654,37 @@ fn decode<T: serde::de::DeserializeOwned>(
             problems.add(field, error.into_inner().to_string());
         })
         .ok()
+}
+
+fn roam_config(origin: &str, p: &RoamParameters, problems: &mut Problems) -> Option<RoamConfig> {
+    let goal = match (p.target_triangles, p.tau_px) {
+        (Some(target), None) => RoamGoal::TargetTriangles(target),
+        (None, Some(tau)) => {
+            check_tau(origin, tau, problems)?;
+            RoamGoal::TolerancePx(tau)
+        }
+        _ => {
+            problems.add(
+                origin.to_string(),
+                "expected exactly one of \"target_triangles\" and \"tau_px\"",
+            );
+            return None;
+        }
+    };
+    if p.deferral && matches!(goal, RoamGoal::TargetTriangles(_)) {
+        problems.add(
+            format!("{origin}.deferral"),
+            "true with \"target_triangles\": deferral needs a fixed crossover, expected \
+             \"tau_px\" (or no deferral)",
+        );
+        return None;
+    }
+    Some(RoamConfig {
+        goal,
+        deferral: p.deferral,
+        culling_flags: p.culling_flags,
+        strips: p.strips,
+    })
 }
 
 fn check_tau(origin: &str, tau_px: f64, problems: &mut Problems) -> Option<()> {

@@ -6,10 +6,12 @@
 
 pub mod lindstrom;
 mod reference;
+mod roam;
 mod wu;
 
 pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold};
+pub use roam::{BintreeError, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild};
 pub use wu::{BudgetConfig, Wu, WuConfig, initial_tau_px};
 
 use crate::sim::hierarchy::Hierarchy;
@@ -56,6 +58,8 @@ pub enum AlgorithmConfig {
     Reference(ReferenceConfig),
     Wu(WuConfig),
     Lindstrom(LindstromConfig),
+    Roam(RoamConfig),
+    RoamRebuild(RoamConfig),
 }
 
 impl AlgorithmConfig {
@@ -64,6 +68,8 @@ impl AlgorithmConfig {
             AlgorithmConfig::Reference(_) => reference::NAME,
             AlgorithmConfig::Wu(_) => wu::NAME,
             AlgorithmConfig::Lindstrom(_) => lindstrom::NAME,
+            AlgorithmConfig::Roam(_) => roam::NAME,
+            AlgorithmConfig::RoamRebuild(_) => roam::REBUILD_NAME,
         }
     }
 
@@ -81,6 +87,10 @@ impl AlgorithmConfig {
             AlgorithmConfig::Wu(config) => Box::new(Wu::new(hierarchy, *config, view, speed)),
             AlgorithmConfig::Lindstrom(config) => {
                 Box::new(Lindstrom::new(hierarchy, *config, view))
+            }
+            AlgorithmConfig::Roam(config) => Box::new(Roam::new(hierarchy, *config, speed)),
+            AlgorithmConfig::RoamRebuild(config) => {
+                Box::new(RoamRebuild::new(hierarchy, *config, speed))
             }
         }
     }
