@@ -22,7 +22,10 @@ const WARM_UP_FRAMES: u64 = 300;
 
 fn drive(algorithm: &mut dyn LodAlgorithm, experiment: &experiment::Experiment, frame: u64) {
     let n_frames = experiment.flight.n_frames();
-    let camera = Camera::new(experiment.flight.pose(frame % n_frames), experiment.view);
+    let pose = experiment
+        .field
+        .local_pose(experiment.flight.pose(frame % n_frames));
+    let camera = Camera::new(&pose, experiment.view);
     let mut stats = FrameStats::default();
     algorithm.update(
         &FrameInput {

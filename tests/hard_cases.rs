@@ -129,7 +129,8 @@ fn final_mesh_from(
     let mut algorithm = config.build(hierarchy, &view, speed);
     for (frame, pose) in poses.iter().enumerate() {
         let eye = pose.position;
-        let camera = Camera::new(pose, view);
+        // As the runner does: world pose into the terrain's local frame.
+        let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
         let mut stats = FrameStats::default();
         algorithm.update(
             &FrameInput {
@@ -318,6 +319,32 @@ fn extreme_views_keep_valid_meshes() {
         };
         for config in every_algorithm(1.0) {
             final_mesh(&hierarchy, &config, view, SPEED, &[eye, eye + DVec3::X]);
+        }
+    }
+}
+
+#[test]
+fn translating_terrain_and_flight_by_a_million_metres_changes_no_mesh() {
+    let heights: Vec<f32> = (0..33 * 33)
+        .map(|k| 30.0 * noise(k % 33, k / 33) as f32)
+        .collect();
+    let field = |origin: DVec3| {
+        Heightfield::new(33, heights.clone(), Spacing { dx: 10.0, dy: 10.0 })
+            .unwrap()
+            .with_origin(origin)
+    };
+    let near = Hierarchy::new(field(DVec3::ZERO));
+    let far_away = DVec3::new(1.0e6, -1.0e6, 1.0e6);
+    let far = Hierarchy::new(field(far_away));
+    let eyes: Vec<DVec3> = (0..30)
+        .map(|f| DVec3::new(20.0 + 7.0 * f as f64, 50.0 + 3.0 * f as f64, 70.0))
+        .collect();
+    let moved: Vec<DVec3> = eyes.iter().map(|e| *e + far_away).collect();
+    for config in every_algorithm(2.0) {
+        for frames in [1, eyes.len()] {
+            let a = final_mesh(&near, &config, view_600(), SPEED, &eyes[..frames]);
+            let b = final_mesh(&far, &config, view_600(), SPEED, &moved[..frames]);
+            assert_eq!(a, b, "{config:?} after {frames} frames");
         }
     }
 }

@@ -64,7 +64,8 @@ pub fn run_algorithm(
     let mut frames = Vec::with_capacity(n_frames as usize);
     let mut violations = inputs.violation_frames.iter().peekable();
     for frame in 0..n_frames {
-        let camera = Camera::new(inputs.flight.pose(frame), *inputs.view);
+        let pose = hierarchy.field().local_pose(inputs.flight.pose(frame));
+        let camera = Camera::new(&pose, *inputs.view);
         let speed_bound_broken = violations.next_if_eq(&&frame).is_some();
         let input = FrameInput {
             frame,

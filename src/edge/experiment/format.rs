@@ -54,6 +54,9 @@ pub struct TerrainFileEntry {
     pub fit: FitEntry,
     #[serde(default)]
     pub crop_origin: Option<[usize; 2]>,
+    /// World position of sample (0, 0) at height 0 (default: the world origin).
+    #[serde(default)]
+    pub origin_m: Option<[f64; 3]>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -109,6 +112,9 @@ pub struct SyntheticEntry {
     pub amplitude_m: f64,
     pub roughness: f64,
     pub spacing_m: SpacingEntry,
+    /// World position of sample (0, 0) at height 0 (default: the world origin).
+    #[serde(default)]
+    pub origin_m: Option<[f64; 3]>,
 }
 
 #[derive(Debug, Deserialize)]

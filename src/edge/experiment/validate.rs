@@ -281,6 +281,9 @@ fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
             if let Some(offset) = file.height_offset_m {
                 problems.finite("terrain.file.height_offset_m", &[offset]);
             }
+            if let Some(origin) = file.origin_m {
+                problems.finite("terrain.file.origin_m", &origin);
+            }
             if let Some(spacing) = file.spacing_m {
                 problems.positive("terrain.file.spacing_m.dx", spacing.dx);
                 problems.positive("terrain.file.spacing_m.dy", spacing.dy);
@@ -322,6 +325,9 @@ fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
                         synthetic.roughness
                     ),
                 );
+            }
+            if let Some(origin) = synthetic.origin_m {
+                problems.finite("terrain.synthetic.origin_m", &origin);
             }
             problems.positive("terrain.synthetic.spacing_m.dx", synthetic.spacing_m.dx);
             problems.positive("terrain.synthetic.spacing_m.dy", synthetic.spacing_m.dy);
@@ -825,7 +831,8 @@ fn load_terrain(
                 roughness: s.roughness,
                 spacing,
             })
-            .map_err(|e| ExperimentError::single(experiment, "terrain.synthetic", e.to_string()))?;
+            .map_err(|e| ExperimentError::single(experiment, "terrain.synthetic", e.to_string()))?
+            .with_origin(origin(s.origin_m));
             let (lo, hi) = field.height_range();
             let side = field.side();
             let report = TerrainReport {
@@ -894,6 +901,7 @@ fn load_terrain(
             };
             let (field, embedded) = embed(&filled, fit, spacing)
                 .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
+            let field = field.with_origin(origin(file.origin_m));
             let (lo, hi) = field.height_range();
             let report = TerrainReport {
                 source: file.path.clone(),
@@ -913,6 +921,10 @@ fn load_terrain(
             Ok((field, report))
         }
     }
+}
+
+fn origin(origin_m: Option<[f64; 3]>) -> DVec3 {
+    origin_m.map_or(DVec3::ZERO, |[x, y, z]| DVec3::new(x, y, z))
 }
 
 fn raw_sample(sample: RawSampleEntry) -> RawSample {

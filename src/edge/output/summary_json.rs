@@ -87,6 +87,7 @@ pub fn summary_json(
             "voids_filled": terrain.voids_filled,
             "spacing_m": {"dx": terrain.spacing.dx, "dy": terrain.spacing.dy},
             "spacing_from": terrain.spacing_from,
+            "origin_m": experiment.field.origin().to_array(),
             "height_range_m": [terrain.height_min_m, terrain.height_max_m],
             "preprocessing_seconds": preprocessing.seconds,
             "bytes_per_sample": preprocessing.bytes_per_sample,

@@ -1,10 +1,14 @@
 //! The (2^n+1)² height field every algorithm runs on.
 //!
-//! Sample (i, j) sits at x = i·dx, y = j·dy (metres, z up). Heights are stored as `f32`: every
-//! real elevation model fits (SRTM's int16 exactly), and it halves the memory of the largest
-//! terrains; every geometric computation promotes them to `f64`. The field also remembers which
+//! Sample (i, j) sits at x = i·dx, y = j·dy (metres, z up) in the terrain's *local* frame; the
+//! world position is `origin + local`. Every algorithm, the audit and the camera work in local
+//! coordinates (the runner converts each pose once, with [`Heightfield::local_pose`]), so a
+//! terrain far from the world origin keeps all its precision. Heights are stored as `f32`
+//! relative to the origin: every real elevation model fits (SRTM's int16 exactly), and it halves
+//! the memory of the largest terrains; every geometric computation promotes them to `f64`. The field also remembers which
 //! part of it is real data (the rest is padding), so the audit measures real samples only.
 
+use crate::sim::view::Pose;
 use glam::DVec3;
 
 /// Grid spacing in metres along x (columns) and y (rows).
@@ -23,6 +27,7 @@ pub struct Heightfield {
     spacing: Spacing,
     data_columns: usize,
     data_rows: usize,
+    origin: DVec3,
 }
 
 /// Why a [`Heightfield`] could not be built.
@@ -108,7 +113,27 @@ impl Heightfield {
             spacing,
             data_columns,
             data_rows,
+            origin: DVec3::ZERO,
         })
+    }
+
+    /// The same field placed with its sample (0, 0) at height 0 at world point `origin`.
+    pub fn with_origin(mut self, origin: DVec3) -> Heightfield {
+        self.origin = origin;
+        self
+    }
+
+    /// World position of the local origin.
+    pub fn origin(&self) -> DVec3 {
+        self.origin
+    }
+
+    /// A world pose in the terrain's local frame.
+    pub fn local_pose(&self, pose: &Pose) -> Pose {
+        Pose {
+            position: pose.position - self.origin,
+            ..*pose
+        }
     }
 
     /// n, where the side is 2^n + 1.
@@ -137,7 +162,7 @@ impl Heightfield {
         self.heights[j * self.side + i]
     }
 
-    /// World position of sample (i, j).
+    /// Local position of sample (i, j).
     pub fn position(&self, i: usize, j: usize) -> DVec3 {
         DVec3::new(
             i as f64 * self.spacing.dx,

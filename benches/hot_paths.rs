@@ -1,0 +1,102 @@
+//! The hot paths of every run, on the quickstart's terrain and flight
+//! (`experiments/quickstart.json`): each algorithm's per-frame update after a warm-up, the
+//! preprocessing pass, and the audit of one mesh.
+//!
+//! Run with `cargo bench --bench hot_paths`. Compare ratios measured in one run, not absolute
+//! times across machines; operation counts are in the run outputs.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use roamsim::edge::experiment;
+use roamsim::sim::algorithm::{FrameInput, LodAlgorithm};
+use roamsim::sim::audit::{AuditSettings, Auditor};
+use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::stats::FrameStats;
+use roamsim::sim::view::Camera;
+use std::hint::black_box;
+use std::path::Path;
+
+const WARM_UP_FRAMES: u64 = 50;
+
+fn quickstart() -> experiment::Experiment {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/quickstart.json");
+    experiment::load(&path).expect("the shipped quickstart loads")
+}
+
+fn drive(algorithm: &mut dyn LodAlgorithm, experiment: &experiment::Experiment, frame: u64) {
+    let n_frames = experiment.flight.n_frames();
+    let pose = experiment
+        .field
+        .local_pose(experiment.flight.pose(frame % n_frames));
+    let camera = Camera::new(&pose, experiment.view);
+    let mut stats = FrameStats::default();
+    algorithm.update(
+        &FrameInput {
+            frame,
+            camera: &camera,
+            // The flight wraps from its last frame to its first: revalidate there.
+            speed_bound_broken: frame > 0 && frame.is_multiple_of(n_frames),
+        },
+        &mut stats,
+    );
+}
+
+/// Every algorithm entry of the quickstart, one frame per iteration along the flight.
+fn per_frame_updates(c: &mut Criterion) {
+    let experiment = quickstart();
+    let hierarchy = Hierarchy::new(experiment.field.clone());
+    let mut group = c.benchmark_group("per_frame_update_quickstart");
+    for spec in &experiment.algorithms {
+        let mut algorithm = spec
+            .config
+            .build(&hierarchy, &experiment.view, experiment.speed);
+        for frame in 0..WARM_UP_FRAMES {
+            drive(algorithm.as_mut(), &experiment, frame);
+        }
+        let mut frame = WARM_UP_FRAMES;
+        group.bench_function(BenchmarkId::from_parameter(&spec.label), |b| {
+            b.iter(|| {
+                drive(algorithm.as_mut(), &experiment, frame);
+                frame += 1;
+            })
+        });
+    }
+    group.finish();
+}
+
+/// The O(samples) preprocessing pass on the 1025² crop.
+fn preprocessing(c: &mut Criterion) {
+    let experiment = quickstart();
+    let mut group = c.benchmark_group("preprocessing");
+    group.sample_size(20);
+    group.bench_function("hierarchy_1025", |b| {
+        b.iter(|| Hierarchy::new(black_box(experiment.field.clone())))
+    });
+    group.finish();
+}
+
+/// The audit of the reference's mesh at the quickstart's first pose, every sample and every 4th.
+fn audit(c: &mut Criterion) {
+    let experiment = quickstart();
+    let hierarchy = Hierarchy::new(experiment.field.clone());
+    let mut reference =
+        experiment.algorithms[0]
+            .config
+            .build(&hierarchy, &experiment.view, experiment.speed);
+    drive(reference.as_mut(), &experiment, 0);
+    let camera = Camera::new(
+        &experiment.field.local_pose(experiment.flight.pose(0)),
+        experiment.view,
+    );
+    let mut group = c.benchmark_group("audit_one_frame");
+    group.sample_size(20);
+    for stride in [1, 4] {
+        let mut auditor = Auditor::new(&hierarchy, AuditSettings { stride });
+        group.bench_function(BenchmarkId::new("stride", stride), |b| {
+            b.iter(|| auditor.audit(&hierarchy, reference.mesh(), &camera))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, per_frame_updates, preprocessing, audit);
+criterion_main!(benches);
