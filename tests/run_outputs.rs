@@ -256,3 +256,49 @@ fn a_bad_sweep_names_its_entry() {
         "{error}"
     );
 }
+
+#[test]
+fn a_killed_run_leaves_the_previous_output_untouched_and_the_next_run_cleans_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let short = save(dir.path(), "short", &short_quickstart(3));
+    run_to(&short, &out, false);
+    let read = || std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let before = read();
+
+    // A long run into the same folder, killed while it simulates.
+    let long = save(dir.path(), "long", &short_quickstart(400));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_roamsim"))
+        .args([
+            "run",
+            long.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the long run ended before it could be killed"
+    );
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        read() == before,
+        "the killed run touched the previous output"
+    );
+
+    // A staging folder left by a run killed while writing is removed by the next run.
+    let leftover = dir.path().join(".out.partial-4000000");
+    std::fs::create_dir_all(&leftover).unwrap();
+    std::fs::write(leftover.join("frames.csv"), "half").unwrap();
+    run_to(&short, &out, false);
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(!names.iter().any(|n| n.contains(".partial-")), "{names:?}");
+    assert!(counts_only(&read()) == counts_only(&before));
+}
