@@ -472,3 +472,42 @@ fn a_budget_holds_the_triangle_count_near_the_budget() {
         "mean {mean} over the second half"
     );
 }
+
+#[test]
+fn a_million_frames_keep_the_wheels_valid_and_b_bounded() {
+    // A small terrain circled 250 times at a budget it reaches only near the terrain: b moves
+    // both ways for 10^6 frames; the frame counter, the wheel heads and b must not overflow.
+    let hierarchy = bumpy_terrain(3);
+    let config = WuConfig {
+        tau_px: Some(4.0),
+        budget: Some(BudgetConfig {
+            triangles: 40,
+            dead_band: 0,
+            base_limit: 50,
+            initial_tau_k: 1.5,
+        }),
+        ..fixed_tau(4.0, ZoneVariant::Conservative)
+    };
+    let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
+    let mut stats = FrameStats::default();
+    let (mut lowest, mut highest) = (i64::MAX, i64::MIN);
+    for frame in 0..1_000_000u64 {
+        let angle = frame as f64 * std::f64::consts::TAU / 4000.0;
+        let eye = DVec3::new(40.0 + 60.0 * angle.cos(), 40.0 + 60.0 * angle.sin(), 30.0);
+        let camera = camera_at(eye);
+        wu.update(
+            &FrameInput {
+                frame,
+                camera: &camera,
+                speed_bound_broken: false,
+            },
+            &mut stats,
+        );
+        lowest = lowest.min(wu.base());
+        highest = highest.max(wu.base());
+    }
+    validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+    wu.validate_queues(false).unwrap();
+    assert!(lowest < highest, "b never moved ({lowest})");
+    assert!((-50..=50).contains(&lowest) && (-50..=50).contains(&highest));
+}
