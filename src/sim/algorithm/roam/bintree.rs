@@ -10,9 +10,11 @@
 //!   (the same level or one level finer-or-coarser, as ROAM's bintree allows).
 //!
 //! A split triangle keeps `partner`, the other half of the diamond it was split with (`None` on
-//! the border), until it is merged. The structure does no priority work; `split.rs` and
-//! `merge.rs` change it, `validate.rs` checks it. Memory: one slot (about 100 bytes) per
-//! triangle, leaves and interior nodes alike.
+//! the border), until it is merged. With strips on, the leaves also form a doubly linked list in
+//! Sierpinski (curve) order, `prev`/`next`, and the bintree counts the *joined junctions* of that
+//! list (see `strips.rs`); split and merge keep both in O(1). The structure does no priority
+//! work; `split.rs` and `merge.rs` change it, `validate.rs` checks it. Memory: one slot (about
+//! 120 bytes) per triangle, leaves and interior nodes alike.
 
 use crate::sim::hierarchy::{GridPoint, Lattice};
 use crate::sim::mesh::VertexSet;
@@ -45,6 +47,11 @@ pub struct BinTriangle {
     pub right: Option<TriangleKey>,
     /// For a split triangle: the other triangle split at the same vertex.
     pub partner: Option<TriangleKey>,
+    /// For a leaf, with strips on: the previous leaf in curve order (`None` for the first).
+    /// `None` on interior triangles and with strips off.
+    pub prev: Option<TriangleKey>,
+    /// For a leaf, with strips on: the next leaf in curve order (`None` for the last).
+    pub next: Option<TriangleKey>,
     /// The §7.1 frustum flag of the triangle's wedgie (kept only with culling flags on).
     pub flag: CullFlag,
 }
@@ -92,24 +99,33 @@ impl BinTriangle {
 
 /// The bintree over one lattice. Invariants (checked by `validate.rs`): leaves tile the square;
 /// leaf links are symmetric and geometric; `mesh` holds the corners plus the split vertex of
-/// every split triangle; `n_leaves` counts the leaves.
+/// every split triangle; `n_leaves` counts the leaves; with `strips` on, the leaves' `prev`/`next`
+/// links list every leaf once in curve order, from the first leaf of `roots[0]` to the last of
+/// `roots[1]`, and `joined_junctions` counts the consecutive pairs of that list that continue a
+/// strip (the rule of `strips.rs`).
 pub struct Bintree {
     pub(super) lattice: Lattice,
     pub(super) triangles: SlotMap<TriangleKey, BinTriangle>,
     pub(super) roots: [TriangleKey; 2],
     pub(super) mesh: VertexSet,
     pub(super) n_leaves: u64,
+    /// Whether the curve-order list and `joined_junctions` are kept (ROAM §7.2 strips).
+    pub(super) strips: bool,
+    pub(super) joined_junctions: u64,
 }
 
 impl Bintree {
-    /// The base mesh: two triangles sharing the diagonal from (0, 0) to (2^n, 2^n).
-    pub fn new(lattice: &Lattice) -> Bintree {
+    /// The base mesh: two triangles sharing the diagonal from (0, 0) to (2^n, 2^n). With
+    /// `strips`, split and merge also keep the leaves' curve-order list (see `strips.rs`).
+    pub fn new(lattice: &Lattice, strips: bool) -> Bintree {
         let mut bintree = Bintree {
             lattice: *lattice,
             triangles: SlotMap::with_key(),
             roots: [TriangleKey::default(); 2],
             mesh: VertexSet::base_mesh(lattice),
             n_leaves: 2,
+            strips,
+            joined_junctions: 0,
         };
         bintree.reset();
         bintree
@@ -135,6 +151,8 @@ impl Bintree {
             left: None,
             right: None,
             partner: None,
+            prev: None,
+            next: None,
             flag: CullFlag::DontKnow,
         };
         let a = self.triangles.insert(root(first));
@@ -143,6 +161,10 @@ impl Bintree {
         self.triangles[b].base = Some(a);
         self.roots = [a, b];
         self.n_leaves = 2;
+        self.joined_junctions = 0;
+        if self.strips {
+            super::strips::link_roots(self);
+        }
     }
 
     pub fn lattice(&self) -> &Lattice {
@@ -163,6 +185,16 @@ impl Bintree {
 
     pub fn n_leaves(&self) -> u64 {
         self.n_leaves
+    }
+
+    /// Whether the curve-order list and the joined-junction count are kept.
+    pub fn tracks_strips(&self) -> bool {
+        self.strips
+    }
+
+    /// Consecutive curve-order leaves that continue a strip (0 with strips off).
+    pub fn joined_junctions(&self) -> u64 {
+        self.joined_junctions
     }
 
     /// Every triangle, leaves and interior, in slot order.
@@ -194,7 +226,8 @@ impl Bintree {
         }
     }
 
-    /// Leaves in Sierpinski order (consecutive leaves share a vertex), for strips. Reuses
+    /// Leaves in Sierpinski order (consecutive leaves share a vertex), walked from the roots in
+    /// O(triangles): the from-scratch reference for the incremental list of `strips.rs`. Reuses
     /// `stack` and `out`.
     pub fn leaves_in_curve_order(
         &self,

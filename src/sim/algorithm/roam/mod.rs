@@ -37,7 +37,11 @@
 //!   first frame, recomputes everything (`revalidations`);
 //! - culling flags (§7.1): IN/OUT/DONT-KNOW per triangle, inherited down the bintree; OUT
 //!   triangles get priority 0;
-//! - strips (§7.2): leaves per strip, see `strips.rs`.
+//! - strips (§7.2): leaves per strip, for swap-free strips along the leaves' curve order. The
+//!   bintree keeps its leaves in a curve-order list and counts the *joined junctions*
+//!   (consecutive leaves that continue a strip, a local rule); each split or merge repairs that
+//!   count around itself in O(1), so strips cost O(splits + merges) per frame (see `strips.rs`).
+//!   `roam-rebuild` recounts them from scratch, O(leaves), once per frame.
 //!
 //! **`roam-rebuild`** resets the bintree to the two base triangles every frame and splits greedily
 //! from the split queue only (no merges, no coherence): the reference of "what incremental
@@ -75,7 +79,6 @@ use queues::{QueueKey, Queues};
 use split::{SplitLog, split_cost};
 use std::cmp::Reverse;
 use std::collections::BTreeMap;
-use strips::StripCounter;
 
 pub(super) const NAME: &str = "roam";
 pub(super) const REBUILD_NAME: &str = "roam-rebuild";
@@ -131,7 +134,8 @@ struct Core<'h> {
     bintree: Bintree,
     queues: Queues,
     log: SplitLog,
-    strips: StripCounter,
+    /// Buffers of the rebuild's from-scratch strip count.
+    strip_buffers: (Vec<(TriangleKey, bool)>, Vec<TriangleKey>),
     /// `false` for the rebuild: it has no merge queue.
     track_merges: bool,
     /// Deferred recomputations by frame (deferral only).
@@ -162,6 +166,8 @@ impl<'h> Core<'h> {
                 .map(|v| v.capacity() * size_of::<Due>() + 4 * size_of::<usize>())
                 .sum::<usize>()
             + self.scratch.capacity() * size_of::<TriangleKey>()
+            + self.strip_buffers.0.capacity() * size_of::<(TriangleKey, bool)>()
+            + self.strip_buffers.1.capacity() * size_of::<TriangleKey>()
     }
 
     fn new(
@@ -170,7 +176,9 @@ impl<'h> Core<'h> {
         speed: SpeedBound,
         track_merges: bool,
     ) -> Core<'h> {
-        let bintree = Bintree::new(hierarchy.lattice());
+        // The rebuild recounts strips from scratch once per frame instead: keeping the list
+        // through its ≈1500 splits per frame costs more than one O(leaves) walk.
+        let bintree = Bintree::new(hierarchy.lattice(), config.strips && track_merges);
         Core {
             hierarchy,
             config,
@@ -179,7 +187,7 @@ impl<'h> Core<'h> {
             bintree,
             queues: Queues::default(),
             log: SplitLog::default(),
-            strips: StripCounter::default(),
+            strip_buffers: (Vec::new(), Vec::new()),
             track_merges,
             wheel: BTreeMap::new(),
             frame: 0,
@@ -577,8 +585,18 @@ impl<'h> Core<'h> {
         }
     }
 
+    /// Leaves per strip: the incremental count (`roam`), or a recount (`roam-rebuild`).
+    fn triangles_per_strip(&mut self) -> f64 {
+        if self.bintree.tracks_strips() {
+            return strips::triangles_per_strip(&self.bintree);
+        }
+        let (stack, leaves) = &mut self.strip_buffers;
+        let strips = strips::count_strips(&self.bintree, stack, leaves);
+        self.bintree.n_leaves() as f64 / strips.max(1) as f64
+    }
+
     /// The extra columns' values in the order of [`columns`].
-    fn extras(&mut self, columns: &[&str], mesh_changed: bool) -> Vec<f64> {
+    fn extras(&mut self, columns: &[&str]) -> Vec<f64> {
         let counters = self.counters;
         columns
             .iter()
@@ -590,7 +608,7 @@ impl<'h> Core<'h> {
                 "oscillation_guard_stops" => counters.guard_stops as f64,
                 "deferred" => counters.deferred as f64,
                 "revalidations" => counters.revalidations as f64,
-                "triangles_per_strip" => self.strips.update(&self.bintree, mesh_changed),
+                "triangles_per_strip" => self.triangles_per_strip(),
                 _ => f64::NAN,
             })
             .collect()
@@ -675,8 +693,8 @@ fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
 }
 
 /// `roam`: the incremental dual-queue algorithm. Per frame: O((recomputed priorities + splits +
-/// merges) · log queue size), plus O(leaves) for the flag pass (culling flags without deferral),
-/// the OUT count and strips when those are on.
+/// merges) · log queue size), plus O(leaves) for the flag pass (culling flags without deferral)
+/// and the OUT count when those are on; strips add O(1) per split or merge.
 pub struct Roam<'h> {
     core: Core<'h>,
     /// The orientation priorities were last computed for (deferral).
@@ -761,8 +779,7 @@ impl LodAlgorithm for Roam<'_> {
         stats.vertices_inserted = counters.splits;
         stats.vertices_deleted = counters.merges;
         stats.metric_evaluations = counters.evaluations;
-        let changed = counters.splits + counters.merges > 0;
-        stats.extra = core.extras(columns(&core.config, true), changed);
+        stats.extra = core.extras(columns(&core.config, true));
     }
 
     fn mesh(&self) -> &VertexSet {
@@ -775,7 +792,8 @@ impl LodAlgorithm for Roam<'_> {
 }
 
 /// `roam-rebuild`: split-only greedy refinement from the base mesh every frame. Per frame:
-/// O(splits · log queue size) plus O(grid/64) for the inserted/deleted counts.
+/// O(splits · log queue size) plus O(grid/64) for the inserted/deleted counts, plus O(leaves)
+/// for a from-scratch strip count when strips are on.
 pub struct RoamRebuild<'h> {
     core: Core<'h>,
     previous_mesh: VertexSet,
@@ -850,7 +868,7 @@ impl LodAlgorithm for RoamRebuild<'_> {
             .filter(|&id| !mesh.contains(id))
             .count() as u64;
         stats.metric_evaluations = counters.evaluations;
-        stats.extra = core.extras(columns(&core.config, false), true);
+        stats.extra = core.extras(columns(&core.config, false));
     }
 
     fn mesh(&self) -> &VertexSet {
@@ -901,7 +919,8 @@ mod tests {
             goal: RoamGoal::TolerancePx(2.0),
             deferral: false,
             culling_flags,
-            strips: false,
+            // On, so that the validator checks the curve-order list after every operation.
+            strips: true,
         }
     }
 

@@ -4,7 +4,8 @@
 //! (the two form a diamond); when the neighbour is one level coarser it is split first
 //! (recursively: it may force its own base neighbour), after which the triangle's base neighbour
 //! is the coarser triangle's child that shares its hypotenuse. Each diamond split inserts its
-//! split vertex in the mesh and is recorded in a [`SplitLog`] so the queues can follow. O(depth)
+//! split vertex in the mesh and is recorded in a [`SplitLog`] so the queues can follow; with strips
+//! on, each split leaf is replaced by its children in the curve-order list (`strips.rs`). O(depth)
 //! per split, no allocation besides the new slots and the log.
 
 use super::bintree::{BinTriangle, Bintree, TriangleKey};
@@ -108,6 +109,8 @@ fn add_children(bintree: &mut Bintree, key: TriangleKey, mid: GridPoint) -> [Tri
         left: None,
         right: None,
         partner: None,
+        prev: None,
+        next: None,
         flag: parent.flag,
     };
     let c0 = bintree.triangles.insert(child(shape0, parent.left));
@@ -118,5 +121,8 @@ fn add_children(bintree: &mut Bintree, key: TriangleKey, mid: GridPoint) -> [Tri
     bintree.relink(parent.right, key, c1);
     bintree.triangles[key].children = Some([c0, c1]);
     bintree.n_leaves += 1;
+    if bintree.strips {
+        super::strips::replace_by_children(bintree, key);
+    }
     [c0, c1]
 }

@@ -3,7 +3,9 @@
 //! Checks, in order: parent/child links; every leaf's neighbour links are symmetric, point at
 //! leaves and share the right edge; neighbours' depths differ by at most one; the leaf count;
 //! the mesh is exactly the corners plus every split vertex, and it passes the shared mesh
-//! validator (closure, T = 2 + Σ parents); the split queue holds exactly the splittable leaves
+//! validator (closure, T = 2 + Σ parents); with strips on, the curve-order list holds every leaf
+//! in the order of a walk from the roots and the joined-junction count equals a recount; the
+//! split queue holds exactly the splittable leaves
 //! and the merge queue exactly the mergeable diamonds, with priorities that equal a
 //! recomputation (or, under deferral, lie on the same side of τ). Tests call it after every
 //! operation; it is O(triangles · log) and allocates.
@@ -12,6 +14,7 @@ use super::bintree::{Bintree, CullFlag, Side};
 use super::merge::{is_mergeable, primary_parent};
 use super::priority::PriorityContext;
 use super::queues::Queues;
+use super::strips::count_strips;
 use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::validate::validate_reported;
 use std::collections::HashSet;
@@ -119,7 +122,42 @@ pub fn validate(
     }
     validate_reported(bintree.lattice(), bintree.mesh(), bintree.n_leaves())
         .map_err(|e| BintreeError(e.to_string()))?;
+    validate_strips(bintree)?;
     validate_queues(bintree, queues, context, check)
+}
+
+/// The curve-order list against a walk from the roots, the joined junctions against a recount.
+fn validate_strips(bintree: &Bintree) -> Result<(), BintreeError> {
+    if !bintree.tracks_strips() {
+        return Ok(());
+    }
+    let (mut stack, mut leaves) = (Vec::new(), Vec::new());
+    let strips = count_strips(bintree, &mut stack, &mut leaves);
+    let mut previous = None;
+    let mut key = leaves.first().copied();
+    for (position, &expected) in leaves.iter().enumerate() {
+        let Some(current) = key else {
+            return fail(format!("the curve-order list ends after {position} leaves"));
+        };
+        if current != expected || bintree.get(current).prev != previous {
+            return fail(format!(
+                "curve-order list differs from a walk at leaf {position}: {:?}",
+                bintree.get(expected).shape
+            ));
+        }
+        previous = key;
+        key = bintree.get(current).next;
+    }
+    if key.is_some() {
+        return fail("the curve-order list goes on past the last leaf".into());
+    }
+    let incremental = bintree.n_leaves() - bintree.joined_junctions().min(bintree.n_leaves());
+    if incremental != strips {
+        return fail(format!(
+            "{incremental} strips counted incrementally, {strips} recounted"
+        ));
+    }
+    Ok(())
 }
 
 fn validate_queues(
