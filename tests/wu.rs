@@ -42,6 +42,19 @@ fn fixed_tau(tau_px: f64, zone: ZoneVariant) -> WuConfig {
     }
 }
 
+/// One frame of `algorithm` with the eye at `eye` (within the speed bounds).
+fn step(algorithm: &mut dyn LodAlgorithm, frame: u64, eye: DVec3, stats: &mut FrameStats) {
+    let camera = camera_at(eye);
+    algorithm.update(
+        &FrameInput {
+            frame,
+            camera: &camera,
+            speed_bound_broken: false,
+        },
+        stats,
+    );
+}
+
 /// A scene: one terrain, the reference pair that sandwiches Wu, and Wu itself.
 struct Sandwich<'h> {
     hierarchy: &'h Hierarchy,
@@ -341,15 +354,7 @@ fn an_unreachable_budget_keeps_b_clamped_and_reports_it() {
     let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
     let mut stats = FrameStats::default();
     for frame in 0..60 {
-        let camera = camera_at(DVec3::new(80.0, 80.0, 400.0));
-        wu.update(
-            &FrameInput {
-                frame,
-                camera: &camera,
-                speed_bound_broken: false,
-            },
-            &mut stats,
-        );
+        step(&mut wu, frame, DVec3::new(80.0, 80.0, 400.0), &mut stats);
         validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
         wu.validate_queues(false).unwrap();
     }
@@ -371,16 +376,8 @@ fn fly_line(config: WuConfig, frames: u64, altitude: f64) -> (u64, u64, Vec<u64>
     let mut counts = Vec::new();
     for frame in 0..frames {
         let eye = DVec3::new(20.0 + 5.0 * frame as f64, 300.0, altitude);
-        let camera = camera_at(eye);
         let mut stats = FrameStats::default();
-        wu.update(
-            &FrameInput {
-                frame,
-                camera: &camera,
-                speed_bound_broken: false,
-            },
-            &mut stats,
-        );
+        step(&mut wu, frame, eye, &mut stats);
         validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
         wu.validate_queues(false).unwrap();
         lives += stats.metric_evaluations;
@@ -429,17 +426,9 @@ fn a_depth_limit_spreads_the_first_refinement_over_several_frames() {
     let hierarchy = bumpy_terrain(6);
     let run = |config: WuConfig| {
         let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
-        let camera = camera_at(DVec3::new(20.0, 300.0, 150.0));
         let mut stats = FrameStats::default();
         for frame in 0..20 {
-            wu.update(
-                &FrameInput {
-                    frame,
-                    camera: &camera,
-                    speed_bound_broken: false,
-                },
-                &mut stats,
-            );
+            step(&mut wu, frame, DVec3::new(20.0, 300.0, 150.0), &mut stats);
         }
         wu.mesh().clone()
     };
@@ -494,15 +483,7 @@ fn a_million_frames_keep_the_wheels_valid_and_b_bounded() {
     for frame in 0..1_000_000u64 {
         let angle = frame as f64 * std::f64::consts::TAU / 4000.0;
         let eye = DVec3::new(40.0 + 60.0 * angle.cos(), 40.0 + 60.0 * angle.sin(), 30.0);
-        let camera = camera_at(eye);
-        wu.update(
-            &FrameInput {
-                frame,
-                camera: &camera,
-                speed_bound_broken: false,
-            },
-            &mut stats,
-        );
+        step(&mut wu, frame, eye, &mut stats);
         lowest = lowest.min(wu.base());
         highest = highest.max(wu.base());
     }

@@ -28,6 +28,8 @@ pub struct AuditSettings {
 /// Reusable audit state.
 pub struct Auditor {
     stride: usize,
+    /// Audited samples per side: the grid side subsampled by `stride`.
+    lattice_side: usize,
     mesh_height: Vec<f32>,
     projected: Vec<f64>,
     view_angle: Vec<f64>,
@@ -39,6 +41,7 @@ impl Auditor {
         let lattice_side = (hierarchy.field().side() - 1) / stride + 1;
         Auditor {
             stride,
+            lattice_side,
             mesh_height: vec![0.0; lattice_side * lattice_side],
             projected: Vec::new(),
             view_angle: Vec::new(),
@@ -54,8 +57,7 @@ impl Auditor {
     ) -> AuditFrame {
         self.rasterise(hierarchy, mesh);
         let field = hierarchy.field();
-        let stride = self.stride;
-        let lattice_side = (field.side() - 1) / stride + 1;
+        let (stride, lattice_side) = (self.stride, self.lattice_side);
         let pixel_angle = camera.settings.pixel_angle();
         self.projected.clear();
         self.view_angle.clear();
@@ -84,9 +86,8 @@ impl Auditor {
 
     /// Fills `mesh_height` at every audited sample with the mesh surface's height.
     fn rasterise(&mut self, hierarchy: &Hierarchy, mesh: &VertexSet) {
-        let field = hierarchy.field();
         let stride = self.stride as i64;
-        let lattice_side = (field.side() - 1) / self.stride + 1;
+        let lattice_side = self.lattice_side;
         let mesh_height = &mut self.mesh_height;
         for_each_triangle(hierarchy.lattice(), mesh, |triangle| {
             let corners = [triangle.apex, triangle.left, triangle.right];

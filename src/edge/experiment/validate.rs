@@ -979,24 +979,20 @@ fn build_flight(
             altitude_m,
             frames_per_lap,
             phase_deg,
-        } => FlightPath::Circle {
-            centre: v2(*centre_m),
-            radius: *radius_m,
-            altitude: *altitude_m,
-            frames_per_lap: *frames_per_lap,
-            phase: phase_deg.to_radians(),
-        },
-        PathEntry::Orbit {
+        }
+        | PathEntry::Orbit {
             centre_m,
             radius_m,
             altitude_m,
             frames_per_lap,
-            target_m,
             phase_deg,
+            ..
         } => {
-            look = Look::At {
-                target: v3(*target_m),
-            };
+            if let PathEntry::Orbit { target_m, .. } = &entry.path {
+                look = Look::At {
+                    target: v3(*target_m),
+                };
+            }
             FlightPath::Circle {
                 centre: v2(*centre_m),
                 radius: *radius_m,

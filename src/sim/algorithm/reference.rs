@@ -17,6 +17,7 @@
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, VertexClass};
 use crate::sim::mesh::VertexSet;
+use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
 use crate::sim::zone::{SpeedBound, ZoneVariant, signed_life, split_zone};
@@ -56,10 +57,7 @@ pub struct Reference<'h> {
     config: ReferenceConfig,
     theta: f64,
     speed: SpeedBound,
-    mesh: VertexSet,
-    active: Vec<u32>,
-    previous_mesh: VertexSet,
-    previous_active: Vec<u32>,
+    mesh: RebuiltMesh,
     n_triangles: u64,
     stack: Vec<(GridPoint, u32)>,
 }
@@ -71,18 +69,12 @@ impl<'h> Reference<'h> {
         view: &ViewSettings,
         speed: SpeedBound,
     ) -> Reference<'h> {
-        let lattice = hierarchy.lattice();
-        let mesh = VertexSet::base_mesh(lattice);
-        let active: Vec<u32> = mesh.iter().collect();
         Reference {
             hierarchy,
             config,
             theta: config.tau_px * view.pixel_angle(),
             speed,
-            previous_mesh: mesh.clone(),
-            previous_active: active.clone(),
-            mesh,
-            active,
+            mesh: RebuiltMesh::new(hierarchy.lattice()),
             n_triangles: 2,
             stack: Vec::new(),
         }
@@ -93,7 +85,7 @@ impl<'h> Reference<'h> {
     fn activate_closed(&mut self, p: GridPoint) -> u64 {
         let lattice = self.hierarchy.lattice();
         let id = lattice.id(p);
-        if self.mesh.contains(id) {
+        if self.mesh.mesh().contains(id) {
             return 0;
         }
         let parents = lattice.parents(p);
@@ -102,7 +94,6 @@ impl<'h> Reference<'h> {
             squares += self.activate_closed(*parent);
         }
         self.mesh.insert(id);
-        self.active.push(id);
         self.n_triangles += parents.len() as u64;
         if matches!(lattice.classify(p), VertexClass::Square { .. }) {
             squares += 1;
@@ -123,16 +114,7 @@ impl LodAlgorithm for Reference<'_> {
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let hierarchy = self.hierarchy;
         let lattice = hierarchy.lattice();
-        std::mem::swap(&mut self.mesh, &mut self.previous_mesh);
-        std::mem::swap(&mut self.active, &mut self.previous_active);
-        for &id in &self.active {
-            self.mesh.remove(id);
-        }
-        self.active.clear();
-        for corner in lattice.corners() {
-            self.mesh.insert(lattice.id(corner));
-            self.active.push(lattice.id(corner));
-        }
+        self.mesh.start_frame(lattice);
         self.n_triangles = 2;
 
         let eye = input.camera.eye;
@@ -160,9 +142,9 @@ impl LodAlgorithm for Reference<'_> {
             }
         }
         // Free boundary vertices: every edge midpoint whose parents are all active.
-        let n_before = self.active.len();
+        let n_before = self.mesh.active().len();
         for k in 0..n_before {
-            let p = lattice.point(self.active[k]);
+            let p = lattice.point(self.mesh.active()[k]);
             let VertexClass::Square { half } = lattice.classify(p) else {
                 continue;
             };
@@ -171,10 +153,9 @@ impl LodAlgorithm for Reference<'_> {
                 if parents
                     .as_slice()
                     .iter()
-                    .all(|q| self.mesh.contains_point(lattice, *q))
+                    .all(|q| self.mesh.mesh().contains_point(lattice, *q))
                     && self.mesh.insert(lattice.id(boundary))
                 {
-                    self.active.push(lattice.id(boundary));
                     self.n_triangles += parents.len() as u64;
                 }
             }
@@ -183,21 +164,13 @@ impl LodAlgorithm for Reference<'_> {
         stats.triangles = self.n_triangles;
         stats.splits = splits;
         stats.merges = 0;
-        stats.vertices_inserted = self
-            .active
-            .iter()
-            .filter(|&&id| !self.previous_mesh.contains(id))
-            .count() as u64;
-        stats.vertices_deleted = self
-            .previous_active
-            .iter()
-            .filter(|&&id| !self.mesh.contains(id))
-            .count() as u64;
+        stats.vertices_inserted = self.mesh.inserted_since_previous();
+        stats.vertices_deleted = self.mesh.deleted_since_previous();
         stats.metric_evaluations = evaluations;
     }
 
     fn mesh(&self) -> &VertexSet {
-        &self.mesh
+        self.mesh.mesh()
     }
 
     fn triangle_count(&self) -> u64 {
@@ -205,11 +178,6 @@ impl LodAlgorithm for Reference<'_> {
     }
 
     fn memory_bytes(&self) -> usize {
-        let list = |v: &Vec<u32>| v.capacity() * std::mem::size_of::<u32>();
-        self.mesh.memory_bytes()
-            + self.previous_mesh.memory_bytes()
-            + list(&self.active)
-            + list(&self.previous_active)
-            + self.stack.capacity() * std::mem::size_of::<(GridPoint, u32)>()
+        self.mesh.memory_bytes() + self.stack.capacity() * std::mem::size_of::<(GridPoint, u32)>()
     }
 }

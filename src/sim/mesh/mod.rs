@@ -5,6 +5,7 @@
 //! follow from the set ([`triangles::for_each_triangle`]). [`validate::validate`] checks what
 //! makes a set a mesh.
 
+pub mod rebuilt;
 pub mod triangles;
 pub mod validate;
 

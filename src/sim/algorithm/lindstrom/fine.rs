@@ -12,7 +12,7 @@
 //! is activated wherever it lies, and those activations are the `forced_activations`.
 
 use crate::sim::hierarchy::{Lattice, VertexClass};
-use crate::sim::mesh::VertexSet;
+use crate::sim::mesh::rebuilt::RebuiltMesh;
 
 /// Vertex ids waiting for the fine step, one list per 4-8 level. The lists are reused across
 /// frames: after the first frames nothing allocates.
@@ -52,13 +52,12 @@ impl LevelBuckets {
 }
 
 /// Activates every queued vertex and, level by level upwards, the parents of every vertex
-/// activated. Appends the newly active ids to `active` and returns the triangles they add
-/// (their parents, summed). Leaves the buckets empty.
+/// activated. Inserts them into `mesh` and returns the triangles they add (their parents,
+/// summed). Leaves the buckets empty.
 pub(super) fn activate_bottom_up(
     lattice: &Lattice,
     buckets: &mut LevelBuckets,
-    mesh: &mut VertexSet,
-    active: &mut Vec<u32>,
+    mesh: &mut RebuiltMesh,
 ) -> u64 {
     let mut triangles_added = 0;
     for level in 0..buckets.levels.len() {
@@ -67,7 +66,6 @@ pub(super) fn activate_bottom_up(
             if !mesh.insert(id) {
                 continue;
             }
-            active.push(id);
             let parents = lattice.parents(lattice.point(id));
             triangles_added += parents.len() as u64;
             if let Some(above) = buckets.levels.get_mut(level + 1) {

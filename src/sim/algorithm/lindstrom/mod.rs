@@ -62,6 +62,7 @@ pub use validate::BlockTreeError;
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{Hierarchy, NestingRule};
 use crate::sim::mesh::VertexSet;
+use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
 use blocks::BlockTree;
@@ -104,10 +105,7 @@ pub struct Lindstrom<'h> {
     config: LindstromConfig,
     lambda: f64,
     blocks: BlockTree,
-    mesh: VertexSet,
-    active: Vec<u32>,
-    previous_mesh: VertexSet,
-    previous_active: Vec<u32>,
+    mesh: RebuiltMesh,
     n_triangles: u64,
     node_stack: Vec<u32>,
     kept: LevelBuckets,
@@ -129,17 +127,12 @@ impl<'h> Lindstrom<'h> {
         let lattice = hierarchy.lattice();
         let nested_errors = hierarchy.nested_vertex_errors(NestingRule::Max);
         let blocks = BlockTree::new(hierarchy, &nested_errors, config.block_level);
-        let mesh = VertexSet::base_mesh(lattice);
-        let active: Vec<u32> = mesh.iter().collect();
         Lindstrom {
             hierarchy,
             config,
             lambda: view.pixels_per_unit(),
             blocks,
-            previous_mesh: mesh.clone(),
-            previous_active: active.clone(),
-            mesh,
-            active,
+            mesh: RebuiltMesh::new(lattice),
             n_triangles: 2,
             node_stack: Vec::new(),
             kept: LevelBuckets::new(lattice),
@@ -174,16 +167,7 @@ impl LodAlgorithm for Lindstrom<'_> {
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let lattice = self.hierarchy.lattice();
-        std::mem::swap(&mut self.mesh, &mut self.previous_mesh);
-        std::mem::swap(&mut self.active, &mut self.previous_active);
-        for &id in &self.active {
-            self.mesh.remove(id);
-        }
-        self.active.clear();
-        for corner in lattice.corners() {
-            self.mesh.insert(lattice.id(corner));
-            self.active.push(lattice.id(corner));
-        }
+        self.mesh.start_frame(lattice);
         self.n_triangles = 2;
 
         let frame = CoarseFrame {
@@ -195,21 +179,12 @@ impl LodAlgorithm for Lindstrom<'_> {
         };
         self.kept.clear();
         let counts = select_blocks(&frame, &mut self.node_stack, &mut self.kept);
-        self.n_triangles +=
-            activate_bottom_up(lattice, &mut self.kept, &mut self.mesh, &mut self.active);
-        let n_non_corner = (self.active.len() - 4) as u64;
+        self.n_triangles += activate_bottom_up(lattice, &mut self.kept, &mut self.mesh);
+        let n_non_corner = (self.mesh.active().len() - 4) as u64;
 
         stats.triangles = self.n_triangles;
-        stats.vertices_inserted = self
-            .active
-            .iter()
-            .filter(|&&id| !self.previous_mesh.contains(id))
-            .count() as u64;
-        stats.vertices_deleted = self
-            .previous_active
-            .iter()
-            .filter(|&&id| !self.mesh.contains(id))
-            .count() as u64;
+        stats.vertices_inserted = self.mesh.inserted_since_previous();
+        stats.vertices_deleted = self.mesh.deleted_since_previous();
         stats.splits = stats.vertices_inserted;
         stats.merges = stats.vertices_deleted;
         stats.metric_evaluations = counts.vertices_evaluated;
@@ -224,7 +199,7 @@ impl LodAlgorithm for Lindstrom<'_> {
     }
 
     fn mesh(&self) -> &VertexSet {
-        &self.mesh
+        self.mesh.mesh()
     }
 
     fn triangle_count(&self) -> u64 {
@@ -232,13 +207,9 @@ impl LodAlgorithm for Lindstrom<'_> {
     }
 
     fn memory_bytes(&self) -> usize {
-        let list = |v: &Vec<u32>| v.capacity() * std::mem::size_of::<u32>();
         self.blocks.memory_bytes()
             + self.mesh.memory_bytes()
-            + self.previous_mesh.memory_bytes()
-            + list(&self.active)
-            + list(&self.previous_active)
-            + list(&self.node_stack)
+            + self.node_stack.capacity() * std::mem::size_of::<u32>()
             + self.kept.memory_bytes()
     }
 }

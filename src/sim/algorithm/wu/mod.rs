@@ -275,9 +275,17 @@ impl<'h> Wu<'h> {
 
     /// Recomputes the lives of every node in a link and reschedules them.
     fn recompute_link(&mut self, queue: Queue, link: u32) {
+        self.recompute_links(queue, link..link + 1);
+    }
+
+    /// Empties the links first, then recomputes each taken node's life once and reschedules it
+    /// (a node rescheduled into a later link of the range is not seen twice).
+    fn recompute_links(&mut self, queue: Queue, links: std::ops::Range<u32>) {
         let mut due = std::mem::take(&mut self.due);
         due.clear();
-        self.wheels.take_link(queue, link, &mut due);
+        for link in links {
+            self.wheels.take_link(queue, link, &mut due);
+        }
         for &node in &due {
             let life = self.life(node);
             match queue {
@@ -300,24 +308,11 @@ impl<'h> Wu<'h> {
         self.due = due;
     }
 
-    /// Recomputes every queued life once (first frame, or the speed bounds were broken): all
-    /// links are emptied first, so a node rescheduled into a later link is not recomputed again.
+    /// Recomputes every queued life once (first frame, or the speed bounds were broken).
     fn revalidate_all(&mut self) {
-        for queue in [Queue::Split, Queue::Merge] {
-            let mut all = std::mem::take(&mut self.due);
-            all.clear();
-            for link in 0..self.wheels.n_links() + 2 {
-                self.wheels.take_link(queue, link, &mut all);
-            }
-            for &node in &all {
-                let life = self.life(node);
-                match queue {
-                    Queue::Split => self.schedule_split(node, life, 0),
-                    Queue::Merge => self.schedule_merge(node, life),
-                }
-            }
-            self.due = all;
-        }
+        let all_links = 0..self.wheels.n_links() + 2;
+        self.recompute_links(Queue::Split, all_links.clone());
+        self.recompute_links(Queue::Merge, all_links);
         if !self.started {
             let root = self.nodes.root();
             if self.is_splittable(root) && !self.wheels.is_in(root, Queue::Split) {
