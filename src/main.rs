@@ -128,21 +128,35 @@ fn run(
 }
 
 fn validate(path: &Path) -> Result<(), String> {
-    let experiment = experiment::load(path).map_err(|e| e.to_string())?;
-    println!(
-        "{}: valid — {} algorithm(s), {} frames, terrain {}² from {}",
-        path.display(),
-        experiment.algorithms.len(),
-        experiment.flight.n_frames(),
-        experiment.terrain.side,
-        experiment.terrain.source
-    );
-    if !experiment.violations.is_empty() {
+    let plan = experiment::plan(path).map_err(|e| e.to_string())?;
+    for k in 0..plan.n_points() {
+        let experiment = plan.load_point(k).map_err(|e| e.to_string())?;
+        let point = plan
+            .choice(k)
+            .map(|c| {
+                format!(
+                    " (sweep point {}/{}: {})",
+                    k + 1,
+                    plan.n_points(),
+                    experiment::choice_label(c)
+                )
+            })
+            .unwrap_or_default();
         println!(
-            "note: {} frame(s) break the speed bounds (first: frame {})",
-            experiment.violations.len(),
-            experiment.violations[0].frame
+            "{}{point}: valid — {} algorithm(s), {} frames, terrain {}² from {}",
+            path.display(),
+            experiment.algorithms.len(),
+            experiment.flight.n_frames(),
+            experiment.terrain.side,
+            experiment.terrain.source
         );
+        if !experiment.violations.is_empty() {
+            println!(
+                "note: {} frame(s) break the speed bounds (first: frame {})",
+                experiment.violations.len(),
+                experiment.violations[0].frame
+            );
+        }
     }
     Ok(())
 }
@@ -151,8 +165,20 @@ fn info(path: &Path) -> Result<(), String> {
     let is_experiment = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let field = if is_experiment {
-        let experiment = experiment::load(path).map_err(|e| e.to_string())?;
+    if !is_experiment {
+        return info_terrain_file(path);
+    }
+    let plan = experiment::plan(path).map_err(|e| e.to_string())?;
+    for k in 0..plan.n_points() {
+        if let Some(choice) = plan.choice(k) {
+            println!(
+                "sweep point {}/{}: {}",
+                k + 1,
+                plan.n_points(),
+                experiment::choice_label(choice)
+            );
+        }
+        let experiment = plan.load_point(k).map_err(|e| e.to_string())?;
         let t = &experiment.terrain;
         println!("terrain        {} ({})", t.source, t.format);
         println!("source size    {} × {}", t.source_columns, t.source_rows);
@@ -165,41 +191,41 @@ fn info(path: &Path) -> Result<(), String> {
             "spacing        dx {:.3} m, dy {:.3} m (from {})",
             t.spacing.dx, t.spacing.dy, t.spacing_from
         );
-        experiment.field
-    } else {
-        let format = format_from_extension(path).map_err(|e| e.to_string())?;
-        let loaded =
-            read_terrain(path, format, &ReadOptions::AS_STORED).map_err(|e| e.to_string())?;
-        println!("terrain        {}", path.display());
-        println!(
-            "source size    {} × {}",
-            loaded.grid.width(),
-            loaded.grid.height()
-        );
-        println!("voids          {}", loaded.grid.void_indices().len());
-        let spacing = match loaded.spacing {
-            Some(s) => {
-                println!(
-                    "spacing        dx {:.3} m, dy {:.3} m (from the file)",
-                    s.dx, s.dy
-                );
-                s
-            }
-            None => {
-                println!("spacing        not declared by the file (1 m assumed here)");
-                Spacing { dx: 1.0, dy: 1.0 }
-            }
-        };
-        let (filled, _) =
-            fill_voids(loaded.grid).map_err(|e| format!("{}: {e}", path.display()))?;
-        let (field, report) =
-            embed(&filled, Fit::Pad, spacing).map_err(|e| format!("{}: {e}", path.display()))?;
-        println!(
-            "embedded       {}² by padding ({} columns, {} rows)",
-            report.side, report.padded_columns, report.padded_rows
-        );
-        field
+        describe_preprocessing(experiment.field);
+    }
+    Ok(())
+}
+
+fn info_terrain_file(path: &Path) -> Result<(), String> {
+    let format = format_from_extension(path).map_err(|e| e.to_string())?;
+    let loaded = read_terrain(path, format, &ReadOptions::AS_STORED).map_err(|e| e.to_string())?;
+    println!("terrain        {}", path.display());
+    println!(
+        "source size    {} × {}",
+        loaded.grid.width(),
+        loaded.grid.height()
+    );
+    println!("voids          {}", loaded.grid.void_indices().len());
+    let spacing = match loaded.spacing {
+        Some(s) => {
+            println!(
+                "spacing        dx {:.3} m, dy {:.3} m (from the file)",
+                s.dx, s.dy
+            );
+            s
+        }
+        None => {
+            println!("spacing        not declared by the file (1 m assumed here)");
+            Spacing { dx: 1.0, dy: 1.0 }
+        }
     };
+    let (filled, _) = fill_voids(loaded.grid).map_err(|e| format!("{}: {e}", path.display()))?;
+    let (field, report) =
+        embed(&filled, Fit::Pad, spacing).map_err(|e| format!("{}: {e}", path.display()))?;
+    println!(
+        "embedded       {}² by padding ({} columns, {} rows)",
+        report.side, report.padded_columns, report.padded_rows
+    );
     describe_preprocessing(field);
     Ok(())
 }
@@ -227,35 +253,45 @@ fn describe_preprocessing(field: Heightfield) {
     );
 }
 
-/// One indicatif bar for all the frames of all the entries.
+/// One indicatif bar for all the frames of all the entries (a new bar for each sweep point).
 struct BarProgress {
-    bar: ProgressBar,
+    bar: std::sync::Mutex<ProgressBar>,
 }
 
 impl BarProgress {
     fn new() -> BarProgress {
-        let bar = ProgressBar::hidden();
-        if let Ok(style) =
-            ProgressStyle::with_template("running [{bar:40}] {pos}/{len} frames ({eta})")
-        {
-            bar.set_style(style.progress_chars("=> "));
+        BarProgress {
+            bar: std::sync::Mutex::new(ProgressBar::hidden()),
         }
-        BarProgress { bar }
+    }
+
+    fn bar(&self) -> std::sync::MutexGuard<'_, ProgressBar> {
+        self.bar
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 }
 
 impl ProgressSink for BarProgress {
     fn start(&self, total_frames: u64) {
-        self.bar.set_length(total_frames);
-        self.bar
-            .set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        let bar = ProgressBar::new(total_frames);
+        if let Ok(style) =
+            ProgressStyle::with_template("running [{bar:40}] {pos}/{len} frames ({eta})")
+        {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        *self.bar() = bar;
     }
 
     fn advance(&self, frames: u64) {
-        self.bar.inc(frames);
+        self.bar().inc(frames);
     }
 
     fn finish(&self) {
-        self.bar.finish_and_clear();
+        self.bar().finish_and_clear();
+    }
+
+    fn point(&self, index: usize, count: usize, choice: &str) {
+        eprintln!("sweep point {}/{count}: {choice}", index + 1);
     }
 }

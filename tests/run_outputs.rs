@@ -302,3 +302,121 @@ fn a_killed_run_leaves_the_previous_output_untouched_and_the_next_run_cleans_up(
     assert!(!names.iter().any(|n| n.contains(".partial-")), "{names:?}");
     assert!(counts_only(&read()) == counts_only(&before));
 }
+
+/// A small synthetic scene whose terrain size is swept: the scaling experiment in miniature.
+fn small_terrain_sweep(levels: &[u32]) -> serde_json::Value {
+    serde_json::json!({
+        "format_version": 1,
+        "name": "mini-scaling",
+        "sweep": {"terrain.synthetic.level": levels},
+        "terrain": {"synthetic": {"level": 5, "seed": 3, "amplitude_m": 20,
+                                  "amplitude_scale_m": 320, "roughness": 0.5,
+                                  "spacing_m": {"dx": 10, "dy": 10}}},
+        "view": {"width_px": 200, "height_px": 200, "fovy_deg": 60, "near_m": 1, "far_m": 5000},
+        "speed_bounds": {"horizontal_m_per_frame": 10, "vertical_m_per_frame": 5},
+        "flight": {"frames": 12, "look": {"along_path": {"pitch_deg": -20}},
+                   "path": {"circle": {"centre_m": [160, 160], "radius_m": 80,
+                                       "altitude_m": 150, "frames_per_lap": 60}}},
+        "algorithms": [
+            {"name": "wu", "budget_triangles": 200, "tau_px": 2},
+            {"name": "roam", "target_triangles": 200},
+            {"name": "reference", "tau_px": 2}
+        ],
+        "effects": {"audit": {"stride": 1}, "culling": true}
+    })
+}
+
+#[test]
+fn a_terrain_sweep_runs_each_size_into_its_own_folder_and_compares_them_at_the_top() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = save(dir.path(), "mini", &small_terrain_sweep(&[5, 6]));
+    let out = dir.path().join("out");
+    run_with_threads(&path, &out, true, 2);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["kind"], "sweep");
+    let points = summary["points"].as_array().unwrap();
+    let sides: Vec<u64> = points
+        .iter()
+        .map(|p| p["terrain"]["side"].as_u64().unwrap())
+        .collect();
+    assert_eq!(sides, [33, 65]);
+    for (point, level) in points.iter().zip([5, 6]) {
+        let folder = out.join(point["folder"].as_str().unwrap());
+        assert_eq!(
+            folder.file_name().unwrap(),
+            format!("terrain.synthetic.level={level}").as_str()
+        );
+        let own: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(folder.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(own["terrain"]["side"], point["terrain"]["side"]);
+        assert_eq!(
+            own["experiment"]["sweep_point"]["terrain.synthetic.level"],
+            level
+        );
+        let csv = std::fs::read_to_string(folder.join("frames.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 1 + 3 * 12);
+        let labels: Vec<&str> = point["algorithms"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| a["label"].as_str().unwrap())
+            .collect();
+        assert_eq!(labels, ["wu", "roam", "reference"]);
+        assert!(point["algorithms"][0]["audited_error_px"]["max"].is_f64());
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains(
+            "| terrain.synthetic.level=6 | `terrain.synthetic.level=6` | 65² (4225 samples)"
+        ),
+        "{report}"
+    );
+    assert!(report.contains("Median update time"), "{report}");
+    for stem in ["sweep_update_time", "sweep_bytes_per_sample"] {
+        assert!(out.join(format!("plots/{stem}.png")).exists(), "{stem}");
+    }
+}
+
+#[test]
+fn a_terrain_sweep_gives_the_same_counts_as_each_point_run_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let swept = save(dir.path(), "swept", &small_terrain_sweep(&[5, 6]));
+    run_with_threads(&swept, &dir.path().join("swept-out"), false, 3);
+    let mut alone = small_terrain_sweep(&[6]);
+    alone.as_object_mut().unwrap().remove("sweep");
+    alone["terrain"]["synthetic"]["level"] = 6.into();
+    let alone = save(dir.path(), "alone", &alone);
+    run_with_threads(&alone, &dir.path().join("alone-out"), false, 1);
+    let read = |path: &str| std::fs::read_to_string(dir.path().join(path)).unwrap();
+    assert_eq!(
+        counts_only(&read("swept-out/terrain.synthetic.level=6/frames.csv")),
+        counts_only(&read("alone-out/frames.csv"))
+    );
+}
+
+#[test]
+fn a_point_that_cannot_run_is_named_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = save(dir.path(), "bad", &small_terrain_sweep(&[5, 20]));
+    let out = dir.path().join("out");
+    let error = run_experiment(
+        &path,
+        &RunOptions {
+            out_dir: Some(out.clone()),
+            check_meshes: false,
+            threads: Some(1),
+        },
+        &NoProgress,
+    )
+    .err()
+    .expect("level 20 is out of range")
+    .to_string();
+    assert!(
+        error
+            .contains("(terrain.synthetic.level=20) terrain.synthetic.level: 20: expected 1 to 14"),
+        "{error}"
+    );
+    assert!(!out.exists());
+}

@@ -6,15 +6,23 @@
 //! in the experiment's order, so the outputs do not depend on the thread count (timings do:
 //! entries running side by side share the cores; use one thread for timing comparisons).
 //! Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing).
+//!
+//! An experiment with a top-level sweep runs its points one after another, each into its own
+//! sub-folder, then writes the sweep's own `summary.json`, `report.md` and plots at the top; the
+//! whole folder is staged and moved into place only when every point has succeeded.
 
 use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::StagedDir;
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::plots::PlotError;
-use crate::edge::output::report_md::{ReportInputs, report_markdown};
+use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
 use crate::edge::output::run_plots::write_run_plots;
 use crate::edge::output::summary_json::{Preprocessing, summary_json};
+use crate::edge::output::sweep_outputs::{
+    EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
+    write_sweep_plots,
+};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{RunError, RunInputs, run_algorithm};
 use crate::sim::stats::FrameStats;
@@ -29,6 +37,10 @@ pub trait ProgressSink: Sync {
     /// `frames` more frames are done.
     fn advance(&self, frames: u64);
     fn finish(&self);
+    /// Point `index` of `count` of the experiment's top-level sweep is about to load and run.
+    fn point(&self, index: usize, count: usize, choice: &str) {
+        let _ = (index, count, choice);
+    }
 }
 
 /// Progress that goes nowhere.
@@ -79,34 +91,19 @@ pub enum RunFailure {
     Threads { threads: usize, message: String },
 }
 
-/// Runs an experiment file.
+/// Runs an experiment file: every point of its top-level sweep one after another (each with its
+/// own terrain, so only one is in memory at a time), every algorithm entry of a point in
+/// parallel. Nothing is written unless every point succeeds.
 pub fn run_experiment(
     path: &Path,
     options: &RunOptions,
     progress: &dyn ProgressSink,
 ) -> Result<RunOutcome, RunFailure> {
-    let mut experiment = experiment::load(path)?;
-    experiment.effects.check_meshes = options.check_meshes;
+    let plan = experiment::plan(path)?;
     let out_dir = options
         .out_dir
         .clone()
-        .unwrap_or_else(|| Path::new("out").join(&experiment.name));
-
-    let start = Instant::now();
-    let hierarchy = Hierarchy::new(experiment.field.clone());
-    let preprocessing = Preprocessing {
-        seconds: start.elapsed().as_secs_f64(),
-        bytes_per_sample: hierarchy.bytes_per_sample(),
-    };
-
-    let violation_frames: Vec<u64> = experiment.violations.iter().map(|v| v.frame).collect();
-    let inputs = RunInputs {
-        hierarchy: &hierarchy,
-        view: &experiment.view,
-        flight: &experiment.flight,
-        violation_frames: &violation_frames,
-        effects: experiment.effects,
-    };
+        .unwrap_or_else(|| Path::new("out").join(plan.name()));
     let threads = options
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -118,6 +115,134 @@ pub fn run_experiment(
             threads,
             message: e.to_string(),
         })?;
+    let staged = StagedDir::new(&out_dir).map_err(io_error(&out_dir))?;
+    let mut outcome = RunOutcome {
+        out_dir: out_dir.clone(),
+        experiment_name: plan.name().to_string(),
+        frames: 0,
+        speed_violation_frames: Vec::new(),
+        preprocessing_seconds: 0.0,
+        threads,
+    };
+    let mut sweep_points = Vec::new();
+    for k in 0..plan.n_points() {
+        let mut experiment = plan.load_point(k)?;
+        experiment.effects.check_meshes = options.check_meshes;
+        let choice_label = plan.choice(k).map(|c| experiment::choice_label(c));
+        if let Some(label) = &choice_label {
+            progress.point(k, plan.n_points(), label);
+        }
+        let point = run_point(&experiment, &pool, progress)?;
+        let context = OutputContext {
+            experiment: &experiment,
+            preprocessing: &point.preprocessing,
+            hierarchy_bytes: point.hierarchy_bytes,
+            threads,
+        };
+        let folder = match plan.choice(k) {
+            Some(choice) => point_folder(choice),
+            None => String::new(),
+        };
+        let point_dir = staged.path().join(&folder);
+        let figures = write_outputs(&context, &point.results, &point_dir)?;
+        outcome.frames += experiment.flight.n_frames();
+        outcome.preprocessing_seconds += point.preprocessing.seconds;
+        if k == 0 {
+            outcome.speed_violation_frames = point.violation_frames;
+        }
+        if let Some(choice) = plan.choice(k) {
+            sweep_points.push(SweepPoint {
+                choice: choice.clone(),
+                folder,
+                side: experiment.field.side(),
+                n_samples: experiment.field.n_samples(),
+                frames: experiment.flight.n_frames(),
+                preprocessing_seconds: point.preprocessing.seconds,
+                hierarchy_bytes_per_sample: point.preprocessing.bytes_per_sample,
+                entries: figures,
+            });
+        }
+    }
+    if plan.is_sweep() {
+        let sweep = SweepRun {
+            name: plan.name(),
+            description: plan.description(),
+            file: path,
+            content_sha256: plan.content_sha256(),
+            threads,
+            points: &sweep_points,
+        };
+        let summary_path = staged.path().join("summary.json");
+        let text = serde_json::to_string_pretty(&sweep_summary_json(&sweep)).unwrap_or_default();
+        std::fs::write(&summary_path, text + "\n").map_err(io_error(&summary_path))?;
+        let report_path = staged.path().join("report.md");
+        std::fs::write(&report_path, sweep_report_markdown(&sweep))
+            .map_err(io_error(&report_path))?;
+        let plots = staged.path().join("plots");
+        std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
+        write_sweep_plots(&plots, &sweep)?;
+    }
+    staged.commit().map_err(io_error(&out_dir))?;
+    Ok(outcome)
+}
+
+/// A folder name for a sweep point: `parameter=value` pairs joined by `_`, anything but letters,
+/// digits and `.=-+` replaced by `-`.
+fn point_folder(choice: &[(String, serde_json::Value)]) -> String {
+    choice
+        .iter()
+        .map(|(parameter, value)| {
+            let value = match value {
+                serde_json::Value::String(s) => s.clone(),
+                other => other.to_string(),
+            };
+            format!("{parameter}={value}")
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || ".=-+".contains(c) {
+                        c
+                    } else {
+                        '-'
+                    }
+                })
+                .collect::<String>()
+        })
+        .collect::<Vec<_>>()
+        .join("_")
+}
+
+fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> RunFailure + use<> {
+    let path = path.to_path_buf();
+    move |source| RunFailure::Output { path, source }
+}
+
+/// One point's run: preprocessing and every entry's result.
+struct PointRun {
+    preprocessing: Preprocessing,
+    hierarchy_bytes: f64,
+    violation_frames: Vec<u64>,
+    results: Vec<AlgorithmResult>,
+}
+
+fn run_point(
+    experiment: &Experiment,
+    pool: &rayon::ThreadPool,
+    progress: &dyn ProgressSink,
+) -> Result<PointRun, RunFailure> {
+    let start = Instant::now();
+    let hierarchy = Hierarchy::new(experiment.field.clone());
+    let preprocessing = Preprocessing {
+        seconds: start.elapsed().as_secs_f64(),
+        bytes_per_sample: hierarchy.bytes_per_sample(),
+    };
+    let violation_frames: Vec<u64> = experiment.violations.iter().map(|v| v.frame).collect();
+    let inputs = RunInputs {
+        hierarchy: &hierarchy,
+        view: &experiment.view,
+        flight: &experiment.flight,
+        violation_frames: &violation_frames,
+        effects: experiment.effects,
+    };
     let n_frames = experiment.flight.n_frames();
     progress.start(n_frames * experiment.algorithms.len() as u64);
     let run_one = |spec: &AlgorithmSpec| -> Result<AlgorithmResult, RunError> {
@@ -142,21 +267,11 @@ pub fn run_experiment(
         pool.install(|| experiment.algorithms.par_iter().map(run_one).collect());
     progress.finish();
     let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
-
-    let context = OutputContext {
-        experiment: &experiment,
-        preprocessing: &preprocessing,
+    Ok(PointRun {
+        preprocessing,
         hierarchy_bytes: hierarchy.bytes_per_sample() * hierarchy.field().n_samples() as f64,
-        threads,
-    };
-    write_outputs(&context, &results, &out_dir)?;
-    Ok(RunOutcome {
-        out_dir,
-        experiment_name: experiment.name.clone(),
-        frames: experiment.flight.n_frames(),
-        speed_violation_frames: violation_frames,
-        preprocessing_seconds: preprocessing.seconds,
-        threads,
+        violation_frames,
+        results,
     })
 }
 
@@ -177,11 +292,13 @@ struct OutputContext<'a> {
     threads: usize,
 }
 
+/// Writes one point's `frames.csv`, `summary.json`, `report.md` and plots into `dir` (inside the
+/// staged output folder); returns each entry's report figures.
 fn write_outputs(
     context: &OutputContext,
     results: &[AlgorithmResult],
-    out_dir: &Path,
-) -> Result<(), RunFailure> {
+    dir: &Path,
+) -> Result<Vec<EntryFigures>, RunFailure> {
     let experiment = context.experiment;
     let preprocessing = context.preprocessing;
     let runs: Vec<RunColumns> = experiment
@@ -195,12 +312,8 @@ fn write_outputs(
         })
         .collect();
     let audited = experiment.effects.audit.is_some();
-    let io_error = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| RunFailure::Output { path, source }
-    };
-    let staged = StagedDir::new(out_dir).map_err(io_error(out_dir))?;
-    let csv_path = staged.path().join("frames.csv");
+    std::fs::create_dir_all(dir).map_err(io_error(dir))?;
+    let csv_path = dir.join("frames.csv");
     std::fs::write(&csv_path, frames_csv(&runs, audited)).map_err(io_error(&csv_path))?;
     let parameters: Vec<_> = experiment
         .algorithms
@@ -221,7 +334,7 @@ fn write_outputs(
         &names,
         &facts,
     );
-    let summary_path = staged.path().join("summary.json");
+    let summary_path = dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";
     std::fs::write(&summary_path, text).map_err(io_error(&summary_path))?;
     let n_samples = experiment.field.n_samples() as f64;
@@ -236,13 +349,22 @@ fn write_outputs(
         bytes_per_sample: &bytes_per_sample,
         threads: context.threads,
     });
-    let report_path = staged.path().join("report.md");
+    let report_path = dir.join("report.md");
     std::fs::write(&report_path, report).map_err(io_error(&report_path))?;
     if experiment.plots {
-        let plots = staged.path().join("plots");
+        let plots = dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
         write_run_plots(&plots, &runs, audited)?;
     }
-    staged.commit().map_err(io_error(out_dir))?;
-    Ok(())
+    Ok(runs
+        .iter()
+        .zip(&names)
+        .zip(&bytes_per_sample)
+        .map(|((run, name), bytes)| EntryFigures {
+            label: run.label.to_string(),
+            name: name.to_string(),
+            row: row(run),
+            bytes_per_sample: *bytes,
+        })
+        .collect())
 }

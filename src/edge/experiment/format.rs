@@ -110,6 +110,10 @@ pub struct SyntheticEntry {
     pub level: u32,
     pub seed: u64,
     pub amplitude_m: f64,
+    /// The horizontal length over which `amplitude_m` applies (default: the terrain's extent
+    /// along x): terrains of different sizes with the same scale share their small-scale relief.
+    #[serde(default)]
+    pub amplitude_scale_m: Option<f64>,
     pub roughness: f64,
     pub spacing_m: SpacingEntry,
     /// World position of sample (0, 0) at height 0 (default: the world origin).

@@ -7,10 +7,12 @@
 //! has passed. The format is documented in `docs/experiment-format.md`.
 
 mod format;
+mod sweep;
 mod validate;
 
 pub use format::FORMAT_VERSION;
-pub use validate::{AlgorithmSpec, Experiment, TerrainReport, load};
+pub use sweep::{SweepChoice, choice_label};
+pub use validate::{AlgorithmSpec, Experiment, Plan, TerrainReport, load, plan};
 
 use std::fmt;
 use std::path::PathBuf;

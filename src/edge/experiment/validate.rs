@@ -10,6 +10,9 @@ use super::format::{
     LindstromParameters, LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, RoamParameters,
     TerrainEntry, TerrainFormatEntry, WuParameters, ZoneEntry,
 };
+use super::sweep::{
+    ExperimentPoint, MAX_SWEEP_POINTS, SweepChoice, cartesian, choice_label, expand_experiment,
+};
 use super::{ExperimentError, FieldProblem};
 use crate::edge::flight_log::read_flight_log;
 use crate::edge::terrain_readers::{
@@ -56,9 +59,12 @@ pub struct Experiment {
     pub algorithms: Vec<AlgorithmSpec>,
     pub effects: Effects,
     pub plots: bool,
+    /// The point of the experiment's top-level sweep this is (`None` without a sweep).
+    pub sweep_point: Option<SweepChoice>,
 }
 
 /// One algorithm entry: its label, configuration and the parameters as written.
+#[derive(Clone)]
 pub struct AlgorithmSpec {
     pub label: String,
     pub config: AlgorithmConfig,
@@ -85,38 +91,167 @@ pub struct TerrainReport {
     pub height_max_m: f32,
 }
 
-/// Reads, validates and loads an experiment file.
+/// Reads, validates and loads an experiment file without a top-level sweep (an experiment with
+/// one is run point by point: see [`plan`]).
 pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
+    let plan = plan(path)?;
+    if plan.is_sweep() {
+        return Err(ExperimentError::single(
+            path,
+            "sweep",
+            format!(
+                "a top-level sweep of {} points: expected an experiment without one here                  (`roamsim run` runs each point)",
+                plan.points.len()
+            ),
+        ));
+    }
+    plan.load_point(0)
+}
+
+/// An experiment file read and checked, every sweep point of it, with nothing loaded yet.
+pub struct Plan {
+    file: PathBuf,
+    content_sha256: String,
+    points: Vec<PlannedPoint>,
+}
+
+struct PlannedPoint {
+    choice: Option<SweepChoice>,
+    parsed: ExperimentFile,
+    checked: Checked,
+}
+
+/// Stages 1 and 2 for every point of the experiment's top-level sweep (one point without a
+/// sweep): every problem of every point is reported at once, before any terrain is read.
+pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
     let bytes = std::fs::read(path).map_err(|error| {
         ExperimentError::single(path, "", format!("cannot read the file: {error}"))
     })?;
-    let parsed = parse(path, &bytes)?;
-    let folder = path.parent().unwrap_or(Path::new("."));
-    let checked = check(path, &parsed)?;
-    let (field, terrain) = load_terrain(path, folder, &parsed.terrain)?;
-    let flight = build_flight(path, folder, &parsed.flight)?;
-    let violations = speed_violations(&flight, checked.speed);
-    Ok(Experiment {
-        name: parsed.name,
-        description: parsed.description,
+    let document = parse_document(path, &bytes)?;
+    let points = expand_experiment(document).map_err(|problem| ExperimentError {
+        file: path.to_path_buf(),
+        problems: vec![problem],
+    })?;
+    let mut problems = Vec::new();
+    let mut planned = Vec::new();
+    for ExperimentPoint { choice, document } in points {
+        let prefix = choice
+            .as_ref()
+            .map(|c| format!("({}) ", choice_label(c)))
+            .unwrap_or_default();
+        let checked = parse(path, document).and_then(|parsed| {
+            let checked = check(path, &parsed)?;
+            Ok((parsed, checked))
+        });
+        match checked {
+            Ok((parsed, checked)) => planned.push(PlannedPoint {
+                choice,
+                parsed,
+                checked,
+            }),
+            Err(error) => problems.extend(error.problems.into_iter().map(|p| FieldProblem {
+                field: format!("{prefix}{}", p.field),
+                problem: p.problem,
+            })),
+        }
+    }
+    if !problems.is_empty() {
+        return Err(ExperimentError {
+            file: path.to_path_buf(),
+            problems,
+        });
+    }
+    Ok(Plan {
         file: path.to_path_buf(),
         content_sha256: hex(&Sha256::digest(&bytes)),
-        field,
-        terrain,
-        view: checked.view,
-        speed: checked.speed,
-        flight,
-        flight_kind: path_kind(&parsed.flight.path),
-        violations,
-        algorithms: checked.algorithms,
-        effects: checked.effects,
-        plots: parsed.outputs.plots,
+        points: planned,
     })
 }
 
-fn parse(path: &Path, bytes: &[u8]) -> Result<ExperimentFile, ExperimentError> {
-    let deserializer = &mut serde_json::Deserializer::from_slice(bytes);
-    serde_path_to_error::deserialize(deserializer).map_err(|error| {
+impl Plan {
+    /// Whether the file declares a top-level sweep (its points then carry their choices).
+    pub fn is_sweep(&self) -> bool {
+        self.points.iter().any(|p| p.choice.is_some())
+    }
+
+    pub fn n_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// The experiment's name (the same for every point).
+    pub fn name(&self) -> &str {
+        &self.points[0].parsed.name
+    }
+
+    /// The experiment's description (the same for every point unless swept).
+    pub fn description(&self) -> Option<&str> {
+        self.points[0].parsed.description.as_deref()
+    }
+
+    /// SHA-256 of the experiment file's bytes, hex.
+    pub fn content_sha256(&self) -> &str {
+        &self.content_sha256
+    }
+
+    /// The swept values of point `k` (`None` without a sweep).
+    pub fn choice(&self, k: usize) -> Option<&SweepChoice> {
+        self.points[k].choice.as_ref()
+    }
+
+    /// Stage 3 for point `k`: reads or generates its terrain, builds its flight.
+    pub fn load_point(&self, k: usize) -> Result<Experiment, ExperimentError> {
+        let path = self.file.as_path();
+        let point = &self.points[k];
+        let prefix_errors = |error: ExperimentError| match &point.choice {
+            None => error,
+            Some(choice) => ExperimentError {
+                problems: error
+                    .problems
+                    .into_iter()
+                    .map(|p| FieldProblem {
+                        field: format!("({}) {}", choice_label(choice), p.field),
+                        problem: p.problem,
+                    })
+                    .collect(),
+                ..error
+            },
+        };
+        let parsed = &point.parsed;
+        let checked = &point.checked;
+        let folder = path.parent().unwrap_or(Path::new("."));
+        let (field, terrain) =
+            load_terrain(path, folder, &parsed.terrain).map_err(prefix_errors)?;
+        let flight = build_flight(path, folder, &parsed.flight).map_err(prefix_errors)?;
+        let violations = speed_violations(&flight, checked.speed);
+        Ok(Experiment {
+            name: parsed.name.clone(),
+            description: parsed.description.clone(),
+            file: path.to_path_buf(),
+            content_sha256: self.content_sha256.clone(),
+            field,
+            terrain,
+            view: checked.view,
+            speed: checked.speed,
+            flight,
+            flight_kind: path_kind(&parsed.flight.path),
+            violations,
+            algorithms: checked.algorithms.clone(),
+            effects: checked.effects,
+            plots: parsed.outputs.plots,
+            sweep_point: point.choice.clone(),
+        })
+    }
+}
+
+/// Stage 1a: the file's text as JSON (syntax errors carry line and column).
+fn parse_document(path: &Path, bytes: &[u8]) -> Result<Value, ExperimentError> {
+    serde_json::from_slice(bytes)
+        .map_err(|error| ExperimentError::single(path, "", error.to_string()))
+}
+
+/// Stage 1b: a point's JSON into the format types (serde reports the path of a type error).
+fn parse(path: &Path, document: Value) -> Result<ExperimentFile, ExperimentError> {
+    serde_path_to_error::deserialize(document).map_err(|error| {
         let field = error.path().to_string();
         let field = if field == "." { String::new() } else { field };
         ExperimentError::single(path, field, error.into_inner().to_string())
@@ -317,6 +452,9 @@ fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
                 );
             }
             problems.non_negative("terrain.synthetic.amplitude_m", synthetic.amplitude_m);
+            if let Some(scale) = synthetic.amplitude_scale_m {
+                problems.positive("terrain.synthetic.amplitude_scale_m", scale);
+            }
             if !(0.0..=1.0).contains(&synthetic.roughness) {
                 problems.add(
                     "terrain.synthetic.roughness",
@@ -480,9 +618,6 @@ fn check_pitch(field: &str, pitch_deg: f64, problems: &mut Problems) {
     }
 }
 
-/// Most entries one sweep may expand into.
-const MAX_SWEEP_POINTS: usize = 10_000;
-
 /// An algorithm entry after sweep expansion: where it came from, for error paths.
 struct ExpandedEntry {
     /// `algorithms[k]`, or `algorithms[k] (tau_px=0.5)` for a sweep point.
@@ -516,11 +651,11 @@ fn expand_sweeps(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<Exp
             );
             continue;
         };
-        let mut axes: Vec<(&String, &Vec<Value>)> = Vec::new();
+        let mut axes: Vec<(String, Vec<Value>)> = Vec::new();
         for (parameter, values) in sweep {
             match values.as_array().filter(|v| !v.is_empty()) {
                 Some(values) if !["name", "label", "sweep"].contains(&parameter.as_str()) => {
-                    axes.push((parameter, values))
+                    axes.push((parameter.clone(), values.clone()))
                 }
                 _ => problems.add(
                     format!("algorithms[{k}].sweep.{parameter}"),
@@ -536,21 +671,12 @@ fn expand_sweeps(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<Exp
             );
             continue;
         }
-        for point in 0..points {
+        for choice in cartesian(&axes) {
             let mut parameters = parameters.clone();
-            let mut suffix = Vec::new();
-            let mut rest = point;
-            let mut chosen = Vec::new();
-            for (parameter, values) in axes.iter().rev() {
-                chosen.push((*parameter, &values[rest % values.len()]));
-                rest /= values.len();
-            }
-            chosen.reverse();
-            for (parameter, value) in chosen {
+            for (parameter, value) in &choice {
                 parameters.insert(parameter.clone(), value.clone());
-                suffix.push(format!("{parameter}={value}"));
             }
-            let suffix = suffix.join(", ");
+            let suffix = choice_label(&choice);
             expanded.push(ExpandedEntry {
                 origin: format!("algorithms[{k}] ({suffix})"),
                 name: entry.name.clone(),
@@ -824,10 +950,17 @@ fn load_terrain(
                 dx: s.spacing_m.dx,
                 dy: s.spacing_m.dy,
             };
+            // Diamond-square's displacement at a cell of length L is amplitude · (L / extent)^H;
+            // anchoring it at `amplitude_scale_m` instead scales the top amplitude.
+            let extent_m = (1u64 << s.level) as f64 * spacing.dx;
+            let amplitude = match s.amplitude_scale_m {
+                Some(scale) => s.amplitude_m * (extent_m / scale).powf(s.roughness),
+                None => s.amplitude_m,
+            };
             let field = generate(&SyntheticTerrain {
                 level: s.level,
                 seed: s.seed,
-                amplitude: s.amplitude_m,
+                amplitude,
                 roughness: s.roughness,
                 spacing,
             })

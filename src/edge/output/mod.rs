@@ -7,3 +7,4 @@ pub mod plots;
 pub mod report_md;
 pub mod run_plots;
 pub mod summary_json;
+pub mod sweep_outputs;

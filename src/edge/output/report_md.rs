@@ -19,18 +19,22 @@ pub struct ReportInputs<'a> {
     pub threads: usize,
 }
 
-/// One row's figures.
-struct Row {
-    triangles: f64,
-    rendered: f64,
-    error: Option<(f64, f64, f64)>,
-    update_p50_us: f64,
-    update_p95_us: f64,
-    operations_per_frame: f64,
-    evaluations_per_operation: Option<f64>,
+/// One entry's figures, as its report row shows them.
+#[derive(Clone, Copy, Debug)]
+pub struct Row {
+    /// Mean triangles per frame: whole mesh, and meeting the view volume.
+    pub triangles: f64,
+    pub rendered: f64,
+    /// Audited projected error: largest max, mean of means, mean of p95s (px).
+    pub error: Option<(f64, f64, f64)>,
+    pub update_p50_us: f64,
+    pub update_p95_us: f64,
+    pub operations_per_frame: f64,
+    pub evaluations_per_operation: Option<f64>,
 }
 
-fn row(run: &RunColumns) -> Row {
+/// The figures of one entry's run.
+pub fn row(run: &RunColumns) -> Row {
     let column = |name: &str| -> Vec<f64> {
         run.frames
             .iter()

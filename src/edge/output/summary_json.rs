@@ -74,6 +74,9 @@ pub fn summary_json(
             "description": experiment.description,
             "file": experiment.file.display().to_string(),
             "content_sha256": experiment.content_sha256,
+            "sweep_point": experiment.sweep_point.as_ref().map(|choice| {
+                choice.iter().cloned().collect::<Map<String, Value>>()
+            }),
         },
         "terrain": {
             "source": terrain.source,

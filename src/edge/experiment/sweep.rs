@@ -1,0 +1,287 @@
+//! Sweeps: one written experiment or algorithm entry expanding into many points.
+//!
+//! Two kinds share one expansion rule (the cartesian product of the listed values, parameters in
+//! alphabetical order, the first one varying slowest):
+//! - an algorithm entry's `"sweep": {"tau_px": [1, 2]}` sets the entry's own parameters
+//!   (expanded in `validate.rs`, where the entries are checked);
+//! - the experiment's top-level `"sweep": {"terrain.synthetic.level": [10, 12]}` sets any field
+//!   of the experiment by its path (`.`-separated keys, `[k]` for an array element): each point
+//!   is a whole experiment, with its own terrain, run one after another.
+//!
+//! This module only rewrites JSON values; it knows nothing of what the fields mean. Every point
+//! is then parsed and checked like a written experiment.
+
+use super::FieldProblem;
+use serde_json::Value;
+
+/// Most points one sweep may expand into.
+pub(super) const MAX_SWEEP_POINTS: usize = 10_000;
+
+/// One point of a sweep: the value chosen for each swept parameter, in the sweep's order.
+pub type SweepChoice = Vec<(String, Value)>;
+
+/// The cartesian product of the axes, the first axis varying slowest.
+pub(super) fn cartesian(axes: &[(String, Vec<Value>)]) -> Vec<SweepChoice> {
+    let points: usize = axes.iter().map(|(_, values)| values.len()).product();
+    (0..points)
+        .map(|point| {
+            let mut rest = point;
+            let mut chosen: SweepChoice = axes
+                .iter()
+                .rev()
+                .map(|(parameter, values)| {
+                    let value = values[rest % values.len()].clone();
+                    rest /= values.len();
+                    (parameter.clone(), value)
+                })
+                .collect();
+            chosen.reverse();
+            chosen
+        })
+        .collect()
+}
+
+/// `parameter=value, …` with JSON values (strings quoted), as labels and error paths show a point.
+pub fn choice_label(choice: &[(String, Value)]) -> String {
+    choice
+        .iter()
+        .map(|(parameter, value)| format!("{parameter}={value}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// One point of the experiment's top-level sweep, as a whole experiment document.
+pub(super) struct ExperimentPoint {
+    /// `None` when the experiment has no top-level sweep (its only point is itself).
+    pub choice: Option<SweepChoice>,
+    pub document: Value,
+}
+
+/// Fields a top-level sweep may not set: they identify the experiment or the sweep itself.
+const UNSWEEPABLE: &[&str] = &["format_version", "name", "sweep"];
+
+/// Expands the document's top-level `"sweep"` (removed from every point). A document without one
+/// is its own single point.
+pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoint>, FieldProblem> {
+    let sweep = match document.as_object_mut() {
+        Some(top) => top.remove("sweep"),
+        None => None,
+    };
+    let Some(sweep) = sweep else {
+        return Ok(vec![ExperimentPoint {
+            choice: None,
+            document,
+        }]);
+    };
+    let problem = |field: String, problem: String| FieldProblem { field, problem };
+    let Some(sweep) = sweep.as_object().filter(|s| !s.is_empty()) else {
+        return Err(problem(
+            "sweep".into(),
+            "expected a non-empty object of field paths and value lists, e.g. \
+             {\"terrain.synthetic.level\": [10, 12]}"
+                .into(),
+        ));
+    };
+    let mut axes = Vec::new();
+    for (path, values) in sweep {
+        let Some(values) = values.as_array().filter(|v| !v.is_empty()) else {
+            return Err(problem(
+                format!("sweep.{path}"),
+                "expected a non-empty list of values".into(),
+            ));
+        };
+        let first = path.split(['.', '[']).next().unwrap_or_default();
+        if UNSWEEPABLE.contains(&first) {
+            return Err(problem(
+                format!("sweep.{path}"),
+                format!(
+                    "{first:?} cannot be swept: expected a path into the experiment's settings"
+                ),
+            ));
+        }
+        axes.push((path.clone(), values.clone()));
+    }
+    let points: usize = axes.iter().map(|(_, v)| v.len()).product();
+    if points > MAX_SWEEP_POINTS {
+        return Err(problem(
+            "sweep".into(),
+            format!("{points} points: expected at most {MAX_SWEEP_POINTS}"),
+        ));
+    }
+    cartesian(&axes)
+        .into_iter()
+        .map(|choice| {
+            let mut point = document.clone();
+            for (path, value) in &choice {
+                set_field(&mut point, path, value.clone())
+                    .map_err(|message| problem(format!("sweep.{path}"), message))?;
+            }
+            Ok(ExperimentPoint {
+                choice: Some(choice),
+                document: point,
+            })
+        })
+        .collect()
+}
+
+/// One step of a field path.
+#[derive(Debug, PartialEq)]
+enum Step<'a> {
+    Key(&'a str),
+    Index(usize),
+}
+
+fn parse_path(path: &str) -> Result<Vec<Step<'_>>, String> {
+    let invalid = || {
+        format!(
+            "{path:?} is not a field path: expected keys separated by '.', with [k] for an \
+             array element, e.g. \"algorithms[0].tau_px\""
+        )
+    };
+    let mut steps = Vec::new();
+    for part in path.split('.') {
+        let (key, mut rest) = part.split_once('[').map_or((part, ""), |(k, r)| (k, r));
+        if key.is_empty() {
+            return Err(invalid());
+        }
+        steps.push(Step::Key(key));
+        while !rest.is_empty() {
+            let (index, after) = rest.split_once(']').ok_or_else(invalid)?;
+            steps.push(Step::Index(index.parse().map_err(|_| invalid())?));
+            rest = match after.strip_prefix('[') {
+                Some(next) => next,
+                None if after.is_empty() => "",
+                None => return Err(invalid()),
+            };
+        }
+    }
+    Ok(steps)
+}
+
+/// Sets the field at `path`. Every step but the last must exist; the last key may be new (an
+/// optional field the written experiment left out), an array index must exist.
+fn set_field(document: &mut Value, path: &str, value: Value) -> Result<(), String> {
+    let steps = parse_path(path)?;
+    let mut here = document;
+    for (k, step) in steps.iter().enumerate() {
+        let last = k + 1 == steps.len();
+        here = match (step, here) {
+            (Step::Key(key), Value::Object(object)) => {
+                if last {
+                    object.insert(key.to_string(), value);
+                    return Ok(());
+                }
+                object
+                    .get_mut(*key)
+                    .ok_or_else(|| format!("the experiment has no field {key:?} on this path"))?
+            }
+            (Step::Index(index), Value::Array(array)) => {
+                let length = array.len();
+                let element = array.get_mut(*index).ok_or_else(|| {
+                    format!("element [{index}] does not exist (the list has {length})")
+                })?;
+                if last {
+                    *element = value;
+                    return Ok(());
+                }
+                element
+            }
+            (Step::Key(key), _) => {
+                return Err(format!("cannot set {key:?}: its parent is not an object"));
+            }
+            (Step::Index(index), _) => {
+                return Err(format!("cannot set [{index}]: its parent is not a list"));
+            }
+        };
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn the_first_axis_varies_slowest() {
+        let axes = vec![
+            ("a".to_string(), vec![json!(1), json!(2)]),
+            ("b".to_string(), vec![json!("x"), json!("y"), json!("z")]),
+        ];
+        let labels: Vec<String> = cartesian(&axes).iter().map(|c| choice_label(c)).collect();
+        assert_eq!(
+            labels,
+            [
+                "a=1, b=\"x\"",
+                "a=1, b=\"y\"",
+                "a=1, b=\"z\"",
+                "a=2, b=\"x\"",
+                "a=2, b=\"y\"",
+                "a=2, b=\"z\""
+            ]
+        );
+    }
+
+    #[test]
+    fn a_top_level_sweep_sets_nested_fields_and_leaves_the_rest() {
+        let document = json!({
+            "name": "s",
+            "terrain": {"synthetic": {"level": 10, "seed": 1}},
+            "algorithms": [{"name": "wu", "tau_px": 2}],
+            "sweep": {"terrain.synthetic.level": [10, 12], "algorithms[0].tau_px": [4]}
+        });
+        let points = expand_experiment(document).unwrap();
+        assert_eq!(points.len(), 2);
+        for (point, level) in points.iter().zip([10, 12]) {
+            assert_eq!(
+                point.document["terrain"]["synthetic"]["level"],
+                json!(level)
+            );
+            assert_eq!(point.document["terrain"]["synthetic"]["seed"], json!(1));
+            assert_eq!(point.document["algorithms"][0]["tau_px"], json!(4));
+            assert!(point.document.get("sweep").is_none());
+        }
+        assert_eq!(
+            choice_label(points[1].choice.as_ref().unwrap()),
+            "algorithms[0].tau_px=4, terrain.synthetic.level=12"
+        );
+    }
+
+    #[test]
+    fn a_document_without_a_sweep_is_its_own_point() {
+        let points = expand_experiment(json!({"name": "plain"})).unwrap();
+        assert_eq!(points.len(), 1);
+        assert!(points[0].choice.is_none());
+    }
+
+    #[test]
+    fn bad_sweeps_name_the_swept_field() {
+        let cases = [
+            (json!({"sweep": {}}), "sweep"),
+            (json!({"sweep": {"view.far_m": []}}), "sweep.view.far_m"),
+            (json!({"sweep": {"name": ["a"]}}), "sweep.name"),
+            (
+                json!({"view": {}, "sweep": {"view.far.x": [1]}}),
+                "sweep.view.far.x",
+            ),
+            (json!({"a": [1], "sweep": {"a[3]": [1]}}), "sweep.a[3]"),
+            (json!({"a": 1, "sweep": {"a[x]": [1]}}), "sweep.a[x]"),
+            (json!({"sweep": {"a..b": [1]}}), "sweep.a..b"),
+        ];
+        for (document, field) in cases {
+            let error = expand_experiment(document).err().expect("an invalid sweep");
+            assert_eq!(error.field, field, "{}", error.problem);
+        }
+    }
+
+    #[test]
+    fn a_new_optional_field_may_be_swept_in() {
+        let document = json!({"terrain": {"file": {"path": "t.hgt"}},
+                              "sweep": {"terrain.file.height_scale": [1, 2]}});
+        let points = expand_experiment(document).unwrap();
+        assert_eq!(
+            points[1].document["terrain"]["file"]["height_scale"],
+            json!(2)
+        );
+    }
+}

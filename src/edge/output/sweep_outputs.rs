@@ -1,0 +1,423 @@
+//! The top of a swept experiment's output folder: what the points of its top-level sweep show
+//! side by side.
+//!
+//! Each point has written its own folder (frames.csv, summary.json, report.md, plots); this
+//! module makes, from the figures of those reports, the sweep's `summary.json` (every point's
+//! entries with their figures), `report.md` (one table per point, then each entry's median update
+//! time and memory across the points, as ratios to the first point) and the plots
+//! `sweep_update_time` and `sweep_bytes_per_sample` (one line per entry label against the swept
+//! value, or against the terrain size when the points' terrains differ). Pure: text and values
+//! out; the session writes them.
+
+use super::plots::{LineChart, PlotError, Series, write_line_chart};
+use super::report_md::Row;
+use crate::edge::experiment::{SweepChoice, choice_label};
+use serde_json::{Map, Value, json};
+use std::fmt::Write;
+use std::path::Path;
+
+/// One entry of one point, as its report showed it.
+#[derive(Clone, Debug)]
+pub struct EntryFigures {
+    pub label: String,
+    /// The algorithm's name (`wu`, `roam`, …).
+    pub name: String,
+    pub row: Row,
+    pub bytes_per_sample: f64,
+}
+
+/// One point of the sweep.
+#[derive(Clone, Debug)]
+pub struct SweepPoint {
+    pub choice: SweepChoice,
+    /// Its sub-folder of the output folder.
+    pub folder: String,
+    pub side: usize,
+    pub n_samples: usize,
+    pub frames: u64,
+    pub preprocessing_seconds: f64,
+    /// Heights and Wu's node table, per sample.
+    pub hierarchy_bytes_per_sample: f64,
+    pub entries: Vec<EntryFigures>,
+}
+
+/// The whole sweep.
+#[derive(Clone, Copy, Debug)]
+pub struct SweepRun<'a> {
+    pub name: &'a str,
+    pub description: Option<&'a str>,
+    pub file: &'a Path,
+    pub content_sha256: &'a str,
+    pub threads: usize,
+    pub points: &'a [SweepPoint],
+}
+
+/// The sweep's `summary.json` (format version 1, `"kind": "sweep"`; see docs/output-formats.md).
+pub fn sweep_summary_json(run: &SweepRun) -> Value {
+    let points: Vec<Value> = run
+        .points
+        .iter()
+        .map(|point| {
+            let choice: Map<String, Value> = point.choice.iter().cloned().collect();
+            let entries: Vec<Value> = point
+                .entries
+                .iter()
+                .map(|e| {
+                    let r = &e.row;
+                    json!({
+                        "label": e.label,
+                        "name": e.name,
+                        "triangles_mean": finite(r.triangles),
+                        "triangles_rendered_mean": finite(r.rendered),
+                        "update_p50_us": finite(r.update_p50_us),
+                        "update_p95_us": finite(r.update_p95_us),
+                        "operations_per_frame": finite(r.operations_per_frame),
+                        "evaluations_per_operation": r.evaluations_per_operation.and_then(finite),
+                        "bytes_per_sample": finite(e.bytes_per_sample),
+                        "audited_error_px": r.error.map(|(max, mean, p95)| json!({
+                            "max": max, "mean": mean, "p95_mean": p95
+                        })),
+                    })
+                })
+                .collect();
+            json!({
+                "choice": choice,
+                "folder": point.folder,
+                "terrain": {
+                    "side": point.side,
+                    "samples": point.n_samples,
+                    "preprocessing_seconds": point.preprocessing_seconds,
+                    "preprocessing_ns_per_sample":
+                        point.preprocessing_seconds * 1e9 / point.n_samples as f64,
+                    "bytes_per_sample": point.hierarchy_bytes_per_sample,
+                },
+                "frames": point.frames,
+                "algorithms": entries,
+            })
+        })
+        .collect();
+    json!({
+        "format_version": super::summary_json::SUMMARY_FORMAT_VERSION,
+        "kind": "sweep",
+        "roamsim_version": env!("CARGO_PKG_VERSION"),
+        "experiment": {
+            "name": run.name,
+            "description": run.description,
+            "file": run.file.display().to_string(),
+            "content_sha256": run.content_sha256,
+        },
+        "threads": run.threads,
+        "points": points,
+    })
+}
+
+/// JSON has no NaN: a figure that could not be measured is `null`.
+fn finite(value: f64) -> Option<f64> {
+    value.is_finite().then_some(value)
+}
+
+/// Entry labels in first-seen order over the points.
+fn labels(run: &SweepRun) -> Vec<String> {
+    let mut labels: Vec<String> = Vec::new();
+    for entry in run.points.iter().flat_map(|p| &p.entries) {
+        if !labels.contains(&entry.label) {
+            labels.push(entry.label.clone());
+        }
+    }
+    labels
+}
+
+fn entry<'a>(point: &'a SweepPoint, label: &str) -> Option<&'a EntryFigures> {
+    point.entries.iter().find(|e| e.label == label)
+}
+
+/// The sweep's `report.md`.
+pub fn sweep_report_markdown(run: &SweepRun) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# {}: sweep of {} points\n",
+        run.name,
+        run.points.len()
+    );
+    if let Some(description) = run.description {
+        let _ = writeln!(out, "{description}\n");
+    }
+    let _ = writeln!(
+        out,
+        "Points ran one after another, each from its own preprocessed terrain; entries within a \
+         point ran side by side on {} thread(s){}. Each point's own report, frames and plots are \
+         in its folder.\n",
+        run.threads,
+        if run.threads > 1 {
+            " (for timing comparisons run with --threads 1)"
+        } else {
+            ""
+        }
+    );
+    let _ = writeln!(
+        out,
+        "| point | folder | terrain | preprocessing (ns/sample) | shared bytes per sample |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|");
+    for point in run.points {
+        let _ = writeln!(
+            out,
+            "| {} | `{}` | {}² ({} samples) | {:.1} | {:.2} |",
+            choice_label(&point.choice).replace('|', "\\|"),
+            point.folder,
+            point.side,
+            point.n_samples,
+            point.preprocessing_seconds * 1e9 / point.n_samples as f64,
+            point.hierarchy_bytes_per_sample,
+        );
+    }
+    let first = &run.points[0];
+    let _ = writeln!(
+        out,
+        "\n## Median update time per frame (µs), and its ratio to the first point\n"
+    );
+    table_across_points(&mut out, run, |e| e.row.update_p50_us, |_| true);
+    let _ = writeln!(
+        out,
+        "\n## Memory (bytes per sample), and its ratio to the first point\n"
+    );
+    table_across_points(&mut out, run, |e| e.bytes_per_sample, |_| true);
+    let _ = writeln!(out, "\n## Mean triangles per frame\n");
+    table_across_points(&mut out, run, |e| e.row.triangles, |_| false);
+    if run
+        .points
+        .iter()
+        .any(|p| p.entries.iter().any(|e| e.row.error.is_some()))
+    {
+        let _ = writeln!(
+            out,
+            "\n## Audited projected error, mean of per-frame p95 (px)\n"
+        );
+        table_across_points(
+            &mut out,
+            run,
+            |e| e.row.error.map_or(f64::NAN, |(_, _, p95)| p95),
+            |_| false,
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nRatios divide each point's figure by the same entry's figure at the first point ({}).",
+        choice_label(&first.choice)
+    );
+    out
+}
+
+/// One row per entry label, one column per point: the figure, with its ratio to the first point
+/// when `ratios` says so.
+fn table_across_points(
+    out: &mut String,
+    run: &SweepRun,
+    figure: impl Fn(&EntryFigures) -> f64,
+    ratios: impl Fn(&str) -> bool,
+) {
+    let header: Vec<String> = run
+        .points
+        .iter()
+        .map(|p| choice_label(&p.choice).replace('|', "\\|"))
+        .collect();
+    let _ = writeln!(out, "| entry | {} |", header.join(" | "));
+    let _ = writeln!(out, "|---|{}", "---|".repeat(run.points.len()));
+    for label in labels(run) {
+        let base = entry(&run.points[0], &label).map(&figure);
+        let cells: Vec<String> = run
+            .points
+            .iter()
+            .map(|point| match entry(point, &label).map(&figure) {
+                Some(value) if value.is_finite() => match base {
+                    Some(base) if ratios(&label) && base > 0.0 => {
+                        format!("{} (×{:.2})", figure_text(value), value / base)
+                    }
+                    _ => figure_text(value),
+                },
+                _ => "—".to_string(),
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "| {} | {} |",
+            label.replace('|', "\\|"),
+            cells.join(" | ")
+        );
+    }
+}
+
+fn figure_text(value: f64) -> String {
+    if value.abs() >= 100.0 {
+        format!("{value:.0}")
+    } else {
+        format!("{value:.2}")
+    }
+}
+
+/// Writes `sweep_update_time` and `sweep_bytes_per_sample` (PNG and SVG) into `dir`.
+pub fn write_sweep_plots(dir: &Path, run: &SweepRun) -> Result<(), PlotError> {
+    let (x_label, xs) = x_axis(run);
+    let series_of = |figure: &dyn Fn(&EntryFigures) -> f64| -> Vec<Series> {
+        labels(run)
+            .into_iter()
+            .map(|label| Series {
+                points: run
+                    .points
+                    .iter()
+                    .zip(&xs)
+                    .filter_map(|(point, &x)| {
+                        let y = figure(entry(point, &label)?);
+                        y.is_finite().then_some((x, y))
+                    })
+                    .collect(),
+                label,
+            })
+            .collect()
+    };
+    write_line_chart(
+        dir,
+        "sweep_update_time",
+        &LineChart {
+            title: "Median update time per frame across the sweep",
+            x_label: &x_label,
+            y_label: "median update time (µs)",
+            series: &series_of(&|e| e.row.update_p50_us),
+            markers: &[],
+        },
+    )?;
+    write_line_chart(
+        dir,
+        "sweep_bytes_per_sample",
+        &LineChart {
+            title: "Memory per height sample across the sweep (shared terrain + algorithm state)",
+            x_label: &x_label,
+            y_label: "bytes per sample",
+            series: &series_of(&|e| e.bytes_per_sample),
+            markers: &[],
+        },
+    )
+}
+
+/// The x of each point: the terrain's level n (side 2^n + 1) when the terrains differ, else the
+/// first swept value when every point's is a number, else the point's index.
+fn x_axis(run: &SweepRun) -> (String, Vec<f64>) {
+    let sides_differ = run.points.iter().any(|p| p.side != run.points[0].side);
+    if sides_differ {
+        let levels = run
+            .points
+            .iter()
+            .map(|p| ((p.side - 1).max(1) as f64).log2())
+            .collect();
+        return ("terrain level n (side 2^n + 1 samples)".to_string(), levels);
+    }
+    let numbers: Option<Vec<f64>> = run
+        .points
+        .iter()
+        .map(|p| p.choice.first().and_then(|(_, v)| v.as_f64()))
+        .collect();
+    match (numbers, run.points[0].choice.first()) {
+        (Some(numbers), Some((parameter, _))) => (parameter.clone(), numbers),
+        _ => (
+            "sweep point".to_string(),
+            (0..run.points.len()).map(|k| k as f64).collect(),
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn figures(label: &str, update_p50_us: f64, bytes_per_sample: f64) -> EntryFigures {
+        EntryFigures {
+            label: label.to_string(),
+            name: "wu".to_string(),
+            row: Row {
+                triangles: 6000.0,
+                rendered: 6000.0,
+                error: None,
+                update_p50_us,
+                update_p95_us: update_p50_us * 2.0,
+                operations_per_frame: 30.0,
+                evaluations_per_operation: Some(12.0),
+            },
+            bytes_per_sample,
+        }
+    }
+
+    fn point(level: u32, entries: Vec<EntryFigures>) -> SweepPoint {
+        let side = (1usize << level) + 1;
+        SweepPoint {
+            choice: vec![("terrain.synthetic.level".to_string(), json!(level))],
+            folder: format!("terrain.synthetic.level={level}"),
+            side,
+            n_samples: side * side,
+            frames: 10,
+            preprocessing_seconds: 0.01,
+            hierarchy_bytes_per_sample: 8.0,
+            entries,
+        }
+    }
+
+    fn run(points: &[SweepPoint]) -> SweepRun<'_> {
+        SweepRun {
+            name: "scaling",
+            description: None,
+            file: Path::new("scaling.json"),
+            content_sha256: "00",
+            threads: 1,
+            points,
+        }
+    }
+
+    #[test]
+    fn the_report_gives_each_entrys_ratio_to_the_first_point() {
+        let points = [
+            point(4, vec![figures("wu", 10.0, 12.0)]),
+            point(6, vec![figures("wu", 15.0, 12.5)]),
+        ];
+        let report = sweep_report_markdown(&run(&points));
+        assert!(
+            report.contains("| wu | 10.00 (×1.00) | 15.00 (×1.50) |"),
+            "{report}"
+        );
+        assert!(
+            report.contains("| wu | 12.00 (×1.00) | 12.50 (×1.04) |"),
+            "{report}"
+        );
+        assert!(report.contains("17² (289 samples)"), "{report}");
+    }
+
+    #[test]
+    fn an_entry_missing_from_a_point_shows_a_dash_and_no_measurement_is_null() {
+        let points = [
+            point(
+                4,
+                vec![figures("wu", 10.0, 12.0), figures("roam", 20.0, 9.0)],
+            ),
+            point(6, vec![figures("wu", f64::NAN, 12.5)]),
+        ];
+        let run = run(&points);
+        let report = sweep_report_markdown(&run);
+        assert!(report.contains("| roam | 20.00 (×1.00) | — |"), "{report}");
+        assert!(report.contains("| wu | 10.00 (×1.00) | — |"), "{report}");
+        let summary = sweep_summary_json(&run);
+        assert_eq!(summary["kind"], "sweep");
+        assert_eq!(
+            summary["points"][1]["algorithms"][0]["update_p50_us"],
+            Value::Null
+        );
+        assert_eq!(summary["points"][1]["choice"]["terrain.synthetic.level"], 6);
+    }
+
+    #[test]
+    fn terrains_of_different_sizes_are_plotted_against_their_level() {
+        let points = [point(4, vec![]), point(6, vec![])];
+        let (label, xs) = x_axis(&run(&points));
+        assert!(label.starts_with("terrain level"));
+        assert_eq!(xs, [4.0, 6.0]);
+    }
+}
