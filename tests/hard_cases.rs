@@ -45,11 +45,13 @@ fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
     }
     for block_level in [1, 3] {
         configs.push(AlgorithmConfig::Lindstrom(LindstromConfig {
+            nesting: roamsim::sim::hierarchy::NestingRule::Max,
             tau_px,
             block_level,
         }));
     }
     let roam = RoamConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
         goal: RoamGoal::TolerancePx(tau_px),
         deferral: false,
         culling_flags: false,

@@ -38,6 +38,7 @@ struct Scene<'h> {
 impl<'h> Scene<'h> {
     fn new(hierarchy: &'h Hierarchy, tau_px: f64, block_level: u32) -> Scene<'h> {
         let config = LindstromConfig {
+            nesting: roamsim::sim::hierarchy::NestingRule::Max,
             tau_px,
             block_level,
         };
@@ -299,6 +300,7 @@ fn the_block_quadtree_is_valid_for_every_block_level() {
         let algorithm = Lindstrom::new(
             &hierarchy,
             LindstromConfig {
+                nesting: roamsim::sim::hierarchy::NestingRule::Max,
                 tau_px: 1.0,
                 block_level,
             },
@@ -341,6 +343,7 @@ fn an_experiment_names_lindstrom_with_its_tolerance_and_block_level() {
         configs,
         Ok(vec![roamsim::sim::algorithm::AlgorithmConfig::Lindstrom(
             LindstromConfig {
+                nesting: roamsim::sim::hierarchy::NestingRule::Max,
                 tau_px: 1.0,
                 block_level: 4
             }

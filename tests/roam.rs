@@ -22,6 +22,7 @@ const SPEED: SpeedBound = SpeedBound {
 
 fn tolerance(tau_px: f64) -> RoamConfig {
     RoamConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
         goal: RoamGoal::TolerancePx(tau_px),
         deferral: false,
         culling_flags: false,

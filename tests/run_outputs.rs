@@ -420,3 +420,41 @@ fn a_point_that_cannot_run_is_named_and_nothing_is_written() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn the_max_plus_own_nesting_keeps_at_least_the_max_rules_vertices_every_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(8);
+    experiment["algorithms"] = serde_json::json!([
+        {"name": "lindstrom", "label": "lindstrom", "tau_px": 2, "block_level": 4,
+         "sweep": {"nesting": ["max", "max_plus_own"]}},
+        {"name": "roam", "label": "roam", "tau_px": 4, "culling_flags": true,
+         "sweep": {"nesting": ["max", "max_plus_own"]}}
+    ]);
+    let path = save(dir.path(), "nesting", &experiment);
+    let out = dir.path().join("out");
+    run_with_threads(&path, &out, true, 2);
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    // Rows start with the label, quoted as CSV quotes it when it holds quotes or commas.
+    let triangles = |label: &str| -> Vec<u64> {
+        let quoted = format!("\"{}\",", label.replace('"', "\"\""));
+        csv.lines()
+            .filter_map(|line| line.strip_prefix(&quoted))
+            .map(|rest| rest.split(',').nth(1).unwrap().parse().unwrap())
+            .collect()
+    };
+    for algorithm in ["lindstrom", "roam"] {
+        let max = triangles(&format!("{algorithm} nesting=\"max\""));
+        let plus = triangles(&format!("{algorithm} nesting=\"max_plus_own\""));
+        assert_eq!(max.len(), 8, "{algorithm}: {csv}");
+        assert_eq!(plus.len(), 8, "{algorithm}");
+        assert!(
+            max.iter().zip(&plus).all(|(m, p)| p >= m),
+            "{algorithm}: {max:?} {plus:?}"
+        );
+        assert!(
+            max.iter().zip(&plus).any(|(m, p)| p > m),
+            "{algorithm}: {max:?} {plus:?}"
+        );
+    }
+}

@@ -267,6 +267,9 @@ pub struct WuParameters {
 pub struct LindstromParameters {
     pub tau_px: f64,
     pub block_level: u32,
+    /// Default: Lindstrom's max rule.
+    #[serde(default)]
+    pub nesting: Option<NestingEntry>,
 }
 
 /// Parameters of `roam` and `roam-rebuild`: exactly one of `target_triangles` and `tau_px`.
@@ -283,6 +286,17 @@ pub struct RoamParameters {
     pub culling_flags: bool,
     #[serde(default)]
     pub strips: bool,
+    /// Default: ROAM's max-plus-own rule.
+    #[serde(default)]
+    pub nesting: Option<NestingEntry>,
+}
+
+/// How nested errors combine a vertex's own error with its descendants'.
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum NestingEntry {
+    Max,
+    MaxPlusOwn,
 }
 
 #[derive(Debug, Deserialize, Clone, Copy)]

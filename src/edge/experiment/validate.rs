@@ -7,8 +7,8 @@
 
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
-    LindstromParameters, LookEntry, PathEntry, RawSampleEntry, ReferenceParameters, RoamParameters,
-    TerrainEntry, TerrainFormatEntry, WuParameters, ZoneEntry,
+    LindstromParameters, LookEntry, NestingEntry, PathEntry, RawSampleEntry, ReferenceParameters,
+    RoamParameters, TerrainEntry, TerrainFormatEntry, WuParameters, ZoneEntry,
 };
 use super::sweep::{
     ExperimentPoint, MAX_SWEEP_POINTS, SweepChoice, cartesian, choice_label, expand_experiment,
@@ -26,6 +26,7 @@ use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{
     Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, speed_violations,
 };
+use crate::sim::hierarchy::NestingRule;
 use crate::sim::run::Effects;
 use crate::sim::terrain::embed::{Fit, embed};
 use crate::sim::terrain::fill::fill_voids;
@@ -728,6 +729,7 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                 check_tau(k, p.tau_px, problems)?;
                 check_block_level(k, p.block_level, problems)?;
                 Some(AlgorithmConfig::Lindstrom(LindstromConfig {
+                    nesting: nesting_rule(p.nesting, NestingRule::Max),
                     tau_px: p.tau_px,
                     block_level: p.block_level,
                 }))
@@ -812,11 +814,20 @@ fn roam_config(origin: &str, p: &RoamParameters, problems: &mut Problems) -> Opt
         return None;
     }
     Some(RoamConfig {
+        nesting: nesting_rule(p.nesting, NestingRule::MaxPlusOwn),
         goal,
         deferral: p.deferral,
         culling_flags: p.culling_flags,
         strips: p.strips,
     })
+}
+
+fn nesting_rule(entry: Option<NestingEntry>, default: NestingRule) -> NestingRule {
+    match entry {
+        None => default,
+        Some(NestingEntry::Max) => NestingRule::Max,
+        Some(NestingEntry::MaxPlusOwn) => NestingRule::MaxPlusOwn,
+    }
 }
 
 fn check_tau(origin: &str, tau_px: f64, problems: &mut Problems) -> Option<()> {

@@ -90,6 +90,9 @@ pub struct LindstromConfig {
     pub tau_px: f64,
     /// k: blocks of (2^k + 1)² samples (1..=15; clamped to the terrain's level).
     pub block_level: u32,
+    /// How δ nests over descendants: the paper's [`NestingRule::Max`], or
+    /// [`NestingRule::MaxPlusOwn`] (a bound of the surface's distance, to measure its cost).
+    pub nesting: NestingRule,
 }
 
 /// Whether a vertex of nested error `delta` whose vertical-projection error is `projected_px`
@@ -125,7 +128,7 @@ impl<'h> Lindstrom<'h> {
             config.tau_px
         );
         let lattice = hierarchy.lattice();
-        let nested_errors = hierarchy.nested_vertex_errors(NestingRule::Max);
+        let nested_errors = hierarchy.nested_vertex_errors(config.nesting);
         let blocks = BlockTree::new(hierarchy, &nested_errors, config.block_level);
         Lindstrom {
             hierarchy,
@@ -146,7 +149,7 @@ impl<'h> Lindstrom<'h> {
 
     /// Checks the block quadtree against the hierarchy (see `validate.rs`). O(samples).
     pub fn validate_blocks(&self) -> Result<(), BlockTreeError> {
-        let nested_errors = self.hierarchy.nested_vertex_errors(NestingRule::Max);
+        let nested_errors = self.hierarchy.nested_vertex_errors(self.config.nesting);
         validate::validate_blocks(&self.blocks, self.hierarchy, &nested_errors)
     }
 

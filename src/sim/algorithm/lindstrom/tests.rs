@@ -126,6 +126,7 @@ fn the_algorithm_matches_the_brute_force_mesh_along_a_low_flight_for_every_block
     };
     for block_level in 1..=5 {
         let config = LindstromConfig {
+            nesting: crate::sim::hierarchy::NestingRule::Max,
             tau_px: 1.0,
             block_level,
         };

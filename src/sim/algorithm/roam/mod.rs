@@ -103,6 +103,10 @@ pub struct RoamConfig {
     pub culling_flags: bool,
     /// Triangle-strip counting (§7.2).
     pub strips: bool,
+    /// How the wedgie thickness nests over descendants: the paper's [`NestingRule::MaxPlusOwn`]
+    /// (a true bound of the surface's distance) or [`NestingRule::Max`] (to measure what the
+    /// bound costs).
+    pub nesting: NestingRule,
 }
 
 /// Counters of one frame.
@@ -183,7 +187,7 @@ impl<'h> Core<'h> {
             hierarchy,
             config,
             speed_per_frame: speed.horizontal.hypot(speed.vertical),
-            thickness: hierarchy.nested_vertex_errors(NestingRule::MaxPlusOwn),
+            thickness: hierarchy.nested_vertex_errors(config.nesting),
             bintree,
             queues: Queues::default(),
             log: SplitLog::default(),
@@ -916,6 +920,7 @@ mod tests {
 
     fn config(culling_flags: bool) -> RoamConfig {
         RoamConfig {
+            nesting: crate::sim::hierarchy::NestingRule::MaxPlusOwn,
             goal: RoamGoal::TolerancePx(2.0),
             deferral: false,
             culling_flags,
