@@ -213,10 +213,10 @@ fn a_sweep_expands_into_labelled_entries_compared_in_the_report() {
     assert_eq!(
         labels,
         [
-            "wu tau_px=2, zone=\"paper\"",
-            "wu tau_px=2, zone=\"conservative\"",
-            "wu tau_px=8, zone=\"paper\"",
-            "wu tau_px=8, zone=\"conservative\"",
+            "wu tau_px=2, zone=paper",
+            "wu tau_px=2, zone=conservative",
+            "wu tau_px=8, zone=paper",
+            "wu tau_px=8, zone=conservative",
             "reference",
         ]
     );
@@ -444,8 +444,8 @@ fn the_max_plus_own_nesting_keeps_at_least_the_max_rules_vertices_every_frame() 
             .collect()
     };
     for algorithm in ["lindstrom", "roam"] {
-        let max = triangles(&format!("{algorithm} nesting=\"max\""));
-        let plus = triangles(&format!("{algorithm} nesting=\"max_plus_own\""));
+        let max = triangles(&format!("{algorithm} nesting=max"));
+        let plus = triangles(&format!("{algorithm} nesting=max_plus_own"));
         assert_eq!(max.len(), 8, "{algorithm}: {csv}");
         assert_eq!(plus.len(), 8, "{algorithm}");
         assert!(

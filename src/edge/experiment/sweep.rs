@@ -41,11 +41,15 @@ pub(super) fn cartesian(axes: &[(String, Vec<Value>)]) -> Vec<SweepChoice> {
         .collect()
 }
 
-/// `parameter=value, …` with JSON values (strings quoted), as labels and error paths show a point.
+/// `parameter=value, …` as labels and error paths show a point: numbers and booleans as JSON
+/// writes them, strings without quotes, lists and objects as JSON.
 pub fn choice_label(choice: &[(String, Value)]) -> String {
     choice
         .iter()
-        .map(|(parameter, value)| format!("{parameter}={value}"))
+        .map(|(parameter, value)| match value {
+            Value::String(text) => format!("{parameter}={text}"),
+            other => format!("{parameter}={other}"),
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -212,12 +216,7 @@ mod tests {
         assert_eq!(
             labels,
             [
-                "a=1, b=\"x\"",
-                "a=1, b=\"y\"",
-                "a=1, b=\"z\"",
-                "a=2, b=\"x\"",
-                "a=2, b=\"y\"",
-                "a=2, b=\"z\""
+                "a=1, b=x", "a=1, b=y", "a=1, b=z", "a=2, b=x", "a=2, b=y", "a=2, b=z"
             ]
         );
     }

@@ -3,6 +3,7 @@
 pub mod atomic_dir;
 pub mod columns;
 pub mod frames_csv;
+pub mod label_placement;
 pub mod plots;
 pub mod report_md;
 pub mod run_plots;

@@ -29,8 +29,10 @@
 //! What it deliberately does not do: compute statistics, pick which quantities to plot, or
 //! decide file names beyond `<stem>.png`/`<stem>.svg`; those belong to the callers. The scatter
 //! chart is meant for tens of labelled points (one per algorithm or setting): every point is
-//! drawn and labelled, and overlapping labels are not moved apart.
+//! drawn and labelled, each label placed where it overlaps no other label and no dot
+//! (`label_placement.rs`), joined to its point by a grey leader line when it had to move away.
 
+use super::label_placement::{DOT_RADIUS, PixelBox, place_labels};
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
@@ -162,6 +164,7 @@ const GRID_LIGHT_COLOR: RGBColor = RGBColor(0xf0, 0xf0, 0xf0);
 const LEGEND_BORDER_COLOR: RGBColor = RGBColor(0xbb, 0xbb, 0xbb);
 const SCATTER_POINT_COLOR: RGBColor = PALETTE[0];
 const SCATTER_FRONT_COLOR: RGBColor = PALETTE[3];
+const LEADER_COLOR: RGBColor = RGBColor(0xaa, 0xaa, 0xaa);
 
 /// Fractions of the data span added on each side of an axis.
 const X_MARGIN: f64 = 0.02;
@@ -700,18 +703,56 @@ impl<'a> ScatterPlan<'a> {
         }
         let label_style = text_style(POINT_LABEL_FONT_SIZE)
             .color(&TEXT_COLOR)
-            .pos(Pos::new(HPos::Left, VPos::Bottom));
-        for point in &self.points {
+            .pos(Pos::new(HPos::Left, VPos::Top));
+        // Front points first: their labels get the best spots.
+        let mut order: Vec<usize> = (0..self.points.len()).collect();
+        order.sort_by_key(|&k| !self.points[k].on_front);
+        let pixels: Vec<(i32, i32)> = order
+            .iter()
+            .map(|&k| chart.backend_coord(&self.points[k].position))
+            .collect();
+        let mut sizes = Vec::with_capacity(order.len());
+        for &k in &order {
+            let (width, height) = root.estimate_text_size(self.points[k].label, &label_style)?;
+            sizes.push((width as i32, height as i32));
+        }
+        let (x_pixels, y_pixels) = chart.plotting_area().get_pixel_range();
+        let area = PixelBox {
+            left: x_pixels.start,
+            top: y_pixels.start,
+            width: x_pixels.end - x_pixels.start,
+            height: y_pixels.end - y_pixels.start,
+        };
+        let placements = place_labels(&pixels, &sizes, area);
+        for (&pixel, placement) in pixels.iter().zip(&placements) {
+            if placement.needs_leader {
+                let end = placement.label.nearest_to(pixel);
+                root.draw(&PathElement::new(
+                    vec![pixel, end],
+                    LEADER_COLOR.stroke_width(1),
+                ))?;
+            }
+        }
+        for (&k, &pixel) in order.iter().zip(&pixels) {
+            let point = &self.points[k];
             let color = if point.on_front {
                 SCATTER_FRONT_COLOR
             } else {
                 SCATTER_POINT_COLOR
             };
-            let marker = EmptyElement::at(point.position)
-                + Circle::new((0, 0), 6, color.filled())
-                + Circle::new((0, 0), 6, WHITE.stroke_width(1))
-                + Text::new(point.label.to_string(), (8, -6), label_style.clone());
-            chart.draw_series([marker])?;
+            root.draw(&Circle::new(pixel, DOT_RADIUS as u32, color.filled()))?;
+            root.draw(&Circle::new(
+                pixel,
+                DOT_RADIUS as u32,
+                WHITE.stroke_width(1),
+            ))?;
+        }
+        for (&k, placement) in order.iter().zip(&placements) {
+            root.draw(&Text::new(
+                self.points[k].label.to_string(),
+                (placement.label.left, placement.label.top),
+                label_style.clone(),
+            ))?;
         }
         Ok(())
     }
