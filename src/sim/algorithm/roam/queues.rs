@@ -10,12 +10,56 @@
 //!   oscillation guard in `mod.rs` relies on that.
 //!
 //! The split queue is a max-queue; the merge queue a min-queue (`Reverse`). Both are
-//! `priority_queue::PriorityQueue`s: O(log n) push, pop and remove by key.
+//! `priority_queue::PriorityQueue`s: O(log n) push, pop and remove by key. Their index of keys is
+//! hashed with [`KeyHasher`], a fixed multiplicative hash of the slot map key's two words, not
+//! the standard library's SipHash (keyed against hostile input, which slot keys are not; the
+//! profile showed it among ROAM's hot spots). Order never depends on the hash: only on
+//! [`QueueKey`].
 
 use super::bintree::TriangleKey;
 use crate::sim::hierarchy::{GridPoint, Lattice};
 use priority_queue::PriorityQueue;
 use std::cmp::{Ordering, Reverse};
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A fast, fixed hash of slot map keys (two `u32` words): each word folded in by a rotate, xor
+/// and multiply by an odd 64-bit constant (the Fx hash of rustc).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct KeyHasher {
+    state: u64,
+}
+
+const KEY_HASH_MULTIPLIER: u64 = 0x51_7c_c1_b7_27_22_0a_95;
+
+impl KeyHasher {
+    fn fold(&mut self, word: u64) {
+        self.state = (self.state.rotate_left(5) ^ word).wrapping_mul(KEY_HASH_MULTIPLIER);
+    }
+}
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.state
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.fold(u64::from_le_bytes(word));
+        }
+    }
+
+    fn write_u32(&mut self, value: u32) {
+        self.fold(u64::from(value));
+    }
+
+    fn write_u64(&mut self, value: u64) {
+        self.fold(value);
+    }
+}
+
+type KeyHash = BuildHasherDefault<KeyHasher>;
 
 /// A priority with its deterministic tie rule.
 #[derive(Clone, Copy, Debug)]
@@ -70,8 +114,8 @@ impl Ord for QueueKey {
 /// apex id.
 #[derive(Default)]
 pub struct Queues {
-    pub split: PriorityQueue<TriangleKey, QueueKey>,
-    pub merge: PriorityQueue<TriangleKey, Reverse<QueueKey>>,
+    pub split: PriorityQueue<TriangleKey, QueueKey, KeyHash>,
+    pub merge: PriorityQueue<TriangleKey, Reverse<QueueKey>, KeyHash>,
 }
 
 impl Queues {
