@@ -292,12 +292,17 @@ fn preview(
     quit_after_frames: Option<u64>,
 ) -> Result<(), String> {
     use roamsim::edge::preview::window::{PreviewRequest, run_preview};
-    run_preview(&PreviewRequest {
+    let summary = run_preview(&PreviewRequest {
         experiment,
         algorithms,
         quit_after_frames,
     })
-    .map_err(|e| e.to_string())
+    .map_err(|e| e.to_string())?;
+    println!(
+        "drew {} frame(s) on {}; the replay reached flight frame {}",
+        summary.frames_drawn, summary.adapter, summary.last_frame
+    );
+    Ok(())
 }
 
 #[cfg(feature = "preview")]

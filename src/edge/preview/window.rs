@@ -51,8 +51,19 @@ pub enum PreviewFailure {
     Graphics(String),
 }
 
+/// What a preview session did, for the command to report.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PreviewSummary {
+    /// Frames presented to the window.
+    pub frames_drawn: u64,
+    /// The last flight frame the replay ran.
+    pub last_frame: u64,
+    /// The adapter drawn on, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)`.
+    pub adapter: String,
+}
+
 /// Opens the window and runs until it is closed.
-pub fn run_preview(request: &PreviewRequest) -> Result<(), PreviewFailure> {
+pub fn run_preview(request: &PreviewRequest) -> Result<PreviewSummary, PreviewFailure> {
     let scene = Scene::load(&request.experiment)?;
     let n_entries = scene.experiment.algorithms.len();
     let shown = if request.algorithms.is_empty() {
@@ -78,6 +89,7 @@ pub fn run_preview(request: &PreviewRequest) -> Result<(), PreviewFailure> {
         frames_drawn: 0,
         panes: FramePanes::new(),
         surface: None,
+        adapter: String::new(),
         failure: None,
     };
     app.replay.step()?;
@@ -86,7 +98,11 @@ pub fn run_preview(request: &PreviewRequest) -> Result<(), PreviewFailure> {
         .map_err(|e| PreviewFailure::Window(e.to_string()))?;
     match app.failure {
         Some(failure) => Err(failure),
-        None => Ok(()),
+        None => Ok(PreviewSummary {
+            frames_drawn: app.frames_drawn,
+            last_frame: app.replay.next_frame().saturating_sub(1),
+            adapter: app.adapter,
+        }),
     }
 }
 
@@ -102,6 +118,8 @@ struct App<'s> {
     frames_drawn: u64,
     panes: FramePanes,
     surface: Option<SurfaceState>,
+    /// The adapter's name and backend, once the window is open.
+    adapter: String,
     failure: Option<PreviewFailure>,
 }
 
@@ -193,6 +211,8 @@ impl App<'_> {
             apply_limit_buckets: false,
         }))
         .map_err(|e| graphics(&e))?;
+        let info = adapter.get_info();
+        self.adapter = format!("{} ({:?})", info.name, info.backend);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("roamsim preview"),
             required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
