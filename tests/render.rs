@@ -15,13 +15,14 @@ mod common;
 
 use common::experiment::{quickstart, save};
 use glam::DVec2;
-use roamsim::edge::preview::geometry::{MeshGeometry, ViewChoice, Viewport};
+use roamsim::edge::preview::geometry::{MeshGeometry, ViewChoice, Viewport, triangle_level};
 use roamsim::edge::preview::headless::{
     HeadlessError, Offscreen, RenderRequest, TriangleIdImage, pane_camera, render_experiment,
 };
 use roamsim::edge::preview::renderer::{DrawOptions, Pane};
 use roamsim::edge::preview::replay::{Replay, Scene};
-use roamsim::sim::mesh::triangles::{count_triangles, for_each_triangle};
+use roamsim::sim::hierarchy::Lattice;
+use roamsim::sim::mesh::triangles::{base_triangles, count_triangles, for_each_triangle};
 use serde_json::json;
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -66,10 +67,14 @@ fn offscreen(width: u32, height: u32) -> Option<Offscreen> {
             Some(offscreen)
         }
         Err(HeadlessError::NoAdapter(why)) if std::env::var_os("CI").is_none() => {
-            eprintln!(
+            // Written to the process's stderr, not through `eprintln!`, so that the test
+            // harness does not swallow it: a skipped check must be seen. (A failed write to
+            // stderr has nowhere left to be reported.)
+            let message = format!(
                 "SKIPPED: no graphics adapter ({why}); install Mesa's software Vulkan driver \
-                 (mesa-vulkan-drivers) to run the render tests. Under CI this fails."
+                 (mesa-vulkan-drivers) to run the render tests. Under CI this fails.\n"
             );
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), message.as_bytes());
             None
         }
         Err(error) => panic!("cannot render offscreen: {error}"),
@@ -438,6 +443,24 @@ fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
     assert_eq!(info.color_type, png::ColorType::Rgba);
     buffer.truncate(info.buffer_size());
     (info.width, info.height, buffer)
+}
+
+#[test]
+fn the_base_triangles_are_level_zero_and_each_split_goes_one_level_down() {
+    let lattice = Lattice::new(4);
+    let [first, _] = base_triangles(&lattice);
+    assert_eq!(triangle_level(&lattice, &first), 0);
+    let mut triangle = first;
+    for level in 1..=2 * lattice.level() {
+        let mid = triangle.split_vertex().unwrap();
+        triangle = triangle.children(mid)[level as usize % 2];
+        assert_eq!(triangle_level(&lattice, &triangle), level);
+    }
+    assert_eq!(
+        triangle.split_vertex(),
+        None,
+        "the finest level has no split vertex"
+    );
 }
 
 #[test]

@@ -253,21 +253,3 @@ pub fn overview_view_projection(extent: (f64, f64), margin: f64, aspect: f64) ->
 
 /// Heights (and frustum points) within this many metres of z = 0 fit in the overview's depth.
 pub const OVERVIEW_DEPTH_M: f64 = 1.0e7;
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::sim::hierarchy::GridPoint;
-
-    #[test]
-    fn the_base_triangles_are_level_zero_and_their_children_level_one() {
-        let lattice = Lattice::new(4);
-        let [first, _] = crate::sim::mesh::triangles::base_triangles(&lattice);
-        assert_eq!(triangle_level(&lattice, &first), 0);
-        let mid = first.split_vertex().unwrap();
-        assert_eq!(mid, GridPoint::new(8, 8));
-        for child in first.children(mid) {
-            assert_eq!(triangle_level(&lattice, &child), 1);
-        }
-    }
-}
