@@ -4,6 +4,8 @@
 //! software Vulkan/GL on CI), draws panes into textures and reads the pixels back: the colour
 //! image (written as PNG) and the triangle-id image (one triangle number per pixel, which the
 //! test counts). [`render_experiment`] replays an experiment and writes the chosen frames.
+//! [`FramePanes`] (a frame's lanes laid out as panes, with their cameras) is shared with the
+//! window.
 
 use super::geometry::{
     MeshGeometry, ViewChoice, Viewport, flight_view_projection, frustum_lines,
