@@ -1,4 +1,5 @@
-//! The `roamsim` command line: `run`, `validate`, `info`.
+//! The `roamsim` command line: `run`, `validate`, `info`, and with the `preview` feature
+//! `preview` (a window) and `render` (PNG files).
 //!
 //! A thin edge over the library: parse arguments, call `edge::session` or the experiment
 //! loader, print results and errors, set the exit status. A progress bar is drawn on stderr only
@@ -27,7 +28,11 @@ Examples:
   roamsim validate experiments/quickstart.json
       Checks the experiment (and loads its terrain and flight) without running it.
   roamsim info experiments/data/N48E009.hgt
-      Describes a terrain file and times its preprocessing.";
+      Describes a terrain file and times its preprocessing.
+  roamsim preview experiments/compare-circle.json
+      (built with --features preview) Replays the flight in a window, two algorithms side by side.
+  roamsim render experiments/quickstart.json --frames 0,200 --out out/render --camera overview
+      (built with --features preview) Writes out/render/frame-000000.png and frame-000200.png.";
 
 /// Simulates view-dependent terrain LOD algorithms over replayed camera flights.
 #[derive(Parser)]
@@ -64,6 +69,54 @@ enum Command {
         /// An experiment (.json) or a terrain file (.hgt, .png, .tif, .tiff, .asc).
         path: PathBuf,
     },
+    /// Replay an experiment's flight in a window: the meshes, their wireframe by level, the
+    /// statistics in the title. Keys: Space pause · → step · A/B switch the left/right
+    /// algorithm · S split screen · W wireframe · C culling view · Q quit.
+    #[cfg(feature = "preview")]
+    #[command(after_help = EXAMPLES)]
+    Preview {
+        experiment: PathBuf,
+        /// Entry label or algorithm name; give it twice for the two panes (default: the first
+        /// two entries).
+        #[arg(long = "algorithm")]
+        algorithms: Vec<String>,
+        /// Close the window after drawing this many frames.
+        #[arg(long)]
+        quit_after: Option<u64>,
+    },
+    /// Draw chosen frames of an experiment offscreen (no window or display needed) into PNGs.
+    #[cfg(feature = "preview")]
+    #[command(after_help = EXAMPLES)]
+    Render {
+        experiment: PathBuf,
+        /// Frames to draw, e.g. `0,100,399`.
+        #[arg(long, value_delimiter = ',', required = true)]
+        frames: Vec<u64>,
+        /// Output folder (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Entry label or algorithm name; repeat it to draw several side by side (default: the
+        /// first entry).
+        #[arg(long = "algorithm")]
+        algorithms: Vec<String>,
+        /// `flight`: the flight's camera; `overview`: from above, with the frustum and the
+        /// culled triangles darkened.
+        #[arg(long, default_value = "flight")]
+        camera: CameraChoice,
+        /// Draw the shaded mesh without its wireframe.
+        #[arg(long)]
+        no_wireframe: bool,
+        /// Leave out the statistics drawn in each pane's corner.
+        #[arg(long)]
+        no_captions: bool,
+    },
+}
+
+#[cfg(feature = "preview")]
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum CameraChoice {
+    Flight,
+    Overview,
 }
 
 fn main() -> ExitCode {
@@ -77,6 +130,34 @@ fn main() -> ExitCode {
         } => run(&experiment, out, check, threads),
         Command::Validate { experiment } => validate(&experiment),
         Command::Info { path } => info(&path),
+        #[cfg(feature = "preview")]
+        Command::Preview {
+            experiment,
+            algorithms,
+            quit_after,
+        } => preview(experiment, algorithms, quit_after),
+        #[cfg(feature = "preview")]
+        Command::Render {
+            experiment,
+            frames,
+            out,
+            algorithms,
+            camera,
+            no_wireframe,
+            no_captions,
+        } => render(roamsim::edge::preview::headless::RenderRequest {
+            experiment,
+            frames,
+            out_dir: out,
+            algorithms,
+            view: match camera {
+                CameraChoice::Flight => roamsim::edge::preview::geometry::ViewChoice::Flight,
+                CameraChoice::Overview => roamsim::edge::preview::geometry::ViewChoice::Overview,
+            },
+            wireframe: !no_wireframe,
+            size: None,
+            captions: !no_captions,
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -227,6 +308,39 @@ fn info_terrain_file(path: &Path) -> Result<(), String> {
         report.side, report.padded_columns, report.padded_rows
     );
     describe_preprocessing(field);
+    Ok(())
+}
+
+#[cfg(feature = "preview")]
+fn preview(
+    experiment: PathBuf,
+    algorithms: Vec<String>,
+    quit_after_frames: Option<u64>,
+) -> Result<(), String> {
+    use roamsim::edge::preview::window::{PreviewRequest, run_preview};
+    let summary = run_preview(&PreviewRequest {
+        experiment,
+        algorithms,
+        quit_after_frames,
+    })
+    .map_err(|e| e.to_string())?;
+    println!(
+        "drew {} frame(s) on {}; the replay reached flight frame {}",
+        summary.frames_drawn, summary.adapter, summary.last_frame
+    );
+    Ok(())
+}
+
+#[cfg(feature = "preview")]
+fn render(request: roamsim::edge::preview::headless::RenderRequest) -> Result<(), String> {
+    let frames =
+        roamsim::edge::preview::headless::render_experiment(&request).map_err(|e| e.to_string())?;
+    for frame in &frames {
+        println!("{}", frame.path.display());
+        for caption in &frame.captions {
+            println!("  {caption}");
+        }
+    }
     Ok(())
 }
 

@@ -54,19 +54,72 @@ pub fn run_algorithm(
     algorithm: &mut dyn LodAlgorithm,
     progress: &mut dyn FnMut(u64),
 ) -> Result<Vec<FrameStats>, RunError> {
-    let hierarchy = inputs.hierarchy;
-    let lattice = hierarchy.lattice();
-    let mut auditor = inputs
-        .effects
-        .audit
-        .map(|settings| Auditor::new(hierarchy, settings));
-    let n_frames = inputs.flight.n_frames();
-    let mut frames = Vec::with_capacity(n_frames as usize);
-    let mut violations = inputs.violation_frames.iter().peekable();
-    for frame in 0..n_frames {
+    let mut runner = FrameRunner::new(inputs);
+    let mut frames = Vec::with_capacity(inputs.flight.n_frames() as usize);
+    while let Some(outcome) = runner.step(label, algorithm) {
+        frames.push(outcome?.stats);
+        progress(runner.next_frame());
+    }
+    Ok(frames)
+}
+
+/// One algorithm's run, one frame at a time: what [`run_algorithm`] loops over, and what the
+/// preview drives to look at each frame's mesh between steps. The algorithm is passed to every
+/// step rather than held, so the caller can read its mesh in between.
+pub struct FrameRunner<'a> {
+    inputs: RunInputs<'a>,
+    auditor: Option<Auditor>,
+    /// Index into `inputs.violation_frames` of the first violation not yet reached.
+    next_violation: usize,
+    next_frame: u64,
+}
+
+/// What one step produced.
+#[derive(Clone, Debug)]
+pub struct FrameOutcome {
+    pub stats: FrameStats,
+    /// The camera the algorithm saw, in terrain-local coordinates.
+    pub camera: Camera,
+}
+
+impl<'a> FrameRunner<'a> {
+    /// A runner at frame 0. Allocates the auditor's buffers when the audit is on.
+    pub fn new(inputs: &RunInputs<'a>) -> FrameRunner<'a> {
+        FrameRunner {
+            inputs: *inputs,
+            auditor: inputs
+                .effects
+                .audit
+                .map(|settings| Auditor::new(inputs.hierarchy, settings)),
+            next_violation: 0,
+            next_frame: 0,
+        }
+    }
+
+    /// The frame the next step runs (the number of frames done).
+    pub fn next_frame(&self) -> u64 {
+        self.next_frame
+    }
+
+    /// Runs the next frame of the flight on `algorithm` (which must be the one every earlier
+    /// step ran): update (timed), then the effects. `None` once the flight is over.
+    pub fn step(
+        &mut self,
+        label: &str,
+        algorithm: &mut dyn LodAlgorithm,
+    ) -> Option<Result<FrameOutcome, RunError>> {
+        let inputs = &self.inputs;
+        let frame = self.next_frame;
+        if frame >= inputs.flight.n_frames() {
+            return None;
+        }
+        self.next_frame += 1;
+        let hierarchy = inputs.hierarchy;
+        let lattice = hierarchy.lattice();
         let pose = hierarchy.field().local_pose(inputs.flight.pose(frame));
         let camera = Camera::new(&pose, *inputs.view);
-        let speed_bound_broken = violations.next_if_eq(&&frame).is_some();
+        let speed_bound_broken = inputs.violation_frames.get(self.next_violation) == Some(&frame);
+        self.next_violation += usize::from(speed_bound_broken);
         let input = FrameInput {
             frame,
             camera: &camera,
@@ -81,14 +134,14 @@ pub fn run_algorithm(
         stats.update_ns = start.elapsed().as_nanos() as u64;
 
         let mesh = algorithm.mesh();
-        if inputs.effects.check_meshes {
-            validate_reported(lattice, mesh, algorithm.triangle_count()).map_err(|error| {
-                RunError {
-                    algorithm: label.to_string(),
-                    frame,
-                    error,
-                }
-            })?;
+        if inputs.effects.check_meshes
+            && let Err(error) = validate_reported(lattice, mesh, algorithm.triangle_count())
+        {
+            return Some(Err(RunError {
+                algorithm: label.to_string(),
+                frame,
+                error,
+            }));
         }
         stats.triangles_rendered = if inputs.effects.culling {
             let mut rendered = 0;
@@ -101,11 +154,9 @@ pub fn run_algorithm(
         } else {
             stats.triangles
         };
-        if let Some(auditor) = auditor.as_mut() {
+        if let Some(auditor) = self.auditor.as_mut() {
             stats.audit = Some(auditor.audit(hierarchy, mesh, &camera));
         }
-        frames.push(stats);
-        progress(frame + 1);
+        Some(Ok(FrameOutcome { stats, camera }))
     }
-    Ok(frames)
 }

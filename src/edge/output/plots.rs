@@ -147,7 +147,7 @@ const EMBEDDED_FONT: &[u8] = include_bytes!(concat!(
 ));
 /// The family plotters' default text styles use (`FontFamily::SansSerif`); registering the
 /// embedded font under it makes titles, tick labels, axis descriptions and legends all find it.
-const FONT_FAMILY: &str = "sans-serif";
+pub(crate) const FONT_FAMILY: &str = "sans-serif";
 
 const TITLE_FONT_SIZE: f64 = 28.0;
 const AXIS_DESC_FONT_SIZE: f64 = 19.0;
@@ -187,7 +187,8 @@ const LEGEND_PADDING: i32 = 12;
 const PANEL_GAP: i32 = 10;
 
 /// Registers the embedded font once per process; false if the font bytes could not be parsed.
-fn embedded_font_registered() -> bool {
+/// (The preview's PNG captions use it too.)
+pub(crate) fn embedded_font_registered() -> bool {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     *REGISTERED.get_or_init(|| register_font(FONT_FAMILY, FontStyle::Normal, EMBEDDED_FONT).is_ok())
 }

@@ -1,0 +1,481 @@
+//! The preview's drawing, checked on what must be in the images (built with `--features
+//! preview`; CI runs it on Mesa's software Vulkan driver).
+//!
+//! A small synthetic experiment is replayed; its meshes are drawn offscreen as flat triangle
+//! ids and the ids read back: seen from straight above every triangle of the frame's mesh
+//! shows, so the distinct ids count the triangles drawn, which must equal the frame's
+//! statistic; seen from the flight camera every covered pixel must lie on the triangle the
+//! simulation's own camera projects there, the sky above the horizon stays empty, and the
+//! ground below is covered. Without a graphics adapter the GPU tests say so and pass, unless
+//! `CI` is set: then a missing adapter fails them.
+
+#![cfg(feature = "preview")]
+
+mod common;
+
+use common::experiment::{quickstart, save};
+use glam::DVec2;
+use roamsim::edge::preview::geometry::{MeshGeometry, ViewChoice, Viewport, triangle_level};
+use roamsim::edge::preview::headless::{
+    HeadlessError, Offscreen, RenderRequest, TriangleIdImage, pane_camera, render_experiment,
+};
+use roamsim::edge::preview::renderer::{DrawOptions, Pane};
+use roamsim::edge::preview::replay::{Replay, Scene};
+use roamsim::sim::hierarchy::Lattice;
+use roamsim::sim::mesh::triangles::{base_triangles, count_triangles, for_each_triangle};
+use serde_json::json;
+use std::collections::BTreeSet;
+use std::path::Path;
+
+/// Frames of the small flight that the tests look at.
+const FRAMES: [u64; 3] = [0, 4, 9];
+/// The flight camera's image (the experiment's window).
+const FLIGHT_SIZE: (u32, u32) = (320, 240);
+/// The overview's image: 512 px over a 64-cell terrain (plus margins) leaves the finest
+/// triangles (legs of one cell) about 7 px wide, so each covers pixel centres.
+const OVERVIEW_SIZE: u32 = 512;
+
+/// A 65² synthetic terrain, 30 m posts, flown over on a circle looking 25° down, with Wu and
+/// the from-scratch reference at a tolerance that refines near the camera.
+fn small_experiment(dir: &Path) -> std::path::PathBuf {
+    let mut experiment = quickstart();
+    experiment["name"] = json!("render-small");
+    experiment["terrain"] = json!({"synthetic": {"level": 6, "seed": 11, "amplitude_m": 120,
+        "roughness": 0.7, "spacing_m": {"dx": 30, "dy": 30}}});
+    experiment["view"] = json!({"width_px": FLIGHT_SIZE.0, "height_px": FLIGHT_SIZE.1,
+        "fovy_deg": 60, "near_m": 1, "far_m": 20000});
+    experiment["flight"] = json!({
+        "frames": 10,
+        "look": { "along_path": { "pitch_deg": -25 } },
+        "path": { "circle": { "centre_m": [960, 960], "radius_m": 300, "altitude_m": 400,
+                              "frames_per_lap": 400 } }
+    });
+    experiment["algorithms"] = json!([
+        { "name": "wu", "label": "wu τ=2px", "tau_px": 2 },
+        { "name": "reference", "label": "reference τ=2px", "tau_px": 2, "zone": "conservative" }
+    ]);
+    experiment["effects"] = json!({"culling": true});
+    save(dir, "render-small", &experiment)
+}
+
+/// An offscreen target, or `None` (after saying why) when the machine has no adapter and this
+/// is not CI. Under `CI` a missing adapter is a failure.
+fn offscreen(width: u32, height: u32) -> Option<Offscreen> {
+    match Offscreen::new(width, height) {
+        Ok(offscreen) => {
+            eprintln!("rendering on {}", offscreen.adapter_description());
+            Some(offscreen)
+        }
+        Err(HeadlessError::NoAdapter(why)) if std::env::var_os("CI").is_none() => {
+            // Written to the process's stderr, not through `eprintln!`, so that the test
+            // harness does not swallow it: a skipped check must be seen. (A failed write to
+            // stderr has nowhere left to be reported.)
+            let message = format!(
+                "SKIPPED: no graphics adapter ({why}); install Mesa's software Vulkan driver \
+                 (mesa-vulkan-drivers) to run the render tests. Under CI this fails.\n"
+            );
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), message.as_bytes());
+            None
+        }
+        Err(error) => panic!("cannot render offscreen: {error}"),
+    }
+}
+
+/// Replays both entries of the small experiment and calls `check` at every frame of [`FRAMES`]
+/// with the scene, the replay and the frame.
+fn at_each_checked_frame(check: &mut dyn FnMut(&Scene, &Replay, u64)) {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::load(&small_experiment(dir.path())).unwrap();
+    let mut replay = Replay::new(&scene, &[0, 1]);
+    for frame in FRAMES {
+        replay.run_to(frame).unwrap();
+        check(&scene, &replay, frame);
+    }
+}
+
+fn distinct_triangles(image: &TriangleIdImage) -> BTreeSet<u32> {
+    image
+        .ids
+        .iter()
+        .filter(|&&id| id != 0)
+        .map(|&id| id - 1)
+        .collect()
+}
+
+fn covered_fraction(ids: &[u32]) -> f64 {
+    ids.iter().filter(|&&id| id != 0).count() as f64 / ids.len() as f64
+}
+
+#[test]
+fn the_triangle_list_holds_every_triangle_of_the_mesh_once_with_the_runs_culling() {
+    at_each_checked_frame(&mut |scene, replay, frame| {
+        for k in 0..replay.n_lanes() {
+            let lane = replay.lane(k).unwrap();
+            let mut geometry = MeshGeometry::default();
+            geometry.rebuild(&scene.hierarchy, lane.mesh, lane.camera);
+            let lattice = scene.hierarchy.lattice();
+            assert_eq!(lane.stats.frame, frame);
+            assert_eq!(
+                geometry.n_triangles(),
+                lane.stats.triangles,
+                "{}",
+                lane.label
+            );
+            assert_eq!(
+                geometry.n_triangles(),
+                lane.triangle_count,
+                "{}",
+                lane.label
+            );
+            assert_eq!(geometry.n_triangles(), count_triangles(lattice, lane.mesh));
+            let in_view = geometry
+                .vertices()
+                .chunks_exact(3)
+                .filter(|t| t[0].in_view == 1.0)
+                .count() as u64;
+            assert_eq!(in_view, lane.stats.triangles_rendered, "{}", lane.label);
+            assert!(
+                lane.stats.triangles > 100 && geometry.max_level() > 6,
+                "{}: the flight should refine the mesh near the camera (T = {}, deepest level {})",
+                lane.label,
+                lane.stats.triangles,
+                geometry.max_level()
+            );
+        }
+    });
+}
+
+#[test]
+fn seen_from_above_the_drawn_triangles_are_exactly_the_frames_triangles() {
+    let Some(offscreen) = offscreen(OVERVIEW_SIZE, OVERVIEW_SIZE) else {
+        return;
+    };
+    at_each_checked_frame(&mut |scene, replay, frame| {
+        for k in 0..replay.n_lanes() {
+            let lane = replay.lane(k).unwrap();
+            let mut geometry = MeshGeometry::default();
+            geometry.rebuild(&scene.hierarchy, lane.mesh, lane.camera);
+            let (viewport, view_projection) = pane_camera(
+                &scene.hierarchy,
+                &lane,
+                offscreen.viewport(),
+                ViewChoice::Overview,
+            );
+            let image = offscreen
+                .render_triangle_ids(&Pane {
+                    viewport,
+                    view_projection,
+                    mesh: &geometry,
+                    lines: &[],
+                    options: DrawOptions {
+                        wireframe: false,
+                        tint_culled: false,
+                    },
+                })
+                .unwrap();
+            let drawn = distinct_triangles(&image);
+            assert_eq!(
+                drawn.len() as u64,
+                lane.stats.triangles,
+                "{}, frame {frame}: distinct triangles drawn vs the frame's triangle count",
+                lane.label
+            );
+            assert!(
+                drawn
+                    .iter()
+                    .all(|&id| u64::from(id) < geometry.n_triangles())
+            );
+            // The square terrain fills the square image but for the 5% margin on each side.
+            let expected = (1.0 / 1.1f64).powi(2);
+            let covered = covered_fraction(&image.ids);
+            assert!(
+                (covered - expected).abs() < 0.01,
+                "{}, frame {frame}: the terrain covers {covered:.4} of the overview, expected \
+                 {expected:.4}",
+                lane.label
+            );
+            eprintln!(
+                "{} frame {frame}: {} triangles drawn = frame statistic {}; overview coverage \
+                 {covered:.4} (expected {expected:.4})",
+                lane.label,
+                drawn.len(),
+                lane.stats.triangles
+            );
+        }
+    });
+}
+
+#[test]
+fn from_the_flight_camera_each_pixel_shows_the_triangle_the_camera_projects_there() {
+    let Some(offscreen) = offscreen(FLIGHT_SIZE.0, FLIGHT_SIZE.1) else {
+        return;
+    };
+    at_each_checked_frame(&mut |scene, replay, frame| {
+        for k in 0..replay.n_lanes() {
+            let lane = replay.lane(k).unwrap();
+            let mut geometry = MeshGeometry::default();
+            geometry.rebuild(&scene.hierarchy, lane.mesh, lane.camera);
+            let (viewport, view_projection) = pane_camera(
+                &scene.hierarchy,
+                &lane,
+                offscreen.viewport(),
+                ViewChoice::Flight,
+            );
+            assert_eq!(
+                viewport,
+                offscreen.viewport(),
+                "the image has the view's aspect"
+            );
+            let image = offscreen
+                .render_triangle_ids(&Pane {
+                    viewport,
+                    view_projection,
+                    mesh: &geometry,
+                    lines: &[],
+                    options: DrawOptions {
+                        wireframe: false,
+                        tint_culled: false,
+                    },
+                })
+                .unwrap();
+            let (width, height) = (image.width as usize, image.height as usize);
+            let row = |y: usize| &image.ids[y * width..(y + 1) * width];
+            // Looking 25° down with a 60° field of view from above the highest terrain: the top
+            // edge of the image looks 5° up, into the sky; the bottom edge 55° down, onto the
+            // terrain under the circle.
+            assert_eq!(
+                covered_fraction(row(0)),
+                0.0,
+                "{}: sky at the top",
+                lane.label
+            );
+            assert_eq!(
+                covered_fraction(row(height - 1)),
+                1.0,
+                "{}: ground at the bottom",
+                lane.label
+            );
+            let drawn = distinct_triangles(&image);
+            assert!(
+                drawn.len() > 50,
+                "{}: {} triangles seen",
+                lane.label,
+                drawn.len()
+            );
+            let in_view: Vec<bool> = geometry
+                .vertices()
+                .chunks_exact(3)
+                .map(|t| t[0].in_view == 1.0)
+                .collect();
+            assert!(
+                drawn.iter().all(|&id| in_view[id as usize]),
+                "{}: a triangle the run counts as culled was drawn",
+                lane.label
+            );
+            let (agreeing, checked) = pixels_on_their_projected_triangle(scene, &lane, &image);
+            assert!(
+                agreeing as f64 >= 0.995 * checked as f64 && checked > width * height / 4,
+                "{}, frame {frame}: {agreeing} of {checked} covered pixels lie on the triangle \
+                 the simulation's camera projects there",
+                lane.label
+            );
+            eprintln!(
+                "{} frame {frame}: {} triangles visible of {} in view; {agreeing}/{checked} \
+                 covered pixels on their projected triangle; coverage {:.3}",
+                lane.label,
+                drawn.len(),
+                lane.stats.triangles_rendered,
+                covered_fraction(&image.ids)
+            );
+        }
+    });
+}
+
+/// Of the covered pixels whose triangle lies wholly in front of the near plane, how many have
+/// their centre within one pixel of that triangle as `Camera::project_camera` places it.
+fn pixels_on_their_projected_triangle(
+    scene: &Scene,
+    lane: &roamsim::edge::preview::replay::LaneFrame,
+    image: &TriangleIdImage,
+) -> (usize, usize) {
+    let lattice = scene.hierarchy.lattice();
+    let field = scene.hierarchy.field();
+    let mut projected: Vec<Option<[DVec2; 3]>> = Vec::new();
+    for_each_triangle(lattice, lane.mesh, |t| {
+        let corners = [t.apex, t.left, t.right].map(|p| {
+            let world = field.position(p.i as usize, p.j as usize);
+            lane.camera.project_camera(lane.camera.to_camera(world))
+        });
+        projected.push(match corners {
+            [Some(a), Some(b), Some(c)] => Some([a, b, c]),
+            _ => None,
+        });
+    });
+    let (width, height) = (image.width as usize, image.height as usize);
+    let (mut agreeing, mut checked) = (0, 0);
+    for (index, &id) in image.ids.iter().enumerate() {
+        let Some(corners) = id.checked_sub(1).and_then(|t| projected[t as usize]) else {
+            continue;
+        };
+        let (x, y) = (index % width, index / width);
+        // Pixel centres from the image centre, y up: the frame of `project_camera`.
+        let centre = DVec2::new(
+            x as f64 + 0.5 - width as f64 / 2.0,
+            height as f64 / 2.0 - (y as f64 + 0.5),
+        );
+        checked += 1;
+        agreeing += usize::from(within_one_pixel(corners, centre));
+    }
+    (agreeing, checked)
+}
+
+/// Whether `point` is inside the triangle or less than one pixel outside one of its edges.
+fn within_one_pixel(corners: [DVec2; 3], point: DVec2) -> bool {
+    let area = (corners[1] - corners[0]).perp_dot(corners[2] - corners[0]);
+    if area.abs() < 1e-9 {
+        return false;
+    }
+    (0..3).all(|k| {
+        let (a, b) = (corners[k], corners[(k + 1) % 3]);
+        let edge = b - a;
+        let signed_distance = edge.perp_dot(point - a) * area.signum() / edge.length();
+        signed_distance > -1.0
+    })
+}
+
+#[test]
+fn roamsim_render_writes_the_asked_frames_with_ground_below_and_sky_above() {
+    if offscreen(8, 8).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("frames");
+    let written = render_experiment(&RenderRequest {
+        experiment: small_experiment(dir.path()),
+        frames: vec![9, 0],
+        out_dir: out.clone(),
+        algorithms: vec!["wu".into(), "reference τ=2px".into()],
+        view: ViewChoice::Flight,
+        wireframe: true,
+        size: None,
+        // The pixel checks below look at the top row, where the captions would be.
+        captions: false,
+    })
+    .unwrap();
+    let names: Vec<_> = written
+        .iter()
+        .map(|f| f.path.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["frame-000000.png", "frame-000009.png"]);
+    assert!(written[1].captions[0].starts_with("wu τ=2px · frame 9 · "));
+    assert!(written[1].captions[1].starts_with("reference τ=2px · frame 9 · "));
+    for frame in &written {
+        let (width, height, rgba) = read_png(&frame.path);
+        // Two panes of the view's 320×240, side by side.
+        assert_eq!((width, height), (2 * FLIGHT_SIZE.0, FLIGHT_SIZE.1));
+        let pixel = |x: u32, y: u32| {
+            let at = ((y * width + x) * 4) as usize;
+            [rgba[at], rgba[at + 1], rgba[at + 2]]
+        };
+        let sky = pixel(0, 0);
+        for pane in 0..2 {
+            let x0 = pane * FLIGHT_SIZE.0;
+            let top_is_sky = (x0..x0 + FLIGHT_SIZE.0).all(|x| pixel(x, 0) == sky);
+            let bottom_is_ground = (x0..x0 + FLIGHT_SIZE.0).all(|x| pixel(x, height - 1) != sky);
+            assert!(
+                top_is_sky && bottom_is_ground,
+                "{}: pane {pane}",
+                frame.path.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn captions_write_the_frames_statistics_in_the_panes_corner_and_nowhere_else() {
+    if offscreen(8, 8).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let experiment = small_experiment(dir.path());
+    let render = |captions: bool, out: &str| {
+        let written = render_experiment(&RenderRequest {
+            experiment: experiment.clone(),
+            frames: vec![3],
+            out_dir: dir.path().join(out),
+            algorithms: vec![],
+            view: ViewChoice::Overview,
+            wireframe: true,
+            size: None,
+            captions,
+        })
+        .unwrap();
+        assert_eq!(written.len(), 1);
+        assert!(written[0].captions[0].contains("frame 3 · "));
+        read_png(&written[0].path)
+    };
+    let (width, height, plain) = render(false, "plain");
+    let (_, _, captioned) = render(true, "captioned");
+    let differs = |x: u32, y: u32| {
+        let at = ((y * width + x) * 4) as usize;
+        plain[at..at + 4] != captioned[at..at + 4]
+    };
+    let changed_in_corner = (0..40)
+        .flat_map(|y| (0..200).map(move |x| (x, y)))
+        .filter(|&(x, y)| differs(x, y))
+        .count();
+    assert!(
+        changed_in_corner > 500,
+        "{changed_in_corner} caption pixels"
+    );
+    let changed_below = (height / 2..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| differs(x, y))
+        .count();
+    assert_eq!(changed_below, 0);
+}
+
+fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buffer = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buffer).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    buffer.truncate(info.buffer_size());
+    (info.width, info.height, buffer)
+}
+
+#[test]
+fn the_base_triangles_are_level_zero_and_each_split_goes_one_level_down() {
+    let lattice = Lattice::new(4);
+    let [first, _] = base_triangles(&lattice);
+    assert_eq!(triangle_level(&lattice, &first), 0);
+    let mut triangle = first;
+    for level in 1..=2 * lattice.level() {
+        let mid = triangle.split_vertex().unwrap();
+        triangle = triangle.children(mid)[level as usize % 2];
+        assert_eq!(triangle_level(&lattice, &triangle), level);
+    }
+    assert_eq!(
+        triangle.split_vertex(),
+        None,
+        "the finest level has no split vertex"
+    );
+}
+
+#[test]
+fn panes_split_the_window_and_keep_the_views_aspect() {
+    let window = Viewport {
+        x: 0,
+        y: 0,
+        width: 1200,
+        height: 600,
+    };
+    let panes = window.split_horizontally(2);
+    assert_eq!(panes[1].x, 600);
+    let fitted = panes[1].fitted(4.0 / 3.0);
+    assert_eq!(
+        (fitted.x, fitted.y, fitted.width, fitted.height),
+        (600, 75, 600, 450)
+    );
+}
