@@ -36,8 +36,10 @@
 //! **Cone culling** (`cull.rs`), when asked for, counts the triangles inside a cone around the
 //! view frustum; the budget then counts those.
 //!
-//! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory: 12 bytes per
-//! node for the queues, one bit per vertex for the mesh.
+//! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory: a 4-byte
+//! queue handle per node (1.33 bytes per sample) and a 16-byte link entry per queued node (the
+//! frontier, O(mesh size)), one bit per vertex for the mesh; with the shared hierarchy (heights
+//! and the node data above the finest level, 5 bytes per sample) under 7 bytes per sample.
 
 mod budget;
 mod cull;
