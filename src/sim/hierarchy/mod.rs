@@ -158,7 +158,10 @@ impl Hierarchy {
         let base = (p.j as usize - 1) * side + p.i as usize - 1;
         let row = |r: usize| -> [f32; 3] {
             let start = base + r * side;
-            [heights[start], heights[start + 1], heights[start + 2]]
+            match heights.get(start..start + 3) {
+                Some(&[a, b, c]) => [a, b, c],
+                _ => unreachable!("a finest block lies inside the grid"),
+            }
         };
         // z[row][column], row 0 to the south, column 0 to the west.
         let z = [row(0), row(1), row(2)];

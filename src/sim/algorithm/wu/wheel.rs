@@ -10,8 +10,9 @@
 //! a link entry (node, prev, next, slot: 16 bytes) in a slab whose freed entries are reused; every
 //! node holds a 4-byte handle to its entry. That is 4 bytes per node (a node per 3 samples) plus
 //! 16 bytes per queued node at the peak, instead of 12 bytes of intrusive links per node.
-//! Insertion and removal are O(1); taking a link empties it in O(its length). Only the slab grows,
-//! to the largest number of nodes queued at once.
+//! Insertion and removal are O(1); taking a link empties it in O(its length). Only the slab grows
+//! (by doubling, amortised O(1)), to the largest number of nodes queued at once rounded up to a
+//! power of two.
 
 use super::nodes::NO_NODE;
 
@@ -143,15 +144,13 @@ impl Wheels {
                 Queue::Merge => link | MERGE_BIT,
             },
         };
-        let e = if self.free == NO_ENTRY {
-            self.entries.push(entry);
-            (self.entries.len() - 1) as u32
-        } else {
-            let e = self.free;
-            self.free = self.entries[e as usize].next;
-            self.entries[e as usize] = entry;
-            e
-        };
+        if self.free == NO_ENTRY {
+            self.grow();
+        }
+        let e = self.free;
+        let free_entry = &mut self.entries[e as usize];
+        self.free = free_entry.next;
+        *free_entry = entry;
         if first != NO_ENTRY {
             self.entries[first as usize].prev = e;
         }
@@ -178,6 +177,30 @@ impl Wheels {
         self.entry_of[node as usize] = NO_ENTRY;
         self.release(e);
         Some(slot)
+    }
+
+    /// Doubles the slab (at least 64 entries) and chains the new entries into the free list.
+    #[cold]
+    #[inline(never)]
+    fn grow(&mut self) {
+        let old_len = self.entries.len();
+        let new_len = (2 * old_len).max(64);
+        assert!(
+            new_len < NO_ENTRY as usize,
+            "more queued nodes than entry indices"
+        );
+        self.entries.reserve_exact(new_len - old_len);
+        // The free list is empty: chain the new entries in order, the last ending it.
+        for e in old_len + 1..=new_len {
+            let next = if e == new_len { NO_ENTRY } else { e as u32 };
+            self.entries.push(Entry {
+                node: NO_NODE,
+                prev: NO_ENTRY,
+                next,
+                slot: 0,
+            });
+        }
+        self.free = old_len as u32;
     }
 
     /// Returns an entry to the free list.
@@ -342,7 +365,12 @@ mod tests {
             assert_eq!(wheels.len(Queue::Split) + wheels.len(Queue::Merge), 0);
         }
         assert_eq!(taken.len(), 50 * 13);
-        assert_eq!(wheels.entries.len(), 20);
+        // At most 20 nodes were queued at once: the slab never grew past its first 64 entries.
+        assert!(
+            wheels.entries.capacity() <= 64,
+            "{}",
+            wheels.entries.capacity()
+        );
         wheels.check_structure().unwrap();
     }
 }
