@@ -165,11 +165,13 @@ impl Hierarchy {
         };
         // z[row][column], row 0 to the south, column 0 to the west.
         let z = [row(0), row(1), row(2)];
-        let mut z_min = f32::INFINITY;
-        let mut z_max = f32::NEG_INFINITY;
-        for value in z.iter().flatten() {
-            z_min = z_min.min(*value);
-            z_max = z_max.max(*value);
+        // Heights are finite (a `Heightfield` invariant), so plain comparisons are exact; they
+        // give the values `f32::min`/`max` folded in row-major order give.
+        let mut z_min = z[0][0];
+        let mut z_max = z[0][0];
+        for value in z.as_flattened() {
+            z_min = if *value < z_min { *value } else { z_min };
+            z_max = if *value > z_max { *value } else { z_max };
         }
         let z64 = |r: usize, c: usize| f64::from(z[r][c]);
         let midpoint_error = |v: f64, a: f64, b: f64| (v - 0.5 * (a + b)).abs();
@@ -188,7 +190,7 @@ impl Hierarchy {
         let south = midpoint_error(z64(0, 1), z64(0, 0), z64(0, 2));
         let north = midpoint_error(z64(2, 1), z64(2, 0), z64(2, 2));
         NodeData {
-            error: round_up(centre.max(west).max(east).max(south).max(north)),
+            error: round_up(max_of_finite(&[centre, west, east, south, north])),
             z_min,
             z_max,
         }
@@ -290,6 +292,15 @@ fn rotated_points(
             .collect()
     };
     points.into_iter()
+}
+
+/// The largest of finite values.
+fn max_of_finite(values: &[f64; 5]) -> f64 {
+    let mut largest = values[0];
+    for value in &values[1..] {
+        largest = if *value > largest { *value } else { largest };
+    }
+    largest
 }
 
 /// The smallest `f32` not below `value`.
