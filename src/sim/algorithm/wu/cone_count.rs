@@ -189,22 +189,21 @@ impl Counter<'_> {
             f64::from(c.j) * spacing.dy,
             0.5 * (z_min + z_max),
         );
-        let radius = DVec3::new(
-            f64::from(h) * spacing.dx,
-            f64::from(h) * spacing.dy,
-            0.5 * (z_max - z_min),
-        )
-        .length();
+        let horizontal = f64::from(h) * spacing.dx.hypot(spacing.dy);
+        let radius = horizontal.hypot(0.5 * (z_max - z_min));
         let distance = self.cone.signed_distance(centre);
         let margin = BLOCK_DECISION_MARGIN * (centre.distance(self.cone_eye()) + radius);
-        // Every triangle of the block has its corners in the sphere, so its sphere's centre is
-        // inside it and its radius is at most the sphere's diameter.
+        // Every triangle of the block has its corners in the block's sphere, hence its sphere's
+        // centre too. Its corners lie within `horizontal` of that centre across (the block's
+        // halves are its largest triangles) and within the height range up or down, which bounds
+        // its sphere's radius.
         if distance <= -radius - margin {
             return self
                 .counts
                 .triangles_in_active_block(self.lattice, self.mesh, c, h);
         }
-        if distance > 3.0 * radius + margin {
+        let largest_triangle_radius = horizontal.hypot(z_max - z_min);
+        if distance > radius + largest_triangle_radius + margin {
             return 0;
         }
         let (sw, se) = (
