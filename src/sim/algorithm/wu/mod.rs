@@ -39,8 +39,10 @@
 //!
 //! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory: a 4-byte
 //! queue handle per node (1.33 bytes per sample) and a 16-byte link entry per queued node (the
-//! frontier, O(mesh size)), one bit per vertex for the mesh; with the shared hierarchy (heights
-//! and the node data above the finest level, 5 bytes per sample) under 7 bytes per sample.
+//! frontier, O(mesh size)), one bit per vertex for the mesh, and with cone culling 4 bytes per
+//! block above the finest level (a third of a byte per sample); with the shared hierarchy
+//! (heights and the node data above the finest level, 5 bytes per sample) about 7 bytes per
+//! sample in all (ARCHITECTURE.md, Memory).
 
 mod budget;
 mod cone_count;
