@@ -1,4 +1,5 @@
-//! Wu's cone count in o(T): how many mesh triangles meet the view cone, without visiting them all.
+//! Wu's cone count, hierarchically: how many mesh triangles meet the view cone, without visiting
+//! them all.
 //!
 //! **Per-block counts.** When a quadtree block's centre is active, the mesh triangles inside the
 //! block tile it exactly (closure makes the block's two halves bintree triangles), and their
@@ -15,8 +16,11 @@
 //! crosses tests the triangles it holds directly (its quarters, or the halves of its inactive
 //! sub-blocks) with the exact per-triangle test of `cull.rs`, and recurses into its active
 //! sub-blocks. A relative margin keeps rounding from deciding a block: the result equals the
-//! enumeration's count exactly. Cost: O(blocks the cone's surface crosses + their triangles),
-//! instead of O(T).
+//! enumeration's count exactly. Cost: O(blocks the cone's surface crosses + their triangles)
+//! instead of O(T). That is not o(T) on every mesh: Wu refines around the eye, which is the
+//! cone's apex, so blocks near the eye straddle at every level. On the Table 1 flight at a
+//! 6000-triangle budget it tests about 6 600 of 19 600 triangles one by one and visits about
+//! 2 700 blocks per frame: 1.06 M instructions a frame against the enumeration's 5.6 M.
 //!
 //! It relies on the mesh being closed, which Wu's split and merge keep at all times.
 
