@@ -2,8 +2,9 @@
 //! (`experiments/wu-table1.json`), against the from-scratch reference at the same τ.
 //!
 //! Three measurements: `wu` as the experiment runs it (budget counted on cone-culled triangles,
-//! which costs an O(triangles) count per frame), `wu_budget_on_all_triangles` (the same budget on
-//! the whole mesh: the queue work alone), and the reference at the same τ.
+//! which adds the hierarchical cone count of `wu/cone_count.rs` per frame),
+//! `wu_budget_on_all_triangles` (the same budget on the whole mesh: the queue work alone), and the
+//! reference at the same τ.
 //! All start from the same warmed-up point of the flight (Wu's queues in steady state) and then
 //! advance one frame per iteration along the circle, so every measured update is a real frame.
 //! Run with `cargo bench --bench wu_update`.
@@ -50,7 +51,7 @@ fn per_frame_update(c: &mut Criterion) {
         panic!("not a wu entry");
     };
     let mut wu = Wu::new(&hierarchy, config, &experiment.view, experiment.speed);
-    // The same budget counted on all triangles: the queue work without the O(T) cone count.
+    // The same budget counted on all triangles: the queue work without the cone count.
     let uncounted = roamsim::sim::algorithm::WuConfig {
         cone_culling: false,
         ..config

@@ -2,11 +2,14 @@
 //!
 //! [`Hierarchy::new`] is one O(samples) bottom-up pass that computes, for every square node
 //! (Wu's quadtree block): the node error δ under Wu's rule (max of the sub-blocks' δ, the centre's
-//! |ε| and the four boundary vertices' |ε|) and the block's height range. It stores them in dense
-//! per-level arrays ([`SquareIndex`]), about 12 bytes per node, i.e. 4 bytes per sample on top of
-//! the 4-byte heights. Other papers' nested errors over all vertices ([`NestingRule`]) are built on
-//! demand by [`Hierarchy::nested_vertex_errors`], so a run pays only for the rules its algorithms
-//! use. Stored errors are rounded up to `f32`, never down, so they stay bounds.
+//! |ε| and the four boundary vertices' |ε|) and the block's height range. It stores them, 12 bytes
+//! per node, in a dense array ([`SquareIndex`] order) for every level but the finest. The finest
+//! blocks (half-size 1), three quarters of all nodes, store nothing: their δ and height range are
+//! computed on demand from the block's 9 samples, O(1) and bit-identical to what storing them
+//! would give. That is 12 bytes per 12 samples, i.e. 1 byte per sample on top of the 4-byte
+//! heights. Other papers' nested errors over all vertices ([`NestingRule`]) are built on demand by
+//! [`Hierarchy::nested_vertex_errors`], so a run pays only for the rules its algorithms use.
+//! Errors are rounded up to `f32`, never down, so they stay bounds.
 
 mod lattice;
 
@@ -51,7 +54,8 @@ pub struct Hierarchy {
     field: Heightfield,
     lattice: Lattice,
     square_index: SquareIndex,
-    /// Per square node, contiguous so that one node's data is one cache access.
+    /// Per square node of half-size ≥ 2 (the first `nodes.len()` indices of [`SquareIndex`]),
+    /// contiguous so that one node's data is one cache access. The finest level is not stored.
     nodes: Vec<NodeData>,
 }
 
@@ -64,18 +68,20 @@ struct NodeData {
 }
 
 impl Hierarchy {
-    /// Preprocesses a height field: O(samples) time, 12 bytes per square node.
+    /// Preprocesses a height field: O(samples) time, 12 bytes per square node above the finest
+    /// level.
     pub fn new(field: Heightfield) -> Hierarchy {
         let lattice = Lattice::new(field.level());
         let square_index = SquareIndex {
             cells: lattice.cells(),
         };
-        let n_squares = square_index.n_squares();
+        // The finest level is the last of the index: everything before it is stored.
+        let n_stored = square_index.n_squares() - (lattice.cells() as usize / 2).pow(2);
         let mut hierarchy = Hierarchy {
             field,
             lattice,
             square_index,
-            nodes: vec![NodeData::default(); n_squares],
+            nodes: vec![NodeData::default(); n_stored],
         };
         hierarchy.compute_node_data();
         hierarchy
@@ -108,28 +114,86 @@ impl Hierarchy {
         }
     }
 
-    /// Wu's node error δ of the square node at `p`.
+    /// Wu's node error δ of the square node at `p`. O(1).
     pub fn node_error(&self, p: GridPoint, half: u32) -> f32 {
-        self.nodes[self.square_index.index(p, half)].error
+        self.node_data(p, half).error
     }
 
-    /// Lowest and highest sample height in the closed block of the square node at `p`.
+    /// Lowest and highest sample height in the closed block of the square node at `p`. O(1).
     pub fn node_height_range(&self, p: GridPoint, half: u32) -> (f32, f32) {
-        let node = &self.nodes[self.square_index.index(p, half)];
+        let node = self.node_data(p, half);
         (node.z_min, node.z_max)
     }
 
     /// Wu's node error δ and the block's height range of the square node at `p`, in one access.
     pub fn node_error_and_range(&self, p: GridPoint, half: u32) -> (f32, f32, f32) {
-        let node = &self.nodes[self.square_index.index(p, half)];
+        let node = self.node_data(p, half);
         (node.error, node.z_min, node.z_max)
     }
 
-    /// Bytes per sample of the heights and Wu's node data.
+    /// Bytes per sample of the heights and Wu's node data (the heap capacity held).
     pub fn bytes_per_sample(&self) -> f64 {
-        let heights = self.field.n_samples() * std::mem::size_of::<f32>();
-        let nodes = self.square_index.n_squares() * std::mem::size_of::<NodeData>();
+        let heights = std::mem::size_of_val(self.field.heights());
+        let nodes = self.nodes.capacity() * std::mem::size_of::<NodeData>();
         (heights + nodes) as f64 / self.field.n_samples() as f64
+    }
+
+    /// The stored data of a node above the finest level, or the finest node's data computed from
+    /// its 9 samples.
+    #[inline]
+    fn node_data(&self, p: GridPoint, half: u32) -> NodeData {
+        if half == 1 {
+            self.finest_node_data(p)
+        } else {
+            self.nodes[self.square_index.index(p, half)]
+        }
+    }
+
+    /// δ and height range of the finest block centred at `p` (half-size 1), from its 3 × 3 samples:
+    /// the same values, rounded the same way, as the generic rule (centre and boundary vertex
+    /// errors by [`Hierarchy::vertex_error`]) gives; `tests` check it on every block.
+    fn finest_node_data(&self, p: GridPoint) -> NodeData {
+        let side = self.lattice.side() as usize;
+        let heights = self.field.heights();
+        let base = (p.j as usize - 1) * side + p.i as usize - 1;
+        let row = |r: usize| -> [f32; 3] {
+            let start = base + r * side;
+            match heights.get(start..start + 3) {
+                Some(&[a, b, c]) => [a, b, c],
+                _ => unreachable!("a finest block lies inside the grid"),
+            }
+        };
+        // z[row][column], row 0 to the south, column 0 to the west.
+        let z = [row(0), row(1), row(2)];
+        // Heights are finite (a `Heightfield` invariant), so plain comparisons are exact; they
+        // give the values `f32::min`/`max` folded in row-major order give.
+        let mut z_min = z[0][0];
+        let mut z_max = z[0][0];
+        for value in z.as_flattened() {
+            z_min = if *value < z_min { *value } else { z_min };
+            z_max = if *value > z_max { *value } else { z_max };
+        }
+        let z64 = |r: usize, c: usize| f64::from(z[r][c]);
+        let midpoint_error = |v: f64, a: f64, b: f64| (v - 0.5 * (a + b)).abs();
+        // The centre bisects the block's diagonal that does not join its parents (see
+        // `Lattice::bisected_edge`): the parents are on the main diagonal exactly when the
+        // south-west corner's coordinates, in units of 2, have mixed parity.
+        let odd = |x: u32| (x / 2) % 2 == 1;
+        let centre = if odd(p.i - 1) != odd(p.j - 1) {
+            midpoint_error(z64(1, 1), z64(0, 2), z64(2, 0))
+        } else {
+            midpoint_error(z64(1, 1), z64(0, 0), z64(2, 2))
+        };
+        // West and east midpoints bisect vertical edges, south and north ones horizontal edges.
+        let west = midpoint_error(z64(1, 0), z64(0, 0), z64(2, 0));
+        let east = midpoint_error(z64(1, 2), z64(0, 2), z64(2, 2));
+        let south = midpoint_error(z64(0, 1), z64(0, 0), z64(0, 2));
+        let north = midpoint_error(z64(2, 1), z64(2, 0), z64(2, 2));
+        NodeData {
+            error: round_up(max_of_finite(&[centre, west, east, south, north])),
+            z_min,
+            z_max,
+        }
     }
 
     /// Every vertex's nested error under `rule`, indexed by vertex id (0 at corners). O(samples).
@@ -168,8 +232,10 @@ impl Hierarchy {
         })
     }
 
+    /// Fills the stored levels (half-size ≥ 2), finest first; their sub-blocks are stored or, at
+    /// half-size 2, computed from samples.
     fn compute_node_data(&mut self) {
-        let mut half = 1;
+        let mut half = 2;
         while half < self.lattice.cells() {
             for p in square_points(&self.lattice, half) {
                 let k = self.square_index.index(p, half);
@@ -178,23 +244,12 @@ impl Hierarchy {
                     error = error.max(self.vertex_error(boundary).abs());
                 }
                 let (mut z_min, mut z_max) = (f32::INFINITY, f32::NEG_INFINITY);
-                match self.lattice.sub_blocks(p, half) {
-                    None => {
-                        for dj in 0..3 {
-                            for di in 0..3 {
-                                let z = self.height(GridPoint::new(p.i + di - 1, p.j + dj - 1));
-                                z_min = z_min.min(z);
-                                z_max = z_max.max(z);
-                            }
-                        }
-                    }
-                    Some(sub_blocks) => {
-                        for sub in sub_blocks {
-                            let sub = self.nodes[self.square_index.index(sub, half / 2)];
-                            error = error.max(f64::from(sub.error));
-                            z_min = z_min.min(sub.z_min);
-                            z_max = z_max.max(sub.z_max);
-                        }
+                if let Some(sub_blocks) = self.lattice.sub_blocks(p, half) {
+                    for sub in sub_blocks {
+                        let sub = self.node_data(sub, half / 2);
+                        error = error.max(f64::from(sub.error));
+                        z_min = z_min.min(sub.z_min);
+                        z_max = z_max.max(sub.z_max);
                     }
                 }
                 self.nodes[k] = NodeData {
@@ -237,6 +292,15 @@ fn rotated_points(
             .collect()
     };
     points.into_iter()
+}
+
+/// The largest of finite values.
+fn max_of_finite(values: &[f64; 5]) -> f64 {
+    let mut largest = values[0];
+    for value in &values[1..] {
+        largest = if *value > largest { *value } else { largest };
+    }
+    largest
 }
 
 /// The smallest `f32` not below `value`.
@@ -297,7 +361,11 @@ mod tests {
     #[test]
     fn a_plane_has_zero_error_everywhere() {
         let h = hierarchy(17, |i, j| 3.0 * i as f32 - 2.0 * j as f32 + 7.0);
-        assert!(h.nodes.iter().all(|n| n.error == 0.0));
+        let mut half = 1;
+        while half < 16 {
+            assert!(square_points(h.lattice(), half).all(|p| h.node_error(p, half) == 0.0));
+            half *= 2;
+        }
         let nested = h.nested_vertex_errors(NestingRule::MaxPlusOwn);
         assert!(nested.iter().all(|&e| e == 0.0));
     }
@@ -338,5 +406,40 @@ mod tests {
             }
             half *= 2;
         }
+    }
+
+    /// The finest blocks' data, computed from samples, equals Wu's rule applied through the
+    /// generic lattice functions, bit for bit.
+    #[test]
+    fn finest_blocks_computed_on_demand_equal_the_generic_rule() {
+        // Pseudo-random heights with fractional parts, so that rounding matters.
+        let h = hierarchy(33, |i, j| {
+            let seed = (i as u64 * 33 + j as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+            ((seed >> 40) as f32) / 977.0 - 3000.0
+        });
+        let lattice = h.lattice();
+        for p in square_points(lattice, 1) {
+            let mut error = h.vertex_error(p).abs();
+            for b in lattice.boundary_vertices(p, 1) {
+                error = error.max(h.vertex_error(b).abs());
+            }
+            let block = (0..3).flat_map(|dj| (0..3).map(move |di| (p.i + di - 1, p.j + dj - 1)));
+            let heights = block.map(|(i, j)| h.height(GridPoint::new(i, j)));
+            let z_min = heights.clone().fold(f32::INFINITY, f32::min);
+            let z_max = heights.fold(f32::NEG_INFINITY, f32::max);
+            assert_eq!(
+                h.node_error_and_range(p, 1),
+                (round_up(error), z_min, z_max),
+                "finest block at {p:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn only_the_levels_above_the_finest_are_stored() {
+        let h = hierarchy(129, |i, j| ((i * 7 + j * 13) % 11) as f32);
+        assert_eq!(h.nodes.len(), (64 * 64 - 1) / 3);
+        // 4 bytes of height per sample, 12 bytes per stored node: one node per 12 samples.
+        assert!(h.bytes_per_sample() < 5.0, "{}", h.bytes_per_sample());
     }
 }

@@ -13,12 +13,12 @@ impl Wu<'_> {
         let (centre, half) = self.nodes.centre(node);
         self.wheels.remove(node);
         for boundary in lattice.boundary_vertices(centre, half) {
-            if self.mesh.remove(lattice.id(boundary)) {
+            if self.remove_vertex(boundary) {
                 self.n_triangles -= lattice.parents(boundary).len() as u64;
                 self.counters.deleted += 1;
             }
         }
-        self.mesh.remove(lattice.id(centre));
+        self.remove_vertex(centre);
         self.n_triangles -= 2;
         self.counters.deleted += 1;
         self.counters.merges += 1;

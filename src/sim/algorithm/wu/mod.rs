@@ -34,12 +34,18 @@
 //! shift defers the other kind (only the due wheel link is deferred).
 //!
 //! **Cone culling** (`cull.rs`), when asked for, counts the triangles inside a cone around the
-//! view frustum; the budget then counts those.
+//! view frustum; the budget then counts those. The count is top-down over the quadtree blocks with
+//! per-block triangle counts kept on every vertex change (`cone_count.rs`), not O(triangles).
 //!
-//! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory: 12 bytes per
-//! node for the queues, one bit per vertex for the mesh.
+//! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory: a 4-byte
+//! queue handle per node (1.33 bytes per sample) and a 16-byte link entry per queued node (the
+//! frontier, O(mesh size)), one bit per vertex for the mesh, and with cone culling 4 bytes per
+//! block above the finest level (a third of a byte per sample); with the shared hierarchy
+//! (heights and the node data above the finest level, 5 bytes per sample) about 7 bytes per
+//! sample in all (ARCHITECTURE.md, Memory).
 
 mod budget;
+mod cone_count;
 mod cull;
 mod merge;
 mod nodes;
@@ -50,11 +56,12 @@ mod wheel;
 pub use budget::initial_tau_px;
 
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::hierarchy::{Hierarchy, Lattice};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice};
 use crate::sim::mesh::VertexSet;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
 use crate::sim::zone::{SpeedBound, ZoneVariant, radius_per_error};
+use cone_count::BlockTriangleCounts;
 use glam::DVec3;
 use nodes::{LifeRule, NO_NODE, Nodes};
 use wheel::{Queue, Wheels};
@@ -129,6 +136,8 @@ pub struct Wu<'h> {
     tau_px: f64,
     mesh: VertexSet,
     n_triangles: u64,
+    /// Per-block triangle counts for the o(T) cone count; only with cone culling.
+    block_counts: Option<BlockTriangleCounts>,
     wheels: Wheels,
     base: i64,
     frame: u64,
@@ -156,6 +165,9 @@ impl<'h> Wu<'h> {
         let lattice = *hierarchy.lattice();
         let nodes = Nodes::new(hierarchy);
         let mesh = VertexSet::base_mesh(&lattice);
+        let block_counts = config
+            .cone_culling
+            .then(|| BlockTriangleCounts::new(&lattice, &mesh));
         Wu {
             hierarchy,
             lattice,
@@ -169,6 +181,7 @@ impl<'h> Wu<'h> {
             tau_px,
             mesh,
             n_triangles: 2,
+            block_counts,
             wheels: Wheels::new(nodes.count(), config.wheel_links.max(2)),
             base: 0,
             frame: 0,
@@ -190,6 +203,24 @@ impl<'h> Wu<'h> {
     /// The current base b.
     pub fn base(&self) -> i64 {
         self.base
+    }
+
+    /// Makes a vertex active; returns whether it was not.
+    fn insert_vertex(&mut self, p: GridPoint) -> bool {
+        let inserted = self.mesh.insert(self.lattice.id(p));
+        if inserted && let Some(counts) = &mut self.block_counts {
+            counts.vertex_inserted(p);
+        }
+        inserted
+    }
+
+    /// Makes a vertex inactive; returns whether it was active.
+    fn remove_vertex(&mut self, p: GridPoint) -> bool {
+        let removed = self.mesh.remove(self.lattice.id(p));
+        if removed && let Some(counts) = &mut self.block_counts {
+            counts.vertex_removed(p);
+        }
+        removed
     }
 
     fn is_active(&self, node: u32) -> bool {
@@ -395,10 +426,14 @@ impl LodAlgorithm for Wu<'_> {
         self.run_split_work();
         self.run_merge_work();
 
-        let cone_rendered = self
-            .config
-            .cone_culling
-            .then(|| cull::cone_rendered_triangles(self.hierarchy, &self.mesh, input.camera));
+        let cone_rendered = self.block_counts.as_ref().map(|counts| {
+            cone_count::cone_rendered_triangles_hierarchical(
+                self.hierarchy,
+                &self.mesh,
+                counts,
+                input.camera,
+            )
+        });
         self.previous_count = cone_rendered.unwrap_or(self.n_triangles);
 
         let c = self.counters;
@@ -433,6 +468,10 @@ impl LodAlgorithm for Wu<'_> {
     fn memory_bytes(&self) -> usize {
         self.mesh.memory_bytes()
             + self.wheels.memory_bytes()
+            + self
+                .block_counts
+                .as_ref()
+                .map_or(0, BlockTriangleCounts::memory_bytes)
             + self.due.capacity() * std::mem::size_of::<u32>()
             + self.split_work.capacity() * std::mem::size_of::<(u32, f64, u32)>()
             + self.merge_work.capacity() * std::mem::size_of::<(u32, f64)>()

@@ -52,7 +52,7 @@ impl Wu<'_> {
         let lattice = self.lattice;
         let (centre, half) = self.nodes.centre(node);
         self.wheels.remove(node);
-        self.mesh.insert(lattice.id(centre));
+        self.insert_vertex(centre);
         self.n_triangles += 2;
         self.counters.inserted += 1;
         self.counters.splits += 1;
@@ -67,7 +67,7 @@ impl Wu<'_> {
                     .iter()
                     .all(|p| self.mesh.contains_point(&lattice, *p))
             {
-                self.mesh.insert(lattice.id(boundary));
+                self.insert_vertex(boundary);
                 self.n_triangles += parents.len() as u64;
                 self.counters.inserted += 1;
             }

@@ -1,15 +1,22 @@
 //! The validator of Wu's queues: every splittable node is in exactly one split link, every
 //! mergeable node in exactly one merge link, nothing else is queued, the link counts match a
-//! recount, and (at a fixed base) every node sits in a link that comes due no later than its key
-//! allows under the speed bounds.
+//! recount, (at a fixed base) every node sits in a link that comes due no later than its key
+//! allows under the speed bounds, and the per-block triangle counts of the cone count (when kept)
+//! equal a recount from the mesh.
 
 use super::Wu;
+use super::cone_count::BlockTriangleCounts;
 use super::wheel::Queue;
 
 pub(super) fn validate(wu: &Wu, check_lives: bool) -> Result<(), String> {
     wu.wheels.check_structure()?;
     if !wu.split_work.is_empty() || !wu.merge_work.is_empty() {
         return Err("work lists are not empty between frames".into());
+    }
+    if let Some(counts) = &wu.block_counts
+        && *counts != BlockTriangleCounts::new(&wu.lattice, &wu.mesh)
+    {
+        return Err("per-block triangle counts differ from a recount of the mesh".into());
     }
     let n_links = u64::from(wu.wheels.n_links());
     for node in 0..wu.nodes.count() as u32 {

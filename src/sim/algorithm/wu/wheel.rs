@@ -1,12 +1,18 @@
-//! The split and merge queues: timing wheels of intrusive doubly linked links.
+//! The split and merge queues: timing wheels of doubly linked links.
 //!
 //! Each queue is an array of `W` links indexed by frame modulo `W` (the head is the link of the
 //! current frame, so it rotates once per frame and nothing is decremented node by node), plus an
 //! **overflow** link for keys of `W` frames or more, re-examined whenever the wheel wraps, and a
 //! **parked** link for infinite keys (nodes without error, or a zero speed bound), which is only
-//! re-examined when the speed bounds were broken. A node is in at most one link of one queue; the
-//! per-node `prev`/`next`/`slot` arrays (12 bytes per node) make insertion and removal O(1).
-//! Taking a link empties it in O(its length).
+//! re-examined when the speed bounds were broken. A node is in at most one link of one queue.
+//!
+//! **Memory.** Only queued nodes (the frontier: splittable and mergeable nodes, O(mesh size)) hold
+//! a link entry (node, prev, next, slot: 16 bytes) in a slab whose freed entries are reused; every
+//! node holds a 4-byte handle to its entry. That is 4 bytes per node (a node per 3 samples) plus
+//! 16 bytes per queued node at the peak, instead of 12 bytes of intrusive links per node.
+//! Insertion and removal are O(1); taking a link empties it in O(its length). Only the slab grows
+//! (by doubling, amortised O(1)), to the largest number of nodes queued at once rounded up to a
+//! power of two.
 
 use super::nodes::NO_NODE;
 
@@ -24,19 +30,32 @@ pub(super) struct Slot {
     pub link: u32,
 }
 
-const NOT_QUEUED: u32 = u32::MAX;
+/// Sentinel for "no entry" (end of a link, an unqueued node, an empty free list).
+const NO_ENTRY: u32 = u32::MAX;
 const MERGE_BIT: u32 = 1 << 31;
+
+/// One queued node's place in its link. `prev` and `next` are entry indices.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    node: u32,
+    prev: u32,
+    next: u32,
+    /// The link, with [`MERGE_BIT`] set for the merge queue. For a free entry, unused.
+    slot: u32,
+}
 
 /// Both queues over the same nodes.
 pub(super) struct Wheels {
     n_links: u32,
-    /// First node of each link: split links, then merge links; each queue has `n_links` wheel
+    /// First entry of each link: split links, then merge links; each queue has `n_links` wheel
     /// links, then overflow, then parked.
     heads: Vec<u32>,
     counts: Vec<u32>,
-    prev: Vec<u32>,
-    next: Vec<u32>,
-    slot: Vec<u32>,
+    /// Per node, its entry, or [`NO_ENTRY`] when it is not queued.
+    entry_of: Vec<u32>,
+    /// The entries of queued nodes, and free ones chained through `next` from `free`.
+    entries: Vec<Entry>,
+    free: u32,
 }
 
 impl Wheels {
@@ -45,22 +64,19 @@ impl Wheels {
         let per_queue = (n_links + 2) as usize;
         Wheels {
             n_links,
-            heads: vec![NO_NODE; 2 * per_queue],
+            heads: vec![NO_ENTRY; 2 * per_queue],
             counts: vec![0; 2 * per_queue],
-            prev: vec![NO_NODE; n_nodes],
-            next: vec![NO_NODE; n_nodes],
-            slot: vec![NOT_QUEUED; n_nodes],
+            entry_of: vec![NO_ENTRY; n_nodes],
+            entries: Vec::new(),
+            free: NO_ENTRY,
         }
     }
 
-    /// Heap bytes held.
+    /// Heap bytes held (capacities, not lengths).
     pub fn memory_bytes(&self) -> usize {
-        (self.heads.capacity()
-            + self.counts.capacity()
-            + self.prev.capacity()
-            + self.next.capacity()
-            + self.slot.capacity())
+        (self.heads.capacity() + self.counts.capacity() + self.entry_of.capacity())
             * std::mem::size_of::<u32>()
+            + self.entries.capacity() * std::mem::size_of::<Entry>()
     }
 
     pub fn n_links(&self) -> u32 {
@@ -83,15 +99,27 @@ impl Wheels {
         (base + link) as usize
     }
 
+    fn head_index_of_slot(&self, raw: u32) -> usize {
+        let base = if raw & MERGE_BIT != 0 {
+            self.n_links + 2
+        } else {
+            0
+        };
+        (base + (raw & !MERGE_BIT)) as usize
+    }
+
     pub fn slot(&self, node: u32) -> Option<Slot> {
-        let raw = self.slot[node as usize];
-        (raw != NOT_QUEUED).then_some(Slot {
-            queue: if raw & MERGE_BIT != 0 {
-                Queue::Merge
-            } else {
-                Queue::Split
-            },
-            link: raw & !MERGE_BIT,
+        let entry = self.entry_of[node as usize];
+        (entry != NO_ENTRY).then(|| {
+            let raw = self.entries[entry as usize].slot;
+            Slot {
+                queue: if raw & MERGE_BIT != 0 {
+                    Queue::Merge
+                } else {
+                    Queue::Split
+                },
+                link: raw & !MERGE_BIT,
+            }
         })
     }
 
@@ -102,57 +130,102 @@ impl Wheels {
     /// Puts `node` (not queued) at the front of a link.
     pub fn insert(&mut self, node: u32, queue: Queue, link: u32) {
         debug_assert_eq!(
-            self.slot[node as usize], NOT_QUEUED,
+            self.entry_of[node as usize], NO_ENTRY,
             "node {node} queued twice"
         );
         let h = self.head_index(queue, link);
         let first = self.heads[h];
-        self.next[node as usize] = first;
-        self.prev[node as usize] = NO_NODE;
-        if first != NO_NODE {
-            self.prev[first as usize] = node;
-        }
-        self.heads[h] = node;
-        self.counts[h] += 1;
-        self.slot[node as usize] = match queue {
-            Queue::Split => link,
-            Queue::Merge => link | MERGE_BIT,
+        let entry = Entry {
+            node,
+            prev: NO_ENTRY,
+            next: first,
+            slot: match queue {
+                Queue::Split => link,
+                Queue::Merge => link | MERGE_BIT,
+            },
         };
+        if self.free == NO_ENTRY {
+            self.grow();
+        }
+        let e = self.free;
+        let free_entry = &mut self.entries[e as usize];
+        self.free = free_entry.next;
+        *free_entry = entry;
+        if first != NO_ENTRY {
+            self.entries[first as usize].prev = e;
+        }
+        self.heads[h] = e;
+        self.counts[h] += 1;
+        self.entry_of[node as usize] = e;
     }
 
     /// Takes `node` out of whatever link holds it; returns where it was.
     pub fn remove(&mut self, node: u32) -> Option<Slot> {
         let slot = self.slot(node)?;
+        let e = self.entry_of[node as usize];
+        let Entry { prev, next, .. } = self.entries[e as usize];
         let h = self.head_index(slot.queue, slot.link);
-        let (prev, next) = (self.prev[node as usize], self.next[node as usize]);
-        if prev == NO_NODE {
+        if prev == NO_ENTRY {
             self.heads[h] = next;
         } else {
-            self.next[prev as usize] = next;
+            self.entries[prev as usize].next = next;
         }
-        if next != NO_NODE {
-            self.prev[next as usize] = prev;
+        if next != NO_ENTRY {
+            self.entries[next as usize].prev = prev;
         }
         self.counts[h] -= 1;
-        self.slot[node as usize] = NOT_QUEUED;
-        self.prev[node as usize] = NO_NODE;
-        self.next[node as usize] = NO_NODE;
+        self.entry_of[node as usize] = NO_ENTRY;
+        self.release(e);
         Some(slot)
+    }
+
+    /// Doubles the slab (at least 64 entries) and chains the new entries into the free list.
+    #[cold]
+    #[inline(never)]
+    fn grow(&mut self) {
+        let old_len = self.entries.len();
+        let new_len = (2 * old_len).max(64);
+        assert!(
+            new_len < NO_ENTRY as usize,
+            "more queued nodes than entry indices"
+        );
+        self.entries.reserve_exact(new_len - old_len);
+        // The free list is empty: chain the new entries in order, the last ending it.
+        for e in old_len + 1..=new_len {
+            let next = if e == new_len { NO_ENTRY } else { e as u32 };
+            self.entries.push(Entry {
+                node: NO_NODE,
+                prev: NO_ENTRY,
+                next,
+                slot: 0,
+            });
+        }
+        self.free = old_len as u32;
+    }
+
+    /// Returns an entry to the free list.
+    fn release(&mut self, e: u32) {
+        self.entries[e as usize] = Entry {
+            node: NO_NODE,
+            prev: NO_ENTRY,
+            next: self.free,
+            slot: 0,
+        };
+        self.free = e;
     }
 
     /// Empties a link into `out` (front to back), leaving its nodes unqueued.
     pub fn take_link(&mut self, queue: Queue, link: u32, out: &mut Vec<u32>) {
         let h = self.head_index(queue, link);
-        let mut node = self.heads[h];
-        while node != NO_NODE {
+        let mut e = self.heads[h];
+        while e != NO_ENTRY {
+            let Entry { node, next, .. } = self.entries[e as usize];
             out.push(node);
-            let next = self.next[node as usize];
-            self.slot[node as usize] = NOT_QUEUED;
-            self.prev[node as usize] = NO_NODE;
-            self.next[node as usize] = NO_NODE;
-            node = next;
+            self.entry_of[node as usize] = NO_ENTRY;
+            self.release(e);
+            e = next;
         }
-        self.heads[h] = NO_NODE;
+        self.heads[h] = NO_ENTRY;
         self.counts[h] = 0;
     }
 
@@ -169,54 +242,68 @@ impl Wheels {
         self.counts[self.head_index(queue, link)]
     }
 
-    /// The nodes of a link, front to back (for validation).
-    pub fn link_nodes(&self, queue: Queue, link: u32) -> Vec<u32> {
-        let mut nodes = Vec::new();
-        let mut node = self.heads[self.head_index(queue, link)];
-        while node != NO_NODE {
-            nodes.push(node);
-            node = self.next[node as usize];
-        }
-        nodes
-    }
-
-    /// Checks the link structure itself: prev/next symmetry, slots agree with membership,
-    /// counts agree with a recount. Returns the first inconsistency.
+    /// Checks the link structure itself: prev/next symmetry, handles and slots agree with
+    /// membership, counts agree with a recount, every entry is linked or free. Returns the first
+    /// inconsistency.
     pub fn check_structure(&self) -> Result<(), String> {
-        let mut seen = vec![false; self.slot.len()];
+        let mut seen = vec![false; self.entry_of.len()];
+        let mut linked_entries = 0usize;
         for queue in [Queue::Split, Queue::Merge] {
             for link in 0..self.n_links + 2 {
-                let nodes = self.link_nodes(queue, link);
-                if nodes.len() as u32 != self.link_len(queue, link) {
-                    return Err(format!(
-                        "{queue:?} link {link}: count {} but {} nodes linked",
-                        self.link_len(queue, link),
-                        nodes.len()
-                    ));
-                }
-                let mut previous = NO_NODE;
-                for &node in &nodes {
-                    if seen[node as usize] {
-                        return Err(format!("node {node} is linked twice"));
+                let h = self.head_index(queue, link);
+                let mut previous = NO_ENTRY;
+                let mut e = self.heads[h];
+                let mut n_linked = 0u32;
+                while e != NO_ENTRY {
+                    let Some(entry) = self.entries.get(e as usize) else {
+                        return Err(format!("{queue:?} link {link}: entry {e} out of range"));
+                    };
+                    let node = entry.node;
+                    if seen.get(node as usize).copied().unwrap_or(true) {
+                        return Err(format!("node {node} is linked twice or out of range"));
                     }
                     seen[node as usize] = true;
-                    if self.slot(node) != Some(Slot { queue, link }) {
+                    if self.entry_of[node as usize] != e {
+                        return Err(format!("node {node}: handle does not name its entry {e}"));
+                    }
+                    if self.head_index_of_slot(entry.slot) != h {
                         return Err(format!(
                             "node {node} is in {queue:?} link {link} but its slot says {:?}",
                             self.slot(node)
                         ));
                     }
-                    if self.prev[node as usize] != previous {
+                    if entry.prev != previous {
                         return Err(format!("node {node}: prev link broken"));
                     }
-                    previous = node;
+                    previous = e;
+                    n_linked += 1;
+                    e = entry.next;
                 }
+                if n_linked != self.link_len(queue, link) {
+                    return Err(format!(
+                        "{queue:?} link {link}: count {} but {n_linked} nodes linked",
+                        self.link_len(queue, link),
+                    ));
+                }
+                linked_entries += n_linked as usize;
             }
         }
-        for (node, &raw) in self.slot.iter().enumerate() {
-            if raw != NOT_QUEUED && !seen[node] {
-                return Err(format!("node {node} has a slot but is in no link"));
+        for (node, &e) in self.entry_of.iter().enumerate() {
+            if e != NO_ENTRY && !seen[node] {
+                return Err(format!("node {node} has an entry but is in no link"));
             }
+        }
+        let mut n_free = 0usize;
+        let mut e = self.free;
+        while e != NO_ENTRY && n_free <= self.entries.len() {
+            n_free += 1;
+            e = self.entries[e as usize].next;
+        }
+        if linked_entries + n_free != self.entries.len() {
+            return Err(format!(
+                "{} entries but {linked_entries} linked and {n_free} free",
+                self.entries.len()
+            ));
         }
         Ok(())
     }
@@ -250,6 +337,40 @@ mod tests {
         assert_eq!(wheels.len(Queue::Split), 3);
         assert_eq!(wheels.len(Queue::Merge), 1);
         assert!(wheels.is_in(7, Queue::Merge));
+        wheels.check_structure().unwrap();
+    }
+
+    #[test]
+    fn the_slab_grows_only_to_the_most_nodes_queued_at_once() {
+        let mut wheels = Wheels::new(1000, 8);
+        let mut taken = Vec::new();
+        for round in 0..50u32 {
+            for node in 0..20 {
+                let queue = if node % 2 == 0 {
+                    Queue::Split
+                } else {
+                    Queue::Merge
+                };
+                wheels.insert(round * 20 + node, queue, (round + node) % 8);
+            }
+            wheels.check_structure().unwrap();
+            for node in (0..20).step_by(3) {
+                wheels.remove(round * 20 + node);
+            }
+            wheels.check_structure().unwrap();
+            for link in 0..8 {
+                wheels.take_link(Queue::Split, link, &mut taken);
+                wheels.take_link(Queue::Merge, link, &mut taken);
+            }
+            assert_eq!(wheels.len(Queue::Split) + wheels.len(Queue::Merge), 0);
+        }
+        assert_eq!(taken.len(), 50 * 13);
+        // At most 20 nodes were queued at once: the slab never grew past its first 64 entries.
+        assert!(
+            wheels.entries.capacity() <= 64,
+            "{}",
+            wheels.entries.capacity()
+        );
         wheels.check_structure().unwrap();
     }
 }
