@@ -60,6 +60,7 @@ fn per_frame_update(c: &mut Criterion) {
     let mut reference = Reference::new(
         &hierarchy,
         ReferenceConfig {
+            nesting: roamsim::sim::hierarchy::NestingRule::Max,
             tau_px: wu.tau_px(),
             zone: config.zone,
             threshold: SplitThreshold::LifeAtMost(0.0),

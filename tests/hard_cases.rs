@@ -29,11 +29,13 @@ fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
     let mut configs = Vec::new();
     for zone in [ZoneVariant::Conservative, ZoneVariant::Paper] {
         configs.push(AlgorithmConfig::Reference(ReferenceConfig {
+            nesting: roamsim::sim::hierarchy::NestingRule::Max,
             tau_px,
             zone,
             threshold: SplitThreshold::LifeAtMost(0.0),
         }));
         configs.push(AlgorithmConfig::Wu(WuConfig {
+            nesting: roamsim::sim::hierarchy::NestingRule::Max,
             tau_px: Some(tau_px),
             budget: None,
             zone,

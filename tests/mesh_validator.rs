@@ -24,6 +24,7 @@ const SPEED: SpeedBound = SpeedBound {
 /// and largest triangle counts seen.
 fn check_every_eye(hierarchy: &Hierarchy, tau_px: f64, zone: ZoneVariant) -> (u64, u64) {
     let config = ReferenceConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::Max,
         tau_px,
         zone,
         threshold: SplitThreshold::LifeAtMost(0.0),
@@ -81,6 +82,7 @@ fn every_eye_over_17_by_17_gives_a_valid_mesh_that_refines_near_the_eye() {
 fn tau_zero_refines_every_node_with_an_error() {
     let hierarchy = bumpy_terrain(4);
     let config = ReferenceConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::Max,
         tau_px: 0.0,
         zone: ZoneVariant::Conservative,
         threshold: SplitThreshold::LifeAtMost(0.0),

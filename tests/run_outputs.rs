@@ -429,6 +429,9 @@ fn the_max_plus_own_nesting_keeps_at_least_the_max_rules_vertices_every_frame() 
         {"name": "lindstrom", "label": "lindstrom", "tau_px": 2, "block_level": 4,
          "sweep": {"nesting": ["max", "max_plus_own"]}},
         {"name": "roam", "label": "roam", "tau_px": 4, "culling_flags": true,
+         "sweep": {"nesting": ["max", "max_plus_own"]}},
+        {"name": "wu", "label": "wu", "tau_px": 4, "sweep": {"nesting": ["max", "max_plus_own"]}},
+        {"name": "reference", "label": "reference", "tau_px": 4,
          "sweep": {"nesting": ["max", "max_plus_own"]}}
     ]);
     let path = save(dir.path(), "nesting", &experiment);
@@ -444,7 +447,7 @@ fn the_max_plus_own_nesting_keeps_at_least_the_max_rules_vertices_every_frame() 
             .map(|rest| rest.split(',').nth(1).unwrap().parse().unwrap())
             .collect()
     };
-    for algorithm in ["lindstrom", "roam"] {
+    for algorithm in ["lindstrom", "roam", "wu", "reference"] {
         let max = triangles(&format!("{algorithm} nesting=max"));
         let plus = triangles(&format!("{algorithm} nesting=max_plus_own"));
         assert_eq!(max.len(), 8, "{algorithm}: {csv}");

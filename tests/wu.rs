@@ -32,6 +32,7 @@ const SPEED: SpeedBound = SpeedBound {
 
 fn fixed_tau(tau_px: f64, zone: ZoneVariant) -> WuConfig {
     WuConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::Max,
         tau_px: Some(tau_px),
         budget: None,
         zone,
@@ -71,6 +72,7 @@ impl<'h> Sandwich<'h> {
             Reference::new(
                 hierarchy,
                 ReferenceConfig {
+                    nesting: roamsim::sim::hierarchy::NestingRule::Max,
                     tau_px,
                     zone,
                     threshold,
@@ -203,6 +205,7 @@ fn without_the_violation_flag_a_teleport_would_leave_stale_lives() {
     let mut reference = Reference::new(
         &hierarchy,
         ReferenceConfig {
+            nesting: roamsim::sim::hierarchy::NestingRule::Max,
             tau_px: 1.0,
             zone: ZoneVariant::Conservative,
             threshold: SplitThreshold::LifeAtMost(0.0),

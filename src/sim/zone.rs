@@ -18,7 +18,7 @@
 //! changes by at most 1 per frame. A zero speed bound makes an axis's life +∞ outside the box and
 //! −∞ on or inside it.
 
-use crate::sim::hierarchy::{GridPoint, Hierarchy};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, NestingRule};
 use glam::DVec3;
 
 /// Which box approximates the split zone.
@@ -80,27 +80,91 @@ pub fn radius_per_error(theta: f64) -> f64 {
     zone_radius(1.0, theta)
 }
 
+/// The node error δ that sizes a split zone, under a nesting rule.
+#[derive(Clone, Debug)]
+pub enum NodeErrors {
+    /// Wu's rule, δ as preprocessing stores it (max of sub-blocks', centre's and boundary
+    /// vertices' errors): nothing extra in memory.
+    Stored,
+    /// ROAM's max-plus-own nested error of the node's centre vertex, per vertex id (4 bytes per
+    /// sample). The boundary vertices are the centre's children in the 4-8 hierarchy, so it bounds
+    /// them and every sub-block, and nests like Wu's δ.
+    CentreMaxPlusOwn(Vec<f32>),
+}
+
+impl NodeErrors {
+    /// The errors under `rule`: [`NestingRule::Max`] is Wu's own.
+    pub fn new(hierarchy: &Hierarchy, rule: NestingRule) -> NodeErrors {
+        match rule {
+            NestingRule::Max => NodeErrors::Stored,
+            NestingRule::MaxPlusOwn => NodeErrors::CentreMaxPlusOwn(
+                hierarchy.nested_vertex_errors(NestingRule::MaxPlusOwn),
+            ),
+        }
+    }
+
+    /// δ of the square node at `node` with half-size `half`.
+    pub fn error(&self, hierarchy: &Hierarchy, node: GridPoint, half: u32) -> f32 {
+        match self {
+            NodeErrors::Stored => hierarchy.node_error(node, half),
+            NodeErrors::CentreMaxPlusOwn(nested) => nested[hierarchy.lattice().id(node) as usize],
+        }
+    }
+
+    /// δ and the block's sample height range (z_min, z_max).
+    pub fn error_and_range(
+        &self,
+        hierarchy: &Hierarchy,
+        node: GridPoint,
+        half: u32,
+    ) -> (f32, f32, f32) {
+        let (delta, z_min, z_max) = hierarchy.node_error_and_range(node, half);
+        match self {
+            NodeErrors::Stored => (delta, z_min, z_max),
+            NodeErrors::CentreMaxPlusOwn(nested) => {
+                (nested[hierarchy.lattice().id(node) as usize], z_min, z_max)
+            }
+        }
+    }
+
+    pub fn memory_bytes(&self) -> usize {
+        match self {
+            NodeErrors::Stored => 0,
+            NodeErrors::CentreMaxPlusOwn(nested) => nested.capacity() * std::mem::size_of::<f32>(),
+        }
+    }
+}
+
 /// The split zone of the square node at `node` (half-size `half`) for the angular tolerance
 /// `theta`, or `None` when its error δ is 0.
 pub fn split_zone(
     hierarchy: &Hierarchy,
+    errors: &NodeErrors,
     node: GridPoint,
     half: u32,
     theta: f64,
     variant: ZoneVariant,
 ) -> Option<ZoneBox> {
-    split_zone_scaled(hierarchy, node, half, radius_per_error(theta), variant)
+    split_zone_scaled(
+        hierarchy,
+        errors,
+        node,
+        half,
+        radius_per_error(theta),
+        variant,
+    )
 }
 
 /// [`split_zone`] with r/δ precomputed by [`radius_per_error`].
 pub fn split_zone_scaled(
     hierarchy: &Hierarchy,
+    errors: &NodeErrors,
     node: GridPoint,
     half: u32,
     radius_per_error: f64,
     variant: ZoneVariant,
 ) -> Option<ZoneBox> {
-    let (delta, z_min, z_max) = hierarchy.node_error_and_range(node, half);
+    let (delta, z_min, z_max) = errors.error_and_range(hierarchy, node, half);
     let delta = f64::from(delta);
     if delta <= 0.0 {
         return None;

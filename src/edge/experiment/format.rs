@@ -232,11 +232,17 @@ pub struct ReferenceParameters {
     pub tau_px: f64,
     #[serde(default)]
     pub zone: Option<ZoneEntry>,
+    /// Default: Wu's max rule.
+    #[serde(default)]
+    pub nesting: Option<NestingEntry>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WuParameters {
+    /// Default: Wu's max rule.
+    #[serde(default)]
+    pub nesting: Option<NestingEntry>,
     /// Fixed τ; with a budget, the starting τ (default: the paper's formula).
     #[serde(default)]
     pub tau_px: Option<f64>,

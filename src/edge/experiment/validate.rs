@@ -718,6 +718,7 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
             "reference" => decode::<ReferenceParameters>(k, &parameters, problems).and_then(|p| {
                 check_tau(k, p.tau_px, problems)?;
                 Some(AlgorithmConfig::Reference(ReferenceConfig {
+                    nesting: nesting_rule(p.nesting, NestingRule::Max),
                     tau_px: p.tau_px,
                     zone: zone_variant(p.zone),
                     threshold: SplitThreshold::LifeAtMost(0.0),
@@ -901,6 +902,7 @@ fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<A
         return None;
     }
     Some(AlgorithmConfig::Wu(WuConfig {
+        nesting: nesting_rule(p.nesting, NestingRule::Max),
         tau_px: p.tau_px,
         budget: p.budget_triangles.map(|triangles| BudgetConfig {
             triangles,

@@ -153,7 +153,7 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
          *update*: median and 95th percentile of the per-frame update time. *splits + merges*: the \
          algorithm's operations per frame. *evaluations per split or merge*: metric (or valid-life) \
          evaluations over the flight divided by its splits and merges. *bytes per sample*: the \
-         shared preprocessed terrain (heights and Wu's node table, 8 B/sample) plus the \
+         shared preprocessed terrain (heights and Wu's node table above the finest level, 5 B/sample) plus the \
          algorithm's own state at the end of the run, per height sample."
     );
     out

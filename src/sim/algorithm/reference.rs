@@ -15,12 +15,12 @@
 //! difference from the previous frame's mesh, `metric_evaluations` = lives computed.
 
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::hierarchy::{GridPoint, Hierarchy, VertexClass};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, NestingRule, VertexClass};
 use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
-use crate::sim::zone::{SpeedBound, ZoneVariant, signed_life, split_zone};
+use crate::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, signed_life, split_zone};
 
 pub(super) const NAME: &str = "reference";
 
@@ -49,6 +49,8 @@ pub struct ReferenceConfig {
     pub tau_px: f64,
     pub zone: ZoneVariant,
     pub threshold: SplitThreshold,
+    /// How δ nests (see `WuConfig::nesting`).
+    pub nesting: NestingRule,
 }
 
 /// The from-scratch reference. Per frame: O(nodes tested + active vertices).
@@ -57,6 +59,7 @@ pub struct Reference<'h> {
     config: ReferenceConfig,
     theta: f64,
     speed: SpeedBound,
+    errors: NodeErrors,
     mesh: RebuiltMesh,
     n_triangles: u64,
     stack: Vec<(GridPoint, u32)>,
@@ -74,6 +77,7 @@ impl<'h> Reference<'h> {
             config,
             theta: config.tau_px * view.pixel_angle(),
             speed,
+            errors: NodeErrors::new(hierarchy, config.nesting),
             mesh: RebuiltMesh::new(hierarchy.lattice()),
             n_triangles: 2,
             stack: Vec::new(),
@@ -124,7 +128,14 @@ impl LodAlgorithm for Reference<'_> {
         self.stack.push((lattice.root(), lattice.cells() / 2));
         while let Some((node, half)) = self.stack.pop() {
             evaluations += 1;
-            let zone = split_zone(hierarchy, node, half, self.theta, self.config.zone);
+            let zone = split_zone(
+                hierarchy,
+                &self.errors,
+                node,
+                half,
+                self.theta,
+                self.config.zone,
+            );
             if zone.is_none() {
                 continue;
             }
@@ -178,6 +189,8 @@ impl LodAlgorithm for Reference<'_> {
     }
 
     fn memory_bytes(&self) -> usize {
-        self.mesh.memory_bytes() + self.stack.capacity() * std::mem::size_of::<(GridPoint, u32)>()
+        self.errors.memory_bytes()
+            + self.mesh.memory_bytes()
+            + self.stack.capacity() * std::mem::size_of::<(GridPoint, u32)>()
     }
 }

@@ -15,6 +15,7 @@
 use super::BudgetConfig;
 use crate::sim::hierarchy::{Hierarchy, square_points};
 use crate::sim::view::ViewSettings;
+use crate::sim::zone::NodeErrors;
 
 /// Which way b moved this frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,13 +70,18 @@ pub(super) fn base_shift(budget: Option<BudgetConfig>, previous_count: u64, base
 }
 
 /// The paper's initial τ for a budget (see the module docs).
-pub fn initial_tau_px(hierarchy: &Hierarchy, view: &ViewSettings, budget: BudgetConfig) -> f64 {
+pub fn initial_tau_px(
+    hierarchy: &Hierarchy,
+    errors: &NodeErrors,
+    view: &ViewSettings,
+    budget: BudgetConfig,
+) -> f64 {
     let lattice = hierarchy.lattice();
     let (mut sum, mut count) = (0.0f64, 0u64);
     let mut half = 1;
     while half < lattice.cells() {
         for p in square_points(lattice, half) {
-            sum += f64::from(hierarchy.node_error(p, half));
+            sum += f64::from(errors.error(hierarchy, p, half));
             count += 1;
         }
         half *= 2;

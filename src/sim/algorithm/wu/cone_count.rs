@@ -310,6 +310,7 @@ mod tests {
 
     fn wu_with_cone(hierarchy: &Hierarchy, budget: Option<u64>) -> Wu<'_> {
         let config = WuConfig {
+            nesting: crate::sim::hierarchy::NestingRule::Max,
             tau_px: budget.is_none().then_some(1.5),
             budget: budget.map(|triangles| BudgetConfig {
                 triangles,

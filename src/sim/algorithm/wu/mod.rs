@@ -56,11 +56,11 @@ mod wheel;
 pub use budget::initial_tau_px;
 
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, NestingRule};
 use crate::sim::mesh::VertexSet;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
-use crate::sim::zone::{SpeedBound, ZoneVariant, radius_per_error};
+use crate::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, radius_per_error};
 use cone_count::BlockTriangleCounts;
 use glam::DVec3;
 use nodes::{LifeRule, NO_NODE, Nodes};
@@ -82,6 +82,9 @@ pub struct WuConfig {
     pub cone_culling: bool,
     /// Wheel links per queue (≥ 2).
     pub wheel_links: u32,
+    /// How δ nests: Wu's [`NestingRule::Max`], or [`NestingRule::MaxPlusOwn`] (a true bound, to
+    /// measure what it costs; 4 more bytes per sample).
+    pub nesting: NestingRule,
 }
 
 /// The constant-budget settings.
@@ -157,9 +160,10 @@ impl<'h> Wu<'h> {
         view: &ViewSettings,
         speed: SpeedBound,
     ) -> Wu<'h> {
+        let errors = NodeErrors::new(hierarchy, config.nesting);
         let tau_px = match (config.tau_px, config.budget) {
             (Some(tau), _) => tau,
-            (None, Some(budget)) => initial_tau_px(hierarchy, view, budget),
+            (None, Some(budget)) => initial_tau_px(hierarchy, &errors, view, budget),
             (None, None) => 1.0,
         };
         let lattice = *hierarchy.lattice();
@@ -176,6 +180,7 @@ impl<'h> Wu<'h> {
                 radius_per_error: radius_per_error(tau_px * view.pixel_angle()),
                 zone: config.zone,
                 speed,
+                errors,
             },
             config,
             tau_px,
@@ -466,7 +471,8 @@ impl LodAlgorithm for Wu<'_> {
     }
 
     fn memory_bytes(&self) -> usize {
-        self.mesh.memory_bytes()
+        self.rule.errors.memory_bytes()
+            + self.mesh.memory_bytes()
             + self.wheels.memory_bytes()
             + self
                 .block_counts

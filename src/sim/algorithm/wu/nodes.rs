@@ -6,7 +6,7 @@
 //! neighbours are index arithmetic; nothing is stored per node.
 
 use crate::sim::hierarchy::{GridPoint, Hierarchy, SquareIndex};
-use crate::sim::zone::{SpeedBound, ZoneVariant, signed_life, split_zone_scaled};
+use crate::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, signed_life, split_zone_scaled};
 use glam::DVec3;
 
 /// Sentinel for "no node".
@@ -116,19 +116,28 @@ impl Nodes {
 }
 
 /// What a node's life depends on besides the eye.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct LifeRule {
     /// Zone radius per metre of node error (from θ, see `zone::radius_per_error`).
     pub radius_per_error: f64,
     pub zone: ZoneVariant,
     pub speed: SpeedBound,
+    /// δ under the configured nesting rule.
+    pub errors: NodeErrors,
 }
 
 impl LifeRule {
     /// The signed life ℓ of `node` seen from `eye` (+∞ for a node without error).
     pub fn life(&self, hierarchy: &Hierarchy, nodes: &Nodes, node: u32, eye: DVec3) -> f64 {
         let (centre, half) = nodes.centre(node);
-        let zone = split_zone_scaled(hierarchy, centre, half, self.radius_per_error, self.zone);
+        let zone = split_zone_scaled(
+            hierarchy,
+            &self.errors,
+            centre,
+            half,
+            self.radius_per_error,
+            self.zone,
+        );
         signed_life(zone.as_ref(), eye, self.speed)
     }
 }

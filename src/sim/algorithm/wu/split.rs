@@ -111,7 +111,7 @@ impl Wu<'_> {
             order.sort_by(|&a, &b| {
                 let error = |n: u32| {
                     let (centre, half) = self.nodes.centre(n);
-                    self.hierarchy.node_error(centre, half)
+                    self.rule.errors.error(self.hierarchy, centre, half)
                 };
                 error(b).total_cmp(&error(a)).then(a.cmp(&b))
             });
