@@ -10,7 +10,7 @@ mod format;
 mod validate;
 
 pub use format::FORMAT_VERSION;
-pub use validate::{AlgorithmSpec, Experiment, TerrainReport, load};
+pub use validate::{AlgorithmSpec, Experiment, TerrainReport, check_bytes, load};
 
 use std::fmt;
 use std::path::PathBuf;

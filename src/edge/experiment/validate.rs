@@ -114,6 +114,16 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
     })
 }
 
+/// Stages 1 and 2 only: parses an experiment's bytes and checks their meaning, with no IO (the
+/// terrain and a recorded flight log are not read, the flight is not built). `path` only names
+/// the file in errors. Returns the number of algorithm entries, sweeps expanded. This is the
+/// entry point of the fuzz target and the parser property tests.
+pub fn check_bytes(path: &Path, bytes: &[u8]) -> Result<usize, ExperimentError> {
+    let parsed = parse(path, bytes)?;
+    let checked = check(path, &parsed)?;
+    Ok(checked.algorithms.len())
+}
+
 fn parse(path: &Path, bytes: &[u8]) -> Result<ExperimentFile, ExperimentError> {
     let deserializer = &mut serde_json::Deserializer::from_slice(bytes);
     serde_path_to_error::deserialize(deserializer).map_err(|error| {
