@@ -130,7 +130,7 @@ fn hierarchy(heights: Vec<f32>, post_m: f64, origin: DVec3) -> Hierarchy {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
 
     #[test]
     fn translating_terrain_and_flight_by_up_to_a_million_metres_changes_no_decision(

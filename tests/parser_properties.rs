@@ -266,7 +266,7 @@ fn the_valid_files_the_mutations_start_from_are_accepted() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 1024, ..ProptestConfig::default() })]
 
     #[test]
     fn random_bytes_never_panic_a_terrain_reader(
@@ -335,7 +335,7 @@ proptest! {
 
 proptest! {
     // Each case reads a 2.9 MB tile.
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
 
     #[test]
     fn a_mutated_srtm_tile_is_read_or_refused_by_name(edits in mutations()) {
