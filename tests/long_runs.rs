@@ -162,8 +162,10 @@ fn a_million_roam_frames_with_every_effect_stay_exact() {
 
 #[test]
 fn a_million_roam_rebuild_frames_stay_exact() {
+    // A coarser τ than roam's: the rebuild splits from the base mesh every frame, and its cost
+    // grows with the mesh; the mesh still changes thousands of times.
     check_million_frames(AlgorithmConfig::RoamRebuild(RoamConfig {
-        goal: RoamGoal::TolerancePx(4.0),
+        goal: RoamGoal::TolerancePx(16.0),
         deferral: false,
         culling_flags: false,
         strips: false,
