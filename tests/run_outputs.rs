@@ -396,3 +396,27 @@ fn walk(folder: &Path) -> Vec<std::path::PathBuf> {
     }
     files
 }
+
+#[test]
+fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::fs::write(&out, "the user's notes").unwrap();
+    let short = save(dir.path(), "short", &short_quickstart(3));
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: false,
+        threads: Some(1),
+    };
+    let error = run_experiment(&short, &options, &NoProgress)
+        .err()
+        .expect("a file is in the way")
+        .to_string();
+    assert!(
+        error.contains("out: cannot write the output: a file (not a folder) is in the way"),
+        "{error}"
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "the user's notes");
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
+    assert_eq!(names.len(), 2, "only the experiment and the file");
+}

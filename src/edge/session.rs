@@ -8,7 +8,7 @@
 //! Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing).
 
 use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
-use crate::edge::output::atomic_dir::StagedDir;
+use crate::edge::output::atomic_dir::{StagedDir, check_destination};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::plots::PlotError;
@@ -91,6 +91,11 @@ pub fn run_experiment(
         .out_dir
         .clone()
         .unwrap_or_else(|| Path::new("out").join(&experiment.name));
+    // Before simulating: a run must not find out at the end that it cannot write.
+    check_destination(&out_dir).map_err(|source| RunFailure::Output {
+        path: out_dir.clone(),
+        source,
+    })?;
 
     let start = Instant::now();
     let hierarchy = Hierarchy::new(experiment.field.clone());
