@@ -1,6 +1,7 @@
 //! Hard cases of SPEC §9 for every algorithm: each test states the right answer (full
 //! resolution, the base mesh, identical meshes) and checks it, besides the absence of panics.
-//! Every mesh is also validated (closure and the triangle-count formula).
+//! Every mesh is also validated (closure and the triangle-count formula). `docs/robustness.md`
+//! lists every case with the test that covers it.
 
 mod common;
 
@@ -195,6 +196,8 @@ fn eyes_on_a_vertex_on_a_block_centre_inside_and_below_the_terrain_keep_the_vert
         for config in every_algorithm(1.0) {
             let mesh = final_mesh(&hierarchy, &config, view_600(), SPEED, &[eye]);
             let p = GridPoint::new(i as u32, j as u32);
+            // Far below, the right answer is the mirrored scene's mesh (see
+            // `an_eye_below_the_terrain_sees_what_…`); here the mesh is only validated.
             if below > -100.0 {
                 assert!(mesh.contains_point(lattice, p), "{config:?}: eye {eye:?}");
             }
