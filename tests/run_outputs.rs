@@ -282,8 +282,14 @@ fn a_killed_run_leaves_the_previous_output_untouched_and_the_next_run_cleans_up(
         child.try_wait().unwrap().is_none(),
         "the long run ended before it could be killed"
     );
+    let staging = dir.path().join(format!(".out.partial-{}", child.id()));
     child.kill().unwrap();
     child.wait().unwrap();
+    assert!(
+        !staging.exists(),
+        "the run had started writing: this test is about a kill before that (the next test \
+         kills while writing)"
+    );
     assert!(
         read() == before,
         "the killed run touched the previous output"
@@ -461,4 +467,116 @@ fn the_max_plus_own_nesting_keeps_at_least_the_max_rules_vertices_every_frame() 
             "{algorithm}: {max:?} {plus:?}"
         );
     }
+}
+
+#[test]
+fn a_run_killed_while_it_writes_its_outputs_leaves_the_previous_output_whole() {
+    // The previous output, then a run killed the moment its staging folder appears: it has
+    // finished simulating and is writing frames.csv, summary.json, report.md and the plots.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let short = save(dir.path(), "short", &short_quickstart(3));
+    run_to(&short, &out, false);
+    let snapshot = || {
+        let mut files: Vec<(String, Vec<u8>)> = walk(&out)
+            .into_iter()
+            .map(|p| {
+                let name = p.strip_prefix(&out).unwrap().display().to_string();
+                (name, std::fs::read(&p).unwrap())
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    let before = snapshot();
+    assert!(before.iter().any(|(name, _)| name.starts_with("plots")));
+
+    let longer = save(dir.path(), "longer", &short_quickstart(40));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_roamsim"))
+        .args([
+            "run",
+            longer.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--threads",
+            "1",
+        ])
+        .spawn()
+        .unwrap();
+    let staging = dir.path().join(format!(".out.partial-{}", child.id()));
+    let started = std::time::Instant::now();
+    while !staging.exists() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before it started writing"
+        );
+        assert!(
+            started.elapsed().as_secs() < 300,
+            "the run never started writing"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        snapshot() == before,
+        "a run killed while writing changed the previous output"
+    );
+    // The next run removes what the killed one left and writes a whole output.
+    run_to(&longer, &out, false);
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.contains(".partial-") || n.contains(".old-")),
+        "{names:?}"
+    );
+    let frames = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    assert_eq!(
+        frames.lines().count(),
+        1 + 40 * 7,
+        "a header and 40 frames of 7 entries"
+    );
+}
+
+/// Every file under `folder`, recursively.
+fn walk(folder: &Path) -> Vec<std::path::PathBuf> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(folder).unwrap().flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            files.extend(walk(&path));
+        } else {
+            files.push(path);
+        }
+    }
+    files
+}
+
+#[test]
+fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::fs::write(&out, "the user's notes").unwrap();
+    let short = save(dir.path(), "short", &short_quickstart(3));
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: false,
+        threads: Some(1),
+    };
+    let error = run_experiment(&short, &options, &NoProgress)
+        .err()
+        .expect("a file is in the way")
+        .to_string();
+    assert!(
+        error.contains("out: cannot write the output: a file (not a folder) is in the way"),
+        "{error}"
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "the user's notes");
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
+    assert_eq!(names.len(), 2, "only the experiment and the file");
 }

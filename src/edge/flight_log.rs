@@ -41,12 +41,23 @@ impl std::error::Error for FlightLogError {}
 
 /// Reads a log file.
 pub fn read_flight_log(path: &Path) -> Result<Vec<Pose>, FlightLogError> {
-    let text = std::fs::read_to_string(path).map_err(|error| FlightLogError {
+    let bytes = std::fs::read(path).map_err(|error| FlightLogError {
         path: path.to_path_buf(),
         line: 0,
-        problem: format!("cannot read the file as UTF-8 text: {error}"),
+        problem: format!("cannot read the file: {error}"),
     })?;
-    parse_flight_log(path, &text)
+    parse_flight_log_bytes(path, &bytes)
+}
+
+/// Parses a log's bytes, already in memory (`path` only names it in errors): they must be UTF-8
+/// text. This is the entry point of the fuzz target and the parser property tests.
+pub fn parse_flight_log_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<Pose>, FlightLogError> {
+    let text = std::str::from_utf8(bytes).map_err(|error| FlightLogError {
+        path: path.to_path_buf(),
+        line: 0,
+        problem: format!("not UTF-8 text: {error}"),
+    })?;
+    parse_flight_log(path, text)
 }
 
 /// Parses a log's text (`path` only names it in errors).

@@ -12,7 +12,7 @@
 //! whole folder is staged and moved into place only when every point has succeeded.
 
 use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
-use crate::edge::output::atomic_dir::StagedDir;
+use crate::edge::output::atomic_dir::{StagedDir, check_destination};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::plots::PlotError;
@@ -104,6 +104,11 @@ pub fn run_experiment(
         .out_dir
         .clone()
         .unwrap_or_else(|| Path::new("out").join(plan.name()));
+    // Before simulating: a run must not find out at the end that it cannot write.
+    check_destination(&out_dir).map_err(|source| RunFailure::Output {
+        path: out_dir.clone(),
+        source,
+    })?;
     let threads = options
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))

@@ -5,6 +5,7 @@
     reason = "each test binary uses a different subset of the helpers"
 )]
 
+pub mod algorithms;
 pub mod experiment;
 
 use glam::DVec3;

@@ -101,7 +101,7 @@ pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
             path,
             "sweep",
             format!(
-                "a top-level sweep of {} points: expected an experiment without one here                  (`roamsim run` runs each point)",
+                "a top-level sweep of {} points: expected an experiment without one here (`roamsim run` runs each point)",
                 plan.points.len()
             ),
         ));
@@ -128,7 +128,21 @@ pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
     let bytes = std::fs::read(path).map_err(|error| {
         ExperimentError::single(path, "", format!("cannot read the file: {error}"))
     })?;
-    let document = parse_document(path, &bytes)?;
+    plan_bytes(path, &bytes)
+}
+
+/// Stages 1 and 2 only: parses an experiment's bytes and checks their meaning, every sweep point
+/// of it, with no IO (the terrain and a recorded flight log are not read, the flight is not
+/// built). `path` only names the file in errors. Returns the number of algorithm entries over all
+/// points, sweeps expanded. This is the entry point of the fuzz target and the parser property
+/// tests.
+pub fn check_bytes(path: &Path, bytes: &[u8]) -> Result<usize, ExperimentError> {
+    let plan = plan_bytes(path, bytes)?;
+    Ok(plan.points.iter().map(|p| p.checked.algorithms.len()).sum())
+}
+
+fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
+    let document = parse_document(path, bytes)?;
     let points = expand_experiment(document).map_err(|problem| ExperimentError {
         file: path.to_path_buf(),
         problems: vec![problem],
@@ -164,7 +178,7 @@ pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
     }
     Ok(Plan {
         file: path.to_path_buf(),
-        content_sha256: hex(&Sha256::digest(&bytes)),
+        content_sha256: hex(&Sha256::digest(bytes)),
         points: planned,
     })
 }

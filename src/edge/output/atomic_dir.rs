@@ -21,6 +21,7 @@ impl StagedDir {
     /// Creates the staging folder beside `destination` (creating parent folders as needed) and
     /// removes leftovers of earlier interrupted runs.
     pub fn new(destination: &Path) -> io::Result<StagedDir> {
+        check_destination(destination)?;
         let parent = destination
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
@@ -80,6 +81,18 @@ impl StagedDir {
     }
 }
 
+/// Refuses a destination that is an existing file (not a folder): that is the user's, not an old
+/// output, and must be neither moved aside nor replaced. Runs call it before simulating too.
+pub fn check_destination(destination: &Path) -> io::Result<()> {
+    if destination.exists() && !destination.is_dir() {
+        return Err(io::Error::new(
+            io::ErrorKind::AlreadyExists,
+            "a file (not a folder) is in the way of the output folder",
+        ));
+    }
+    Ok(())
+}
+
 impl Drop for StagedDir {
     fn drop(&mut self) {
         if !self.committed {
@@ -121,5 +134,22 @@ mod tests {
             fs::read_to_string(destination.join("frames.csv")).unwrap(),
             "new"
         );
+    }
+
+    #[test]
+    fn a_file_in_the_way_is_refused_and_left_alone() {
+        let root = tempfile::tempdir().unwrap();
+        let destination = root.path().join("out");
+        fs::write(&destination, "the user's notes").unwrap();
+        let error = StagedDir::new(&destination)
+            .err()
+            .expect("a file is in the way");
+        assert_eq!(error.kind(), io::ErrorKind::AlreadyExists);
+        assert_eq!(
+            fs::read_to_string(&destination).unwrap(),
+            "the user's notes"
+        );
+        let names: Vec<_> = fs::read_dir(root.path()).unwrap().flatten().collect();
+        assert_eq!(names.len(), 1, "nothing staged beside it");
     }
 }

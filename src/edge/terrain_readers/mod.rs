@@ -140,12 +140,24 @@ pub fn read_terrain(
 ) -> Result<LoadedTerrain, TerrainReadError> {
     let bytes = std::fs::read(path)
         .map_err(|error| TerrainReadError::new(path, format!("cannot read the file: {error}")))?;
+    read_terrain_bytes(path, &bytes, format, options)
+}
+
+/// Reads a terrain file's bytes, already in memory, in the given format. `path` only names the
+/// file in errors (and, for `.hgt`, gives the tile name the spacing comes from). This is the
+/// entry point of the fuzz targets and the parser property tests.
+pub fn read_terrain_bytes(
+    path: &Path,
+    bytes: &[u8],
+    format: TerrainFormat,
+    options: &ReadOptions,
+) -> Result<LoadedTerrain, TerrainReadError> {
     let (grid, spacing) = match format {
-        TerrainFormat::Hgt => hgt::read(path, &bytes, options)?,
-        TerrainFormat::Png => png::read(path, &bytes, options)?,
-        TerrainFormat::GeoTiff => geotiff::read(path, &bytes, options)?,
-        TerrainFormat::AsciiGrid => ascii_grid::read(path, &bytes, options)?,
-        TerrainFormat::Raw(layout) => raw::read(path, &bytes, &layout, options)?,
+        TerrainFormat::Hgt => hgt::read(path, bytes, options)?,
+        TerrainFormat::Png => png::read(path, bytes, options)?,
+        TerrainFormat::GeoTiff => geotiff::read(path, bytes, options)?,
+        TerrainFormat::AsciiGrid => ascii_grid::read(path, bytes, options)?,
+        TerrainFormat::Raw(layout) => raw::read(path, bytes, &layout, options)?,
     };
     Ok(LoadedTerrain {
         grid,

@@ -1,0 +1,181 @@
+//! Invariance properties (SPEC §9), for every algorithm, on random terrains and flights:
+//!
+//! - translating terrain and flight together by up to 10^6 m (the terrain's `f64` origin, the
+//!   flight's world poses) changes no split or merge decision: the same mesh and the same
+//!   counts (splits, merges, vertices inserted and deleted, triangles) at every frame;
+//! - scaling terrain, flight, near/far planes and speed bounds together by a power of two changes
+//!   no mesh and no count. Powers of two keep every stored `f32` height exact, so any difference
+//!   would be an absolute length hidden in the arithmetic (an epsilon in metres, a clamp); other
+//!   factors (0.001, 1000) are checked on a fixed scene in `tests/hard_cases.rs`.
+//!
+//! This file does not check that the meshes are right, only that they do not move;
+//! `tests/hard_cases.rs` and the per-algorithm tests check the right answers.
+
+mod common;
+
+use common::algorithms::every_algorithm;
+use common::view_600;
+use glam::DVec3;
+use proptest::prelude::*;
+use roamsim::sim::algorithm::{AlgorithmConfig, FrameInput};
+use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::VertexSet;
+use roamsim::sim::stats::FrameStats;
+use roamsim::sim::terrain::{Heightfield, Spacing};
+use roamsim::sim::view::{Camera, Pose, ViewSettings};
+use roamsim::sim::zone::SpeedBound;
+
+const SIDE: usize = 17;
+const POST_M: f64 = 10.0;
+
+const SPEED: SpeedBound = SpeedBound {
+    horizontal: 10.0,
+    vertical: 5.0,
+};
+
+/// What one frame decided: the mesh and the counts of what changed.
+#[derive(Debug, PartialEq)]
+struct Decisions {
+    mesh: VertexSet,
+    counts: [u64; 5],
+}
+
+/// A scene: terrain heights, a flight in the terrain's frame and a tolerance.
+#[derive(Clone, Debug)]
+struct Scene {
+    heights: Vec<f32>,
+    poses: Vec<Pose>,
+    tau_px: f64,
+}
+
+fn scene() -> impl Strategy<Value = Scene> {
+    let heights = prop::collection::vec(-40.0f32..40.0, SIDE * SIDE);
+    let start = (-40.0..200.0f64, -40.0..200.0f64, 5.0..150.0f64);
+    // Steps within the speed bounds: the flight never needs revalidating.
+    let steps = prop::collection::vec((-7.0..7.0f64, -7.0..7.0f64, -3.0..3.0f64), 1..8);
+    let look = (0.0..std::f64::consts::TAU, -1.4..0.2f64);
+    let tau_px = prop_oneof![Just(0.5), Just(1.0), Just(2.0), Just(4.0), 0.25..16.0f64];
+    (heights, start, steps, look, tau_px).prop_map(|(heights, start, steps, look, tau_px)| {
+        let mut eye = DVec3::new(start.0, start.1, start.2);
+        let mut poses = vec![eye];
+        for (dx, dy, dz) in steps {
+            eye += DVec3::new(dx, dy, dz);
+            poses.push(eye);
+        }
+        let poses = poses
+            .into_iter()
+            .enumerate()
+            .map(|(k, position)| Pose {
+                position,
+                yaw: look.0 + 0.05 * k as f64,
+                pitch: look.1,
+            })
+            .collect();
+        Scene {
+            heights,
+            poses,
+            tau_px,
+        }
+    })
+}
+
+/// Every frame's decisions of `config` over the poses (world poses, moved into the terrain's
+/// frame as the runner does).
+fn decisions(
+    hierarchy: &Hierarchy,
+    config: &AlgorithmConfig,
+    view: ViewSettings,
+    speed: SpeedBound,
+    poses: &[Pose],
+) -> Vec<Decisions> {
+    let mut algorithm = config.build(hierarchy, &view, speed);
+    poses
+        .iter()
+        .enumerate()
+        .map(|(frame, pose)| {
+            let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+            let mut stats = FrameStats::default();
+            algorithm.update(
+                &FrameInput {
+                    frame: frame as u64,
+                    camera: &camera,
+                    speed_bound_broken: frame == 0,
+                },
+                &mut stats,
+            );
+            Decisions {
+                mesh: algorithm.mesh().clone(),
+                counts: [
+                    stats.triangles,
+                    stats.splits,
+                    stats.merges,
+                    stats.vertices_inserted,
+                    stats.vertices_deleted,
+                ],
+            }
+        })
+        .collect()
+}
+
+fn hierarchy(heights: Vec<f32>, post_m: f64, origin: DVec3) -> Hierarchy {
+    let spacing = Spacing {
+        dx: post_m,
+        dy: post_m,
+    };
+    Hierarchy::new(
+        Heightfield::new(SIDE, heights, spacing)
+            .unwrap()
+            .with_origin(origin),
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+
+    #[test]
+    fn translating_terrain_and_flight_by_up_to_a_million_metres_changes_no_decision(
+        scene in scene(),
+        offset in (-1e6..1e6f64, -1e6..1e6f64, -1e6..1e6f64),
+    ) {
+        let offset = DVec3::new(offset.0, offset.1, offset.2);
+        let here = hierarchy(scene.heights.clone(), POST_M, DVec3::ZERO);
+        let there = hierarchy(scene.heights.clone(), POST_M, offset);
+        let moved: Vec<Pose> = scene
+            .poses
+            .iter()
+            .map(|p| Pose { position: p.position + offset, ..*p })
+            .collect();
+        for config in every_algorithm(scene.tau_px) {
+            let a = decisions(&here, &config, view_600(), SPEED, &scene.poses);
+            let b = decisions(&there, &config, view_600(), SPEED, &moved);
+            prop_assert_eq!(a, b, "{:?}, offset {:?}", config, offset);
+        }
+    }
+
+    #[test]
+    fn scaling_terrain_flight_and_speed_bounds_by_a_power_of_two_changes_no_decision(
+        scene in scene(),
+        exponent in -12..=12i32,
+    ) {
+        let scale = 2f64.powi(exponent);
+        let original = hierarchy(scene.heights.clone(), POST_M, DVec3::ZERO);
+        let scaled_heights = scene.heights.iter().map(|h| (f64::from(*h) * scale) as f32).collect();
+        let scaled = hierarchy(scaled_heights, POST_M * scale, DVec3::ZERO);
+        let scaled_poses: Vec<Pose> = scene
+            .poses
+            .iter()
+            .map(|p| Pose { position: p.position * scale, ..*p })
+            .collect();
+        let view = view_600();
+        let scaled_view = ViewSettings { near: view.near * scale, far: view.far * scale, ..view };
+        let scaled_speed = SpeedBound {
+            horizontal: SPEED.horizontal * scale,
+            vertical: SPEED.vertical * scale,
+        };
+        for config in every_algorithm(scene.tau_px) {
+            let a = decisions(&original, &config, view, SPEED, &scene.poses);
+            let b = decisions(&scaled, &config, scaled_view, scaled_speed, &scaled_poses);
+            prop_assert_eq!(a, b, "{:?} at scale 2^{}", config, exponent);
+        }
+    }
+}

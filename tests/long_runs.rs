@@ -1,0 +1,177 @@
+//! Very long runs (SPEC §9): 10^6 frames of every algorithm over a small terrain, circled so that
+//! the mesh keeps changing. Nothing may overflow or drift: the frame counter, the wheels and b
+//! (Wu's own million-frame test is in `tests/wu.rs`), the slotmap keys and queues (ROAM), the
+//! double-buffered meshes (the from-scratch algorithms). Each run checks that the mesh is valid,
+//! that the inserted and deleted vertices summed over the run account exactly for the final mesh
+//! (no counter wrapped or lost a change), that the algorithm's memory stays bounded (no leak
+//! from frame to frame), and that the final mesh is the one a fresh instance builds for the
+//! final view (no drift).
+//!
+//! This file does not measure speed; `benches/` does.
+
+mod common;
+
+use common::{bumpy_terrain, camera_at};
+use glam::DVec3;
+use roamsim::sim::algorithm::{
+    AlgorithmConfig, FrameInput, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
+    SplitThreshold,
+};
+use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::VertexSet;
+use roamsim::sim::mesh::validate::validate_reported;
+use roamsim::sim::stats::FrameStats;
+use roamsim::sim::zone::{SpeedBound, ZoneVariant};
+
+const MILLION: u64 = 1_000_000;
+
+/// Frames per lap of the circle: 250 laps in a million frames.
+const FRAMES_PER_LAP: u64 = 4000;
+
+const SPEED: SpeedBound = SpeedBound {
+    horizontal: 10.0,
+    vertical: 5.0,
+};
+
+/// The eye at `frame`: a circle of 60 m around the middle of a 9×9 terrain, 30 m up (0.1 m a
+/// frame, inside the speed bounds).
+fn eye_at(frame: u64) -> DVec3 {
+    let angle = (frame % FRAMES_PER_LAP) as f64 * std::f64::consts::TAU / FRAMES_PER_LAP as f64;
+    DVec3::new(40.0 + 60.0 * angle.cos(), 40.0 + 60.0 * angle.sin(), 30.0)
+}
+
+/// What a long run leaves behind.
+struct LongRun {
+    final_mesh: VertexSet,
+    /// Σ vertices inserted − Σ vertices deleted over the run.
+    net_vertices: i128,
+    total_changes: u128,
+    memory_after_first_lap: usize,
+    memory_at_end: usize,
+}
+
+fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun {
+    let mut algorithm = config.build(hierarchy, &common::view_600(), SPEED);
+    let (mut inserted, mut deleted) = (0u128, 0u128);
+    let mut memory_after_first_lap = 0;
+    for frame in 0..frames {
+        let camera = camera_at(eye_at(frame));
+        let mut stats = FrameStats::default();
+        algorithm.update(
+            &FrameInput {
+                frame,
+                camera: &camera,
+                speed_bound_broken: frame == 0,
+            },
+            &mut stats,
+        );
+        inserted += u128::from(stats.vertices_inserted);
+        deleted += u128::from(stats.vertices_deleted);
+        let checked = frame % 100_003 == 0 || frame + 1 == frames;
+        if checked
+            && let Err(error) = validate_reported(
+                hierarchy.lattice(),
+                algorithm.mesh(),
+                algorithm.triangle_count(),
+            )
+        {
+            panic!("{config:?}, frame {frame}: {error}");
+        }
+        if frame + 1 == FRAMES_PER_LAP {
+            memory_after_first_lap = algorithm.memory_bytes();
+        }
+    }
+    LongRun {
+        final_mesh: algorithm.mesh().clone(),
+        net_vertices: inserted as i128 - deleted as i128,
+        total_changes: inserted + deleted,
+        memory_after_first_lap,
+        memory_at_end: algorithm.memory_bytes(),
+    }
+}
+
+/// The mesh a fresh instance builds for the view of `frame`.
+fn fresh_mesh(hierarchy: &Hierarchy, config: &AlgorithmConfig, frame: u64) -> VertexSet {
+    let mut algorithm = config.build(hierarchy, &common::view_600(), SPEED);
+    let camera = camera_at(eye_at(frame));
+    algorithm.update(
+        &FrameInput {
+            frame: 0,
+            camera: &camera,
+            speed_bound_broken: true,
+        },
+        &mut FrameStats::default(),
+    );
+    algorithm.mesh().clone()
+}
+
+fn check_million_frames(config: AlgorithmConfig) {
+    let hierarchy = bumpy_terrain(3);
+    let run = fly(&hierarchy, &config, MILLION);
+    let base = VertexSet::base_mesh(hierarchy.lattice());
+    assert_eq!(
+        run.net_vertices,
+        run.final_mesh.len() as i128 - base.len() as i128,
+        "{config:?}: the inserted and deleted counts do not account for the final mesh"
+    );
+    assert!(
+        run.total_changes > 1000,
+        "{config:?}: the mesh hardly changed ({} changes), the flight tests nothing",
+        run.total_changes
+    );
+    assert!(
+        run.memory_at_end <= 2 * run.memory_after_first_lap.max(1),
+        "{config:?}: memory grew from {} to {} bytes",
+        run.memory_after_first_lap,
+        run.memory_at_end
+    );
+    assert_eq!(
+        run.final_mesh,
+        fresh_mesh(&hierarchy, &config, MILLION - 1),
+        "{config:?}: the mesh after 10^6 frames is not the one the final view calls for"
+    );
+}
+
+#[test]
+fn a_million_reference_frames_stay_exact() {
+    // Wu's zones are large at small τ: at 4 px this flight stays inside all of them.
+    check_million_frames(AlgorithmConfig::Reference(ReferenceConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::Max,
+        tau_px: 64.0,
+        zone: ZoneVariant::Conservative,
+        threshold: SplitThreshold::LifeAtMost(0.0),
+    }));
+}
+
+#[test]
+fn a_million_lindstrom_frames_stay_exact() {
+    check_million_frames(AlgorithmConfig::Lindstrom(LindstromConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::Max,
+        tau_px: 4.0,
+        block_level: 1,
+    }));
+}
+
+#[test]
+fn a_million_roam_frames_with_every_effect_stay_exact() {
+    check_million_frames(AlgorithmConfig::Roam(RoamConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
+        goal: RoamGoal::TolerancePx(4.0),
+        deferral: true,
+        culling_flags: true,
+        strips: true,
+    }));
+}
+
+#[test]
+fn a_million_roam_rebuild_frames_stay_exact() {
+    // A coarser τ than roam's: the rebuild splits from the base mesh every frame, and its cost
+    // grows with the mesh; the mesh still changes thousands of times.
+    check_million_frames(AlgorithmConfig::RoamRebuild(RoamConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
+        goal: RoamGoal::TolerancePx(16.0),
+        deferral: false,
+        culling_flags: false,
+        strips: false,
+    }));
+}

@@ -1,0 +1,186 @@
+//! Flights that break the experiment's speed bounds (SPEC §8): teleports, too-fast segments
+//! (horizontal or vertical) and non-finite poses, from the experiment file to the outputs.
+//! Violations are reported with their frame numbers before anything runs and in
+//! `summary.json`; the algorithms that defer on the strength of the bounds revalidate at exactly
+//! those frames; a NaN pose is refused before the run with an error naming its frame or line.
+//!
+//! What a revalidation does inside Wu and ROAM is tested in `tests/wu.rs` and `tests/roam.rs`.
+
+mod common;
+
+use roamsim::edge::experiment::load;
+use roamsim::edge::session::{NoProgress, RunOptions, run_experiment};
+use serde_json::{Value, json};
+use std::path::Path;
+
+/// A small synthetic experiment whose flight is `flight`; `wu` and `roam` with deferral.
+fn experiment(flight: Value) -> Value {
+    json!({
+        "format_version": 1,
+        "name": "speed",
+        "terrain": { "synthetic": { "level": 6, "seed": 3, "amplitude_m": 60, "roughness": 0.7,
+                                    "spacing_m": { "dx": 20, "dy": 20 } } },
+        "view": { "width_px": 600, "height_px": 600, "fovy_deg": 60, "near_m": 1, "far_m": 100000 },
+        "speed_bounds": { "horizontal_m_per_frame": 40, "vertical_m_per_frame": 20 },
+        "flight": flight,
+        "algorithms": [
+            { "name": "wu", "label": "wu", "tau_px": 2 },
+            { "name": "roam", "label": "roam deferral", "tau_px": 2, "deferral": true }
+        ],
+        "effects": {},
+        "outputs": { "plots": false }
+    })
+}
+
+/// A recorded log: one line per frame (x, y, z), looking east and down, never turning.
+fn log(positions: &[(f64, f64, f64)]) -> String {
+    let mut text = String::from("frame,x_m,y_m,z_m,yaw_deg,pitch_deg\n");
+    for (frame, (x, y, z)) in positions.iter().enumerate() {
+        text.push_str(&format!("{frame},{x},{y},{z},0,-20\n"));
+    }
+    text
+}
+
+/// Ten frames 1 m apart, a 1 km teleport at frame 5, a 100 m climb at frame 8.
+fn teleport_and_climb() -> Vec<(f64, f64, f64)> {
+    (0..10)
+        .map(|f| {
+            let x = 300.0 + f as f64 + if f >= 5 { 1000.0 } else { 0.0 };
+            let z = 200.0 + if f >= 8 { 100.0 } else { 0.0 };
+            (x, 600.0, z)
+        })
+        .collect()
+}
+
+fn save_with_log(dir: &Path, positions: &[(f64, f64, f64)]) -> std::path::PathBuf {
+    std::fs::write(dir.join("log.csv"), log(positions)).unwrap();
+    let flight = json!({ "path": { "recorded": { "path": "log.csv" } } });
+    common::experiment::save(dir, "speed", &experiment(flight))
+}
+
+#[test]
+fn a_teleport_and_a_too_fast_climb_are_reported_with_their_frames_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let loaded = load(&save_with_log(dir.path(), &teleport_and_climb())).unwrap();
+    let reported: Vec<(u64, f64, f64)> = loaded
+        .violations
+        .iter()
+        .map(|v| (v.frame, v.horizontal, v.vertical))
+        .collect();
+    assert_eq!(reported, vec![(5, 1001.0, 0.0), (8, 1.0, 100.0)]);
+}
+
+#[test]
+fn a_too_fast_line_is_reported_at_every_frame() {
+    // 10 km in 100 frames: 101 m a frame against a bound of 40.
+    let dir = tempfile::tempdir().unwrap();
+    let flight = json!({
+        "frames": 100,
+        "look": { "fixed": { "yaw_deg": 0, "pitch_deg": -20 } },
+        "path": { "line": { "from_m": [0, 600, 300], "to_m": [10000, 600, 300] } }
+    });
+    let path = common::experiment::save(dir.path(), "line", &experiment(flight));
+    let frames: Vec<u64> = load(&path)
+        .unwrap()
+        .violations
+        .iter()
+        .map(|v| v.frame)
+        .collect();
+    assert_eq!(frames, (1..100).collect::<Vec<u64>>());
+}
+
+#[test]
+fn a_run_lists_the_violations_and_roam_revalidates_exactly_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = save_with_log(dir.path(), &teleport_and_climb());
+    let out = dir.path().join("out");
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: true,
+        threads: Some(1),
+    };
+    let outcome = run_experiment(&path, &options, &NoProgress).unwrap();
+    assert_eq!(outcome.speed_violation_frames, vec![5, 8]);
+
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let run = &summary["flight"];
+    assert_eq!(run["speed_violation_count"], 2);
+    let listed: Vec<u64> = run["speed_violations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v["frame"].as_u64().unwrap())
+        .collect();
+    assert_eq!(listed, vec![5, 8]);
+
+    // ROAM's deferral recomputes every priority at the first frame and at each violation, and
+    // nowhere else (the camera never turns).
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let (label, frame, revalidations) = (
+        column("algorithm"),
+        column("frame"),
+        column("revalidations"),
+    );
+    let revalidated: Vec<u64> = lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|row| row[label] == "roam deferral" && row[revalidations] == "1")
+        .map(|row| row[frame].parse().unwrap())
+        .collect();
+    assert_eq!(revalidated, vec![0, 5, 8]);
+}
+
+#[test]
+fn a_nan_pose_is_refused_before_the_run_with_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = log(&teleport_and_climb());
+    text = text.replace("3,303,600,200,0,-20", "3,303,NaN,200,0,-20");
+    std::fs::write(dir.path().join("log.csv"), text).unwrap();
+    let flight = json!({ "path": { "recorded": { "path": "log.csv" } } });
+    let path = common::experiment::save(dir.path(), "nan", &experiment(flight));
+    let error = load(&path)
+        .err()
+        .expect("a NaN pose is refused")
+        .to_string();
+    assert!(
+        error.contains("log.csv, line 5")
+            && error.contains("y_m \"NaN\": expected a finite number"),
+        "{error}"
+    );
+    let out = dir.path().join("out");
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: false,
+        threads: Some(1),
+    };
+    assert!(run_experiment(&path, &options, &NoProgress).is_err());
+    assert!(
+        !out.exists(),
+        "nothing may be written for a refused experiment"
+    );
+}
+
+#[test]
+fn a_parametric_flight_that_overflows_to_infinity_is_refused_with_its_frame() {
+    // A circle whose centre and radius are finite but whose positions overflow (1.5e308 +
+    // 1e308 = ∞): the flight refuses the first non-finite pose before anything runs.
+    let dir = tempfile::tempdir().unwrap();
+    let flight = json!({
+        "frames": 3,
+        "look": { "fixed": { "yaw_deg": 0, "pitch_deg": -20 } },
+        "path": { "circle": { "centre_m": [1.5e308, 0], "radius_m": 1e308, "altitude_m": 100,
+                              "frames_per_lap": 4 } }
+    });
+    let path = common::experiment::save(dir.path(), "overflow", &experiment(flight));
+    let error = load(&path)
+        .err()
+        .expect("an infinite pose is refused")
+        .to_string();
+    assert!(
+        error.contains("flight: the pose of frame 0 is not finite"),
+        "{error}"
+    );
+}
