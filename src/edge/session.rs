@@ -120,7 +120,8 @@ pub fn run_experiment(
             threads,
             message: e.to_string(),
         })?;
-    let staged = StagedDir::new(&out_dir).map_err(io_error(&out_dir))?;
+    // Staged when the first point has run, so that a staging folder means outputs are being written.
+    let mut staged: Option<StagedDir> = None;
     let mut outcome = RunOutcome {
         out_dir: out_dir.clone(),
         experiment_name: plan.name().to_string(),
@@ -148,7 +149,12 @@ pub fn run_experiment(
             Some(choice) => point_folder(choice),
             None => String::new(),
         };
-        let point_dir = staged.path().join(&folder);
+        let staging = match staged.take() {
+            Some(staging) => staging,
+            None => StagedDir::new(&out_dir).map_err(io_error(&out_dir))?,
+        };
+        let point_dir = staging.path().join(&folder);
+        staged = Some(staging);
         let figures = write_outputs(&context, &point.results, &point_dir)?;
         outcome.frames += experiment.flight.n_frames();
         outcome.preprocessing_seconds += point.preprocessing.seconds;
@@ -168,7 +174,8 @@ pub fn run_experiment(
             });
         }
     }
-    if plan.is_sweep() {
+    if let (true, Some(staging)) = (plan.is_sweep(), &staged) {
+        let top = staging.path();
         let sweep = SweepRun {
             name: plan.name(),
             description: plan.description(),
@@ -177,17 +184,19 @@ pub fn run_experiment(
             threads,
             points: &sweep_points,
         };
-        let summary_path = staged.path().join("summary.json");
+        let summary_path = top.join("summary.json");
         let text = serde_json::to_string_pretty(&sweep_summary_json(&sweep)).unwrap_or_default();
         std::fs::write(&summary_path, text + "\n").map_err(io_error(&summary_path))?;
-        let report_path = staged.path().join("report.md");
+        let report_path = top.join("report.md");
         std::fs::write(&report_path, sweep_report_markdown(&sweep))
             .map_err(io_error(&report_path))?;
-        let plots = staged.path().join("plots");
+        let plots = top.join("plots");
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
         write_sweep_plots(&plots, &sweep)?;
     }
-    staged.commit().map_err(io_error(&out_dir))?;
+    if let Some(staged) = staged {
+        staged.commit().map_err(io_error(&out_dir))?;
+    }
     Ok(outcome)
 }
 
