@@ -3,7 +3,7 @@
 # (timings are only comparable from --threads 1 runs). Counts and meshes are deterministic; the
 # timing columns and the plots drawn from them depend on the machine.
 #
-#   bash scripts/regenerate-plots.sh            # all of them (about 25 minutes; scaling needs ~12 GiB)
+#   bash scripts/regenerate-plots.sh            # all of them (about 8 minutes; scaling needs about 9 GiB)
 #   bash scripts/regenerate-plots.sh quickstart compare-circle   # only these
 set -euo pipefail
 cd "$(dirname "$0")/.."
