@@ -5,12 +5,13 @@
 //! Run with `cargo bench --bench hot_paths`. Compare ratios measured in one run, not absolute
 //! times across machines; operation counts are in the run outputs.
 
+mod common;
+
+use common::drive;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use roamsim::edge::experiment;
-use roamsim::sim::algorithm::{FrameInput, LodAlgorithm};
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::hierarchy::Hierarchy;
-use roamsim::sim::stats::FrameStats;
 use roamsim::sim::view::Camera;
 use std::hint::black_box;
 use std::path::Path;
@@ -20,24 +21,6 @@ const WARM_UP_FRAMES: u64 = 50;
 fn quickstart() -> experiment::Experiment {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/quickstart.json");
     experiment::load(&path).expect("the shipped quickstart loads")
-}
-
-fn drive(algorithm: &mut dyn LodAlgorithm, experiment: &experiment::Experiment, frame: u64) {
-    let n_frames = experiment.flight.n_frames();
-    let pose = experiment
-        .field
-        .local_pose(experiment.flight.pose(frame % n_frames));
-    let camera = Camera::new(&pose, experiment.view);
-    let mut stats = FrameStats::default();
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera: &camera,
-            // The flight wraps from its last frame to its first: revalidate there.
-            speed_bound_broken: frame > 0 && frame.is_multiple_of(n_frames),
-        },
-        &mut stats,
-    );
 }
 
 /// Every algorithm entry of the quickstart, one frame per iteration along the flight.

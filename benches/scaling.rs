@@ -8,33 +8,16 @@
 //! Needs about 5 GiB (the 16385² terrain, its hierarchy and ROAM's thickness). Run with
 //! `cargo bench --bench scaling`.
 
+mod common;
+
+use common::drive;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use roamsim::edge::experiment::{self, Experiment};
-use roamsim::sim::algorithm::{FrameInput, LodAlgorithm};
 use roamsim::sim::hierarchy::Hierarchy;
-use roamsim::sim::stats::FrameStats;
-use roamsim::sim::view::Camera;
 use std::path::Path;
 
 const WARM_UP_FRAMES: u64 = 300;
 const LAP_FRAMES: u64 = 2400;
-
-fn drive(algorithm: &mut dyn LodAlgorithm, experiment: &Experiment, frame: u64) {
-    let n_frames = experiment.flight.n_frames();
-    let pose = experiment
-        .field
-        .local_pose(experiment.flight.pose(frame % n_frames));
-    let camera = Camera::new(&pose, experiment.view);
-    let mut stats = FrameStats::default();
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera: &camera,
-            speed_bound_broken: false,
-        },
-        &mut stats,
-    );
-}
 
 /// The scaling experiment at one terrain level, its flight one whole lap.
 fn scaling_experiment(dir: &Path, level: u32) -> Experiment {

@@ -9,34 +9,16 @@
 //! advance one frame per iteration along the circle, so every measured update is a real frame.
 //! Run with `cargo bench --bench wu_update`.
 
+mod common;
+
+use common::drive;
 use criterion::{Criterion, criterion_group, criterion_main};
 use roamsim::edge::experiment;
-use roamsim::sim::algorithm::{
-    AlgorithmConfig, FrameInput, LodAlgorithm, Reference, ReferenceConfig, SplitThreshold, Wu,
-};
+use roamsim::sim::algorithm::{AlgorithmConfig, Reference, ReferenceConfig, SplitThreshold, Wu};
 use roamsim::sim::hierarchy::Hierarchy;
-use roamsim::sim::stats::FrameStats;
-use roamsim::sim::view::Camera;
 use std::path::Path;
 
 const WARM_UP_FRAMES: u64 = 300;
-
-fn drive(algorithm: &mut dyn LodAlgorithm, experiment: &experiment::Experiment, frame: u64) {
-    let n_frames = experiment.flight.n_frames();
-    let pose = experiment
-        .field
-        .local_pose(experiment.flight.pose(frame % n_frames));
-    let camera = Camera::new(&pose, experiment.view);
-    let mut stats = FrameStats::default();
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera: &camera,
-            speed_bound_broken: false,
-        },
-        &mut stats,
-    );
-}
 
 fn per_frame_update(c: &mut Criterion) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/wu-table1.json");
