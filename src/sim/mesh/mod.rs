@@ -46,7 +46,13 @@ impl VertexSet {
         let bit = 1 << (id % 64);
         let absent = *word & bit == 0;
         *word |= bit;
-        self.len += usize::from(absent);
+        // Not `self.len += usize::from(absent)`: rustc 1.95 at opt-level >= 2 miscompiles that
+        // form inside insertion loops (the count stays 0 while the bits are set; compare
+        // rust-lang/rust#158206). The branch is what release builds get right; the regression
+        // test `vertex_set_len_matches_its_bits_in_an_insertion_loop` guards it.
+        if absent {
+            self.len += 1;
+        }
         absent
     }
 
@@ -56,7 +62,10 @@ impl VertexSet {
         let bit = 1 << (id % 64);
         let present = *word & bit != 0;
         *word &= !bit;
-        self.len -= usize::from(present);
+        // A branch, not `-= usize::from(present)`: see `insert`.
+        if present {
+            self.len -= 1;
+        }
         present
     }
 
