@@ -187,6 +187,11 @@ fn max_of(run: &RunColumns, column: &str) -> Option<f64> {
         .reduce(f64::max)
 }
 
+/// A figure with `digits` decimals, or a dash where there is none.
+fn cell(value: Option<f64>, digits: usize) -> String {
+    value.map_or("—".to_string(), |v| format!("{v:.digits$}"))
+}
+
 /// Popping per entry, when it was measured.
 fn write_popping(out: &mut String, runs: &[RunColumns]) {
     if !runs.iter().any(|r| mean_of(r, "popping_rmse_m").is_some()) {
@@ -196,8 +201,6 @@ fn write_popping(out: &mut String, runs: &[RunColumns]) {
         out,
         "\n## Popping\n\n| entry | RMSE (m) | max (m) | RMSE (px) | max (px) |\n|---|---|---|---|---|"
     );
-    let cell =
-        |v: Option<f64>, digits: usize| v.map_or("—".to_string(), |v| format!("{v:.digits$}"));
     for run in runs {
         let _ = writeln!(
             out,
@@ -231,8 +234,6 @@ fn write_triangle_lists(out: &mut String, runs: &[RunColumns]) {
         out,
         "\n## Meshes beyond the 4-8 family\n\n| entry | surface | skirt | degenerate | stitch | draw batches | morphing vertices | vertices changed | holes | crack samples | crack gap max (m) |\n|---|---|---|---|---|---|---|---|---|---|---|"
     );
-    let cell =
-        |v: Option<f64>, digits: usize| v.map_or("—".to_string(), |v| format!("{v:.digits$}"));
     for run in listed {
         let _ = writeln!(
             out,
@@ -280,5 +281,65 @@ fn write_preprocessing(out: &mut String, inputs: &ReportInputs) {
             own.seconds,
             own.bytes_per_sample
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::stats::{AuditFrame, FrameStats, MeshCounts, SurfaceCoverage};
+
+    fn frame(frame: u64, holes: u64, gap: f64) -> FrameStats {
+        FrameStats {
+            frame,
+            triangles: 16,
+            mesh: Some(MeshCounts {
+                triangles_by_role: [10, 4, 2, 0],
+                draw_batches: 3,
+                morphing_vertices: 5,
+            }),
+            vertices_changed: Some(frame * 2),
+            audit: Some(AuditFrame {
+                samples_in_view: 100,
+                projected: None,
+                view_angle: None,
+                coverage: Some(SurfaceCoverage {
+                    holes,
+                    crack_samples: 4,
+                    crack_gap_max_m: gap,
+                    crack_gap_max_px: 1.0,
+                }),
+                popping: None,
+            }),
+            ..FrameStats::default()
+        }
+    }
+
+    #[test]
+    fn triangle_list_entries_get_their_roles_holes_and_cracks_and_4_8_entries_no_row() {
+        let listed = [frame(0, 2, 0.5), frame(1, 7, 1.25)];
+        let plain = [FrameStats::default()];
+        let runs = [
+            RunColumns {
+                label: "patches",
+                extra_columns: &[],
+                frames: &listed,
+            },
+            RunColumns {
+                label: "wu",
+                extra_columns: &[],
+                frames: &plain,
+            },
+        ];
+        let mut out = String::new();
+        write_triangle_lists(&mut out, &runs);
+        let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| ")).collect();
+        assert_eq!(
+            rows[1..],
+            ["| patches | 10 | 4 | 2 | 0 | 3.0 | 5 | 1 | 7 | 4.0 | 1.250 |"]
+        );
+        let mut none = String::new();
+        write_triangle_lists(&mut none, &runs[1..]);
+        assert!(none.is_empty());
     }
 }
