@@ -8,12 +8,16 @@
 //!   would be an absolute length hidden in the arithmetic (an epsilon in metres, a clamp); other
 //!   factors (0.001, 1000) are checked on a fixed scene in `tests/hard_cases.rs`.
 //!
+//! The block-based algorithms (triangle lists) are held to the same properties through their
+//! drawn triangles: positions, roles, groups, levels and heights (scaled heights divided by the
+//! power of two, exactly), and their counts.
+//!
 //! This file does not check that the meshes are right, only that they do not move;
 //! `tests/hard_cases.rs` and the per-algorithm tests check the right answers.
 
 mod common;
 
-use common::algorithms::every_algorithm;
+use common::algorithms::{every_algorithm, every_block_algorithm};
 use common::{step, vertex_set, view_600};
 use glam::DVec3;
 use proptest::prelude::*;
@@ -108,6 +112,58 @@ fn decisions(
         .collect()
 }
 
+/// One triangle as a block algorithm drew it: corner positions (fixed point), corner heights
+/// (bits, divided by the scene's scale), role, group, level.
+type DrawnSignature = ([(i64, i64); 3], [u32; 3], usize, u32, u32);
+
+/// What one frame of a block algorithm decided: its triangles and its counts.
+#[derive(Debug, PartialEq)]
+struct BlockDecisions {
+    triangles: Vec<DrawnSignature>,
+    counts: [u64; 6],
+}
+
+/// Every frame's decisions of a block algorithm over the poses, heights divided by `scale`.
+fn block_decisions(
+    hierarchy: &Hierarchy,
+    config: &AlgorithmConfig,
+    view: ViewSettings,
+    poses: &[Pose],
+    scale: f64,
+) -> Vec<BlockDecisions> {
+    let mut algorithm = config.build(hierarchy, &view, SPEED);
+    poses
+        .iter()
+        .enumerate()
+        .map(|(frame, pose)| {
+            let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+            let stats = step(algorithm.as_mut(), frame as u64, &camera, frame == 0);
+            let mut triangles = Vec::new();
+            algorithm.mesh().for_each_triangle(hierarchy, |t| {
+                triangles.push((
+                    t.corners.map(|c| c.position.raw()),
+                    t.corners
+                        .map(|c| ((f64::from(c.z) / scale) as f32).to_bits()),
+                    t.info.role.index(),
+                    t.info.group,
+                    t.info.level,
+                ));
+            });
+            BlockDecisions {
+                triangles,
+                counts: [
+                    stats.triangles,
+                    stats.splits,
+                    stats.merges,
+                    stats.vertices_inserted,
+                    stats.vertices_deleted,
+                    stats.vertices_changed.unwrap_or(u64::MAX),
+                ],
+            }
+        })
+        .collect()
+}
+
 fn hierarchy(heights: Vec<f32>, post_m: f64, origin: DVec3) -> Hierarchy {
     let spacing = Spacing {
         dx: post_m,
@@ -141,6 +197,11 @@ proptest! {
             let b = decisions(&there, &config, view_600(), SPEED, &moved);
             prop_assert_eq!(a, b, "{:?}, offset {:?}", config, offset);
         }
+        for config in every_block_algorithm(scene.tau_px) {
+            let a = block_decisions(&here, &config, view_600(), &scene.poses, 1.0);
+            let b = block_decisions(&there, &config, view_600(), &moved, 1.0);
+            prop_assert!(a == b, "{:?}, offset {:?}", config, offset);
+        }
     }
 
     #[test]
@@ -167,6 +228,11 @@ proptest! {
             let a = decisions(&original, &config, view, SPEED, &scene.poses);
             let b = decisions(&scaled, &config, scaled_view, scaled_speed, &scaled_poses);
             prop_assert_eq!(a, b, "{:?} at scale 2^{}", config, exponent);
+        }
+        for config in every_block_algorithm(scene.tau_px) {
+            let a = block_decisions(&original, &config, view, &scene.poses, 1.0);
+            let b = block_decisions(&scaled, &config, scaled_view, &scaled_poses, scale);
+            prop_assert!(a == b, "{:?} at scale 2^{}", config, exponent);
         }
     }
 }
