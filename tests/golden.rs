@@ -12,6 +12,7 @@ mod common;
 use common::experiment::{repository, save, short_quickstart};
 use rayon::prelude::*;
 use roamsim::edge::experiment::{self, AlgorithmSpec, Experiment};
+use roamsim::sim::algorithm::BrokenBounds;
 use roamsim::sim::algorithm::FrameInput;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::stats::FrameStats;
@@ -34,7 +35,7 @@ fn entry_bytes(spec: &AlgorithmSpec, experiment: &Experiment, hierarchy: &Hierar
             &FrameInput {
                 frame,
                 camera: &camera,
-                speed_bound_broken: false,
+                broken_bounds: BrokenBounds::NONE,
             },
             &mut stats,
         );

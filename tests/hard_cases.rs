@@ -12,6 +12,7 @@ use roamsim::sim::algorithm::{
     AlgorithmConfig, BudgetConfig, FrameInput, LodAlgorithm, ReferenceConfig, RoamConfig, RoamGoal,
     SplitThreshold, Wu, WuConfig,
 };
+use roamsim::sim::algorithm::{BrokenBounds, Refinement, ViewThreshold};
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::{Flight, speed_violations};
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
@@ -26,6 +27,7 @@ use roamsim::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, split_zone};
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 10.0,
     vertical: 5.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 fn terrain(side: usize, spacing: f64, height: impl Fn(usize, usize) -> f32) -> Hierarchy {
@@ -104,7 +106,7 @@ fn final_mesh_from(
             &FrameInput {
                 frame: frame as u64,
                 camera: &camera,
-                speed_bound_broken: frame == 0 || broken.contains(&(frame as u64)),
+                broken_bounds: BrokenBounds::all_if(frame == 0 || broken.contains(&(frame as u64))),
             },
             &mut stats,
         );
@@ -243,6 +245,7 @@ fn scaling_terrain_flight_and_speed_bounds_together_changes_no_mesh() {
         let scaled_speed = SpeedBound {
             horizontal: SPEED.horizontal * scale,
             vertical: SPEED.vertical * scale,
+            rotation: SPEED.rotation,
         };
         for config in every_algorithm(2.0) {
             let a = final_mesh(&small, &config, view, SPEED, &eyes);
@@ -266,6 +269,7 @@ fn zero_and_huge_speed_bounds_change_no_fixed_tau_mesh() {
         let huge = SpeedBound {
             horizontal: 1e12,
             vertical: 1e12,
+            rotation: SpeedBound::NO_ROTATION_BOUND,
         };
         assert_eq!(
             normal,
@@ -330,7 +334,16 @@ fn meshes_at(hierarchy: &Hierarchy, tau_px: f64, view: ViewSettings, eye: DVec3)
 
 /// Whether `config` keeps culled triangles coarse (its mesh then depends on the frustum).
 fn culls(config: &AlgorithmConfig) -> bool {
-    matches!(config, AlgorithmConfig::Roam(c) if c.culling_flags)
+    matches!(config, AlgorithmConfig::Roam(c) if c.culling_flags) || refines_in_view(config)
+}
+
+/// Whether the configuration refines only what the view cone needs.
+fn refines_in_view(config: &AlgorithmConfig) -> bool {
+    match config {
+        AlgorithmConfig::Wu(c) => c.refine == Refinement::InView,
+        AlgorithmConfig::Reference(c) => c.refine == Refinement::InView,
+        _ => false,
+    }
 }
 
 #[test]
@@ -381,6 +394,8 @@ fn an_eye_exactly_on_a_zone_boundary_splits_and_one_step_outside_it_does_not() {
                 tau_px: 1.0,
                 zone,
                 threshold,
+                refine: Refinement::Everywhere,
+                view_threshold: ViewThreshold::InView,
             })
         };
         let at_most_zero = reference(SplitThreshold::LifeAtMost(0.0));
@@ -394,6 +409,7 @@ fn an_eye_exactly_on_a_zone_boundary_splits_and_one_step_outside_it_does_not() {
             depth_limit: None,
             cone_culling: false,
             wheel_links: 64,
+            refine: Refinement::Everywhere,
         });
         for config in [&at_most_zero, &below_one, &wu] {
             let on = mesh_of(config, eye);
@@ -636,6 +652,7 @@ fn a_zero_speed_bound_changes_no_fixed_tau_mesh_when_its_violations_are_flagged(
     let zero = SpeedBound {
         horizontal: 0.0,
         vertical: 0.0,
+        rotation: 0.0,
     };
     let moving: Vec<DVec3> = (0..25)
         .map(|f| DVec3::new(10.0 + 6.0 * f as f64, 100.0, 60.0 - f as f64))
@@ -643,8 +660,26 @@ fn a_zero_speed_bound_changes_no_fixed_tau_mesh_when_its_violations_are_flagged(
     let still = vec![DVec3::new(120.0, 150.0, 50.0); 5];
     for eyes in [&moving, &still] {
         for config in every_algorithm(2.0) {
-            let normal = final_mesh(&hierarchy, &config, view_600(), SPEED, eyes);
             let frozen = final_mesh(&hierarchy, &config, view_600(), zero, eyes);
+            if let AlgorithmConfig::Wu(wu) = config
+                && wu.refine == Refinement::InView
+            {
+                // In-view refinement merges a node once it is more than one frame of cone
+                // motion outside the view: a margin the bounds set, 0 here. So the frozen mesh
+                // is the in-view reference's, exactly.
+                let reference = AlgorithmConfig::Reference(ReferenceConfig {
+                    nesting: wu.nesting,
+                    tau_px: 2.0,
+                    zone: wu.zone,
+                    threshold: SplitThreshold::LifeAtMost(0.0),
+                    refine: Refinement::InView,
+                    view_threshold: ViewThreshold::InView,
+                });
+                let expected = final_mesh(&hierarchy, &reference, view_600(), zero, eyes);
+                assert_eq!(frozen, expected, "{config:?}");
+                continue;
+            }
+            let normal = final_mesh(&hierarchy, &config, view_600(), SPEED, eyes);
             assert_eq!(normal, frozen, "{config:?}");
         }
     }
@@ -694,7 +729,7 @@ fn step(algorithm: &mut dyn LodAlgorithm, frame: u64, eye: DVec3) -> FrameStats 
         &FrameInput {
             frame,
             camera: &camera,
-            speed_bound_broken: frame == 0,
+            broken_bounds: BrokenBounds::all_if(frame == 0),
         },
         &mut stats,
     );
@@ -733,12 +768,14 @@ fn budgets_below_the_base_mesh_hold_the_base_mesh_and_above_the_full_mesh_the_fu
                 dead_band: 0,
                 base_limit: 200,
                 initial_tau_k: 1.5,
+                tau_recentring: None,
             }),
             zone: ZoneVariant::Conservative,
             block_priority: true,
             depth_limit: None,
             cone_culling: false,
             wheel_links: 64,
+            refine: Refinement::Everywhere,
         };
         let mut wu = Wu::new(&hierarchy, wu_config, &view_600(), SPEED);
         for (frame, eye) in eyes.iter().enumerate() {

@@ -17,6 +17,7 @@ use common::algorithms::every_algorithm;
 use common::view_600;
 use glam::DVec3;
 use proptest::prelude::*;
+use roamsim::sim::algorithm::BrokenBounds;
 use roamsim::sim::algorithm::{AlgorithmConfig, FrameInput};
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
@@ -31,6 +32,7 @@ const POST_M: f64 = 10.0;
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 10.0,
     vertical: 5.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 /// What one frame decided: the mesh and the counts of what changed.
@@ -99,7 +101,7 @@ fn decisions(
                 &FrameInput {
                     frame: frame as u64,
                     camera: &camera,
-                    speed_bound_broken: frame == 0,
+                    broken_bounds: BrokenBounds::all_if(frame == 0),
                 },
                 &mut stats,
             );
@@ -171,6 +173,7 @@ proptest! {
         let scaled_speed = SpeedBound {
             horizontal: SPEED.horizontal * scale,
             vertical: SPEED.vertical * scale,
+            rotation: SPEED.rotation,
         };
         for config in every_algorithm(scene.tau_px) {
             let a = decisions(&original, &config, view, SPEED, &scene.poses);

@@ -10,6 +10,7 @@ mod common;
 
 use common::{bumpy_terrain, camera_at, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::BrokenBounds;
 use roamsim::sim::algorithm::lindstrom::{FromScratchView, mesh_from_scratch};
 use roamsim::sim::algorithm::{FrameInput, Lindstrom, LindstromConfig, LodAlgorithm};
 use roamsim::sim::hierarchy::{Hierarchy, NestingRule};
@@ -60,7 +61,7 @@ impl<'h> Scene<'h> {
             &FrameInput {
                 frame: self.frame,
                 camera: &camera,
-                speed_bound_broken: false,
+                broken_bounds: BrokenBounds::NONE,
             },
             &mut stats,
         );

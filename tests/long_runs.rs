@@ -17,6 +17,7 @@ use roamsim::sim::algorithm::{
     AlgorithmConfig, FrameInput, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
     SplitThreshold,
 };
+use roamsim::sim::algorithm::{BrokenBounds, Refinement, ViewThreshold};
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
 use roamsim::sim::mesh::validate::validate_reported;
@@ -31,6 +32,7 @@ const FRAMES_PER_LAP: u64 = 4000;
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 10.0,
     vertical: 5.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 /// The eye at `frame`: a circle of 60 m around the middle of a 9×9 terrain, 30 m up (0.1 m a
@@ -61,7 +63,7 @@ fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun 
             &FrameInput {
                 frame,
                 camera: &camera,
-                speed_bound_broken: frame == 0,
+                broken_bounds: BrokenBounds::all_if(frame == 0),
             },
             &mut stats,
         );
@@ -98,7 +100,7 @@ fn fresh_mesh(hierarchy: &Hierarchy, config: &AlgorithmConfig, frame: u64) -> Ve
         &FrameInput {
             frame: 0,
             camera: &camera,
-            speed_bound_broken: true,
+            broken_bounds: BrokenBounds::ALL,
         },
         &mut FrameStats::default(),
     );
@@ -140,6 +142,8 @@ fn a_million_reference_frames_stay_exact() {
         tau_px: 64.0,
         zone: ZoneVariant::Conservative,
         threshold: SplitThreshold::LifeAtMost(0.0),
+        refine: Refinement::Everywhere,
+        view_threshold: ViewThreshold::InView,
     }));
 }
 

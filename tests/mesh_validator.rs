@@ -6,6 +6,7 @@ mod common;
 
 use common::{bumpy_terrain, camera_at, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::{BrokenBounds, Refinement, ViewThreshold};
 use roamsim::sim::algorithm::{
     FrameInput, LodAlgorithm, Reference, ReferenceConfig, SplitThreshold,
 };
@@ -17,6 +18,7 @@ use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 5.0,
     vertical: 2.5,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 /// Runs the reference from every eye position on the grid (one frame each, in sequence, so the
@@ -28,6 +30,8 @@ fn check_every_eye(hierarchy: &Hierarchy, tau_px: f64, zone: ZoneVariant) -> (u6
         tau_px,
         zone,
         threshold: SplitThreshold::LifeAtMost(0.0),
+        refine: Refinement::Everywhere,
+        view_threshold: ViewThreshold::InView,
     };
     let mut reference = Reference::new(hierarchy, config, &view_600(), SPEED);
     let field = hierarchy.field();
@@ -43,7 +47,7 @@ fn check_every_eye(hierarchy: &Hierarchy, tau_px: f64, zone: ZoneVariant) -> (u6
                     &FrameInput {
                         frame: 0,
                         camera: &camera,
-                        speed_bound_broken: false,
+                        broken_bounds: BrokenBounds::NONE,
                     },
                     &mut stats,
                 );
@@ -86,6 +90,8 @@ fn tau_zero_refines_every_node_with_an_error() {
         tau_px: 0.0,
         zone: ZoneVariant::Conservative,
         threshold: SplitThreshold::LifeAtMost(0.0),
+        refine: Refinement::Everywhere,
+        view_threshold: ViewThreshold::InView,
     };
     let mut reference = Reference::new(&hierarchy, config, &view_600(), SPEED);
     let camera = camera_at(DVec3::new(-5000.0, -5000.0, 5000.0));
@@ -94,7 +100,7 @@ fn tau_zero_refines_every_node_with_an_error() {
         &FrameInput {
             frame: 0,
             camera: &camera,
-            speed_bound_broken: false,
+            broken_bounds: BrokenBounds::NONE,
         },
         &mut stats,
     );

@@ -6,6 +6,7 @@ mod common;
 
 use common::{bumpy_terrain, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::BrokenBounds;
 use roamsim::sim::algorithm::{
     FrameInput, LodAlgorithm, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild,
 };
@@ -18,6 +19,7 @@ use roamsim::sim::zone::SpeedBound;
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 4.0,
     vertical: 2.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 fn tolerance(tau_px: f64) -> RoamConfig {
@@ -91,7 +93,7 @@ fn step(
         &FrameInput {
             frame,
             camera,
-            speed_bound_broken,
+            broken_bounds: BrokenBounds::all_if(speed_bound_broken),
         },
         &mut stats,
     );

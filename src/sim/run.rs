@@ -5,9 +5,9 @@
 //! culling (triangles meeting the view volume), audit. An effect that is off costs nothing.
 //! Progress is reported through a callback; the runner itself does no IO.
 
-use crate::sim::algorithm::{FrameInput, LodAlgorithm};
+use crate::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
 use crate::sim::audit::{AuditSettings, Auditor};
-use crate::sim::flight::Flight;
+use crate::sim::flight::{Flight, SpeedViolation};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::triangles::for_each_triangle;
 use crate::sim::mesh::validate::{MeshError, validate_reported};
@@ -32,8 +32,8 @@ pub struct RunInputs<'a> {
     pub hierarchy: &'a Hierarchy,
     pub view: &'a ViewSettings,
     pub flight: &'a Flight,
-    /// Frames (sorted) that broke the speed bounds.
-    pub violation_frames: &'a [u64],
+    /// The frames (sorted) that broke the motion bounds, with the bounds each broke.
+    pub violations: &'a [SpeedViolation],
     pub effects: Effects,
 }
 
@@ -69,7 +69,7 @@ pub fn run_algorithm(
 pub struct FrameRunner<'a> {
     inputs: RunInputs<'a>,
     auditor: Option<Auditor>,
-    /// Index into `inputs.violation_frames` of the first violation not yet reached.
+    /// Index into `inputs.violations` of the first violation not yet reached.
     next_violation: usize,
     next_frame: u64,
 }
@@ -118,12 +118,17 @@ impl<'a> FrameRunner<'a> {
         let lattice = hierarchy.lattice();
         let pose = hierarchy.field().local_pose(inputs.flight.pose(frame));
         let camera = Camera::new(&pose, *inputs.view);
-        let speed_bound_broken = inputs.violation_frames.get(self.next_violation) == Some(&frame);
-        self.next_violation += usize::from(speed_bound_broken);
+        let broken_bounds = match inputs.violations.get(self.next_violation) {
+            Some(violation) if violation.frame == frame => {
+                self.next_violation += 1;
+                violation.broken
+            }
+            _ => BrokenBounds::NONE,
+        };
         let input = FrameInput {
             frame,
             camera: &camera,
-            speed_bound_broken,
+            broken_bounds,
         };
         let mut stats = FrameStats {
             frame,

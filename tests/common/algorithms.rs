@@ -2,8 +2,8 @@
 //! make each a pure function of the view (no budget).
 
 use roamsim::sim::algorithm::{
-    AlgorithmConfig, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal, SplitThreshold,
-    WuConfig,
+    AlgorithmConfig, LindstromConfig, ReferenceConfig, Refinement, RoamConfig, RoamGoal,
+    SplitThreshold, ViewThreshold, WuConfig,
 };
 use roamsim::sim::zone::ZoneVariant;
 
@@ -17,8 +17,10 @@ pub fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
             tau_px,
             zone,
             threshold: SplitThreshold::LifeAtMost(0.0),
+            refine: Refinement::Everywhere,
+            view_threshold: ViewThreshold::InView,
         }));
-        configs.push(AlgorithmConfig::Wu(WuConfig {
+        let wu = WuConfig {
             nesting: roamsim::sim::hierarchy::NestingRule::Max,
             tau_px: Some(tau_px),
             budget: None,
@@ -27,6 +29,22 @@ pub fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
             depth_limit: None,
             cone_culling: false,
             wheel_links: 64,
+            refine: Refinement::Everywhere,
+        };
+        configs.push(AlgorithmConfig::Wu(wu));
+        // Refining only in view: its reference is the in-view reference.
+        configs.push(AlgorithmConfig::Reference(ReferenceConfig {
+            nesting: roamsim::sim::hierarchy::NestingRule::Max,
+            tau_px,
+            zone,
+            threshold: SplitThreshold::LifeAtMost(0.0),
+            refine: Refinement::InView,
+            view_threshold: ViewThreshold::InView,
+        }));
+        configs.push(AlgorithmConfig::Wu(WuConfig {
+            cone_culling: true,
+            refine: Refinement::InView,
+            ..wu
         }));
     }
     for block_level in [1, 3] {

@@ -764,7 +764,7 @@ impl LodAlgorithm for Roam<'_> {
         core.counters = FrameCounters::default();
         let orientation = (camera.forward, camera.up);
         let revalidate =
-            !core.deferring() || input.speed_bound_broken || self.orientation != Some(orientation);
+            !core.deferring() || input.broken_bounds.any() || self.orientation != Some(orientation);
         self.orientation = Some(orientation);
         if revalidate {
             core.counters.revalidations = 1;
@@ -932,6 +932,7 @@ mod tests {
     const STILL: SpeedBound = SpeedBound {
         horizontal: 1.0,
         vertical: 1.0,
+        rotation: SpeedBound::NO_ROTATION_BOUND,
     };
 
     fn assert_valid(core: &Core, camera: &Camera) {
@@ -1011,7 +1012,7 @@ mod tests {
             &FrameInput {
                 frame,
                 camera,
-                speed_bound_broken: false,
+                broken_bounds: crate::sim::algorithm::BrokenBounds::NONE,
             },
             &mut stats,
         );
