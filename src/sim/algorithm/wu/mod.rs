@@ -184,69 +184,26 @@ struct Counters {
 
 /// The columns every run has, then the optional ones in this order: `cone_tests` (the view cone
 /// is followed), `triangles_in_view_blocks` (the in-view count is kept), `tau_px` (τ re-centring).
-const COLUMNS: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "split_queue",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
-];
-const COLUMNS_CONE: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "split_queue",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
-    "cone_tests",
-];
-const COLUMNS_COUNT: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "split_queue",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
-    "cone_tests",
-    "triangles_in_view_blocks",
-];
-const COLUMNS_TAU: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "split_queue",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
-    "tau_px",
-];
-const COLUMNS_CONE_TAU: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "split_queue",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
-    "cone_tests",
-    "tau_px",
-];
-const COLUMNS_COUNT_TAU: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "split_queue",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
-    "cone_tests",
-    "triangles_in_view_blocks",
-    "tau_px",
-];
+macro_rules! columns {
+    ($($optional:literal),*) => {
+        &[
+            "base_b",
+            "base_clamped",
+            "splittable",
+            "split_queue",
+            "mergeable",
+            "life_recomputations",
+            "forced_splits",
+            $($optional),*
+        ]
+    };
+}
+const COLUMNS: &[&str] = columns!();
+const COLUMNS_CONE: &[&str] = columns!("cone_tests");
+const COLUMNS_COUNT: &[&str] = columns!("cone_tests", "triangles_in_view_blocks");
+const COLUMNS_TAU: &[&str] = columns!("tau_px");
+const COLUMNS_CONE_TAU: &[&str] = columns!("cone_tests", "tau_px");
+const COLUMNS_COUNT_TAU: &[&str] = columns!("cone_tests", "triangles_in_view_blocks", "tau_px");
 
 /// Wu's algorithm over one terrain.
 pub struct Wu<'h> {
@@ -257,6 +214,8 @@ pub struct Wu<'h> {
     config: WuConfig,
     pixel_angle: f64,
     tau_px: f64,
+    /// The τ the run started from (τ re-centring moves `tau_px`).
+    initial_tau_px: f64,
     mesh: VertexSet,
     n_triangles: u64,
     /// Inactive nodes with both corner parents active (the paper's splittable nodes).
@@ -307,6 +266,7 @@ impl<'h> Wu<'h> {
             config,
             pixel_angle: view.pixel_angle(),
             tau_px,
+            initial_tau_px: tau_px,
             mesh: VertexSet::base_mesh(&lattice),
             n_triangles: 2,
             // The root: inactive, its parents (two corners) always active.
@@ -354,13 +314,9 @@ impl<'h> Wu<'h> {
             VertexClass::Corner => {}
             // A node that activates was splittable (its parents are active).
             VertexClass::Square { .. } => self.paper_splittable -= 1,
-            VertexClass::Rotated { .. } => {
+            VertexClass::Rotated { half, .. } => {
                 // Sub-blocks whose other corner parent was already active become splittable.
-                for child in self.lattice.children(p).as_slice() {
-                    if self.has_active_parents(*child) {
-                        self.paper_splittable += 1;
-                    }
-                }
+                self.paper_splittable += self.children_with_other_parent_active(p, half);
                 self.boundary_vertex_changed(p, true);
             }
         }
@@ -376,17 +332,38 @@ impl<'h> Wu<'h> {
         match self.lattice.classify(p) {
             VertexClass::Corner => {}
             VertexClass::Square { .. } => self.paper_splittable += 1,
-            VertexClass::Rotated { .. } => {
-                for child in self.lattice.children(p).as_slice() {
-                    if self.has_active_parents(*child) {
-                        self.paper_splittable -= 1;
-                    }
-                }
+            VertexClass::Rotated { half, .. } => {
+                self.paper_splittable -= self.children_with_other_parent_active(p, half);
                 self.boundary_vertex_changed(p, false);
             }
         }
         self.mesh.remove(self.lattice.id(p));
         true
+    }
+
+    /// The children of the edge midpoint `m` (of blocks of half-size `half`) whose other corner
+    /// parent is active. A child is the centre of a sub-block with `m` at one corner, m + s·half/2
+    /// for a diagonal direction s; its other corner parent is the opposite corner, m + s·half
+    /// (inside the grid exactly when the child is).
+    fn children_with_other_parent_active(&self, m: GridPoint, half: u32) -> u64 {
+        if half < 2 {
+            return 0;
+        }
+        let cells = i64::from(self.lattice.cells());
+        let (i, j, h) = (i64::from(m.i), i64::from(m.j), i64::from(half));
+        let mut count = 0;
+        for (si, sj) in [(-1, -1), (1, -1), (-1, 1), (1, 1)] {
+            let (oi, oj) = (i + si * h, j + sj * h);
+            if (0..=cells).contains(&oi)
+                && (0..=cells).contains(&oj)
+                && self
+                    .mesh
+                    .contains_point(&self.lattice, GridPoint::new(oi as u32, oj as u32))
+            {
+                count += 1;
+            }
+        }
+        count
     }
 
     /// Whether every 4-8 parent of `p` is active.
@@ -836,10 +813,14 @@ impl LodAlgorithm for Wu<'_> {
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
-        vec![
+        let mut facts = vec![
             ("tau_px", self.tau_px),
             ("wheel_links", f64::from(self.wheels.n_links())),
-        ]
+        ];
+        if self.recentres_tau() {
+            facts.push(("initial_tau_px", self.initial_tau_px));
+        }
+        facts
     }
 }
 

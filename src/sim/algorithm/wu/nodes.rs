@@ -56,11 +56,11 @@ impl Nodes {
         let level = (63 - scaled.leading_zeros()) / 2;
         let first = ((1u64 << (2 * level)) - 1) / 3;
         let local = u64::from(node) - first;
-        let per_side = 1u64 << level;
+        // Row-major within the level, 2^level nodes a row: a mask and a shift, not a division.
         NodeCoordinates {
             level,
-            a: (local % per_side) as u32,
-            b: (local / per_side) as u32,
+            a: (local & ((1u64 << level) - 1)) as u32,
+            b: (local >> level) as u32,
         }
     }
 

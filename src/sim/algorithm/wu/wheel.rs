@@ -248,29 +248,23 @@ impl Wheels {
 
     /// Empties a link into `out` (front to back), leaving its nodes unqueued.
     pub fn take_link(&mut self, queue: Queue, link: u32, out: &mut Vec<u32>) {
-        let h = self.head_index(queue, link);
-        let mut e = self.heads[h];
-        while e != NO_ENTRY {
-            let Entry { node, next, .. } = self.entries[e as usize];
-            out.push(node);
-            self.entry_of[node as usize] = NO_ENTRY;
-            self.release(e);
-            e = next;
-        }
-        self.totals[queue.index() as usize] -= u64::from(self.counts[h]);
-        self.heads[h] = NO_ENTRY;
-        self.counts[h] = 0;
+        self.drain_link(queue, link, |node, _| out.push(node));
     }
 
     /// Empties a link into `out` (front to back) with each node's mark, leaving them unqueued.
     pub fn take_marked(&mut self, queue: Queue, link: u32, out: &mut Vec<(u32, bool)>) {
+        self.drain_link(queue, link, |node, marked| out.push((node, marked)));
+    }
+
+    /// Empties a link, front to back, handing each node and its mark to `each`.
+    fn drain_link(&mut self, queue: Queue, link: u32, mut each: impl FnMut(u32, bool)) {
         let h = self.head_index(queue, link);
         let mut e = self.heads[h];
         while e != NO_ENTRY {
             let Entry {
                 node, next, slot, ..
             } = self.entries[e as usize];
-            out.push((node, slot & MARK_BIT != 0));
+            each(node, slot & MARK_BIT != 0);
             self.entry_of[node as usize] = NO_ENTRY;
             self.release(e);
             e = next;
