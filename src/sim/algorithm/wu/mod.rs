@@ -33,7 +33,7 @@
 //! view has every ancestor in view. `everywhere` splits and merges by life alone (the mesh behind
 //! the camera is refined like the rest), kept so that its cost stays measurable.
 //!
-//! **The in-view count** (with `cone_culling`, which `in_view` implies): the triangles of the
+//! **The in-view count** (with `cone_culling`, on by default with `in_view`): the triangles of the
 //! active blocks whose sphere meets the view cone, each triangle counted with the smallest active
 //! block holding it — what a renderer culling Wu's nodes against the cone draws. Every active node
 //! carries an in-view flag, kept exact by view keys (non-mergeable active nodes wait in a third
@@ -124,7 +124,8 @@ pub struct WuConfig {
     /// Most levels one frame may split below a node taken from the queues; `None`: no limit.
     pub depth_limit: Option<u32>,
     /// Keep the in-view count (triangles of active blocks whose sphere meets the view cone); the
-    /// budget then counts those. [`Refinement::InView`] keeps it whatever this says.
+    /// budget then counts those, else the whole mesh. [`Refinement::InView`] follows the cone
+    /// either way.
     pub cone_culling: bool,
     pub refine: Refinement,
     /// Wheel links per queue (≥ 2).
