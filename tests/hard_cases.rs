@@ -5,19 +5,20 @@
 
 mod common;
 
-use common::algorithms::every_algorithm;
-use common::view_600;
-use glam::DVec3;
-use roamsim::sim::algorithm::{
-    AlgorithmConfig, BudgetConfig, FrameInput, LodAlgorithm, ReferenceConfig, RoamConfig, RoamGoal,
-    SplitThreshold, Wu, WuConfig,
+use common::algorithms::{
+    every_algorithm, reference, reference_in_view, roam_target, wu, wu_budget,
 };
-use roamsim::sim::algorithm::{BrokenBounds, Refinement, ViewThreshold};
+use common::{checked_step, extra, vertex_set, view_600};
+use glam::DVec3;
+use roamsim::sim::algorithm::Refinement;
+use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
+use roamsim::sim::algorithm::{
+    AlgorithmConfig, LodAlgorithm, ReferenceConfig, RoamConfig, SplitThreshold, Wu, WuConfig,
+};
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::{Flight, speed_violations};
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
-use roamsim::sim::mesh::VertexSet;
-use roamsim::sim::mesh::validate::validate_reported;
+use roamsim::sim::mesh::{MeshOutput, VertexSet};
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::embed::{Fit, embed};
 use roamsim::sim::terrain::{Heightfield, SampleGrid, Spacing};
@@ -101,22 +102,19 @@ fn final_mesh_from(
         let eye = pose.position;
         // As the runner does: world pose into the terrain's local frame.
         let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
-        let mut stats = FrameStats::default();
-        algorithm.update(
-            &FrameInput {
-                frame: frame as u64,
-                camera: &camera,
-                broken_bounds: BrokenBounds::all_if(frame == 0 || broken.contains(&(frame as u64))),
-            },
-            &mut stats,
+        let frame = frame as u64;
+        let broken = frame == 0 || broken.contains(&frame);
+        let context = format!("{config:?}, eye {eye:?}");
+        checked_step(
+            hierarchy,
+            algorithm.as_mut(),
+            frame,
+            &camera,
+            broken,
+            context,
         );
-        if let Err(error) =
-            validate_reported(hierarchy.lattice(), algorithm.mesh(), stats.triangles)
-        {
-            panic!("{config:?}, eye {eye:?}: {error}");
-        }
     }
-    algorithm.mesh().clone()
+    vertex_set(algorithm.as_ref()).clone()
 }
 
 fn full_grid(hierarchy: &Hierarchy) -> VertexSet {
@@ -388,29 +386,15 @@ fn an_eye_exactly_on_a_zone_boundary_splits_and_one_step_outside_it_does_not() {
                 }],
             )
         };
-        let reference = |threshold| {
+        let from_scratch = |threshold| {
             AlgorithmConfig::Reference(ReferenceConfig {
-                nesting: roamsim::sim::hierarchy::NestingRule::Max,
-                tau_px: 1.0,
-                zone,
                 threshold,
-                refine: Refinement::Everywhere,
-                view_threshold: ViewThreshold::InView,
+                ..reference(1.0, zone)
             })
         };
-        let at_most_zero = reference(SplitThreshold::LifeAtMost(0.0));
-        let below_one = reference(SplitThreshold::LifeBelow(1.0));
-        let wu = AlgorithmConfig::Wu(WuConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: Some(1.0),
-            budget: None,
-            zone,
-            block_priority: false,
-            depth_limit: None,
-            cone_culling: false,
-            wheel_links: 64,
-            refine: Refinement::Everywhere,
-        });
+        let at_most_zero = from_scratch(SplitThreshold::LifeAtMost(0.0));
+        let below_one = from_scratch(SplitThreshold::LifeBelow(1.0));
+        let wu = AlgorithmConfig::Wu(wu(1.0, zone));
         for config in [&at_most_zero, &below_one, &wu] {
             let on = mesh_of(config, eye);
             assert!(on.contains_point(hierarchy.lattice(), root), "{config:?}");
@@ -546,8 +530,12 @@ fn audited_max_px(hierarchy: &Hierarchy, mesh: &VertexSet, eye: DVec3) -> f64 {
         },
         view_600(),
     );
-    let mut auditor = Auditor::new(hierarchy, AuditSettings { stride: 1 });
-    let audit = auditor.audit(hierarchy, mesh, &camera);
+    let settings = AuditSettings {
+        stride: 1,
+        popping: false,
+    };
+    let mut auditor = Auditor::new(hierarchy, settings);
+    let audit = auditor.audit(hierarchy, MeshOutput::lattice(mesh), &camera);
     assert!(audit.samples_in_view > 0);
     audit.projected.unwrap().max
 }
@@ -669,11 +657,7 @@ fn a_zero_speed_bound_changes_no_fixed_tau_mesh_when_its_violations_are_flagged(
                 // is the in-view reference's, exactly.
                 let reference = AlgorithmConfig::Reference(ReferenceConfig {
                     nesting: wu.nesting,
-                    tau_px: 2.0,
-                    zone: wu.zone,
-                    threshold: SplitThreshold::LifeAtMost(0.0),
-                    refine: Refinement::InView,
-                    view_threshold: ViewThreshold::InView,
+                    ..reference_in_view(2.0, wu.zone)
                 });
                 let expected = final_mesh(&hierarchy, &reference, view_600(), zero, eyes);
                 assert_eq!(frozen, expected, "{config:?}");
@@ -721,29 +705,16 @@ fn a_terrain_of_2_to_the_n_plus_2_samples_is_padded_and_reproduced_exactly_at_ta
     }
 }
 
-/// One frame of `algorithm` at `eye` with the tests' pose; returns its statistics.
-fn step(algorithm: &mut dyn LodAlgorithm, frame: u64, eye: DVec3) -> FrameStats {
+/// One frame of `algorithm` at `eye` with the tests' pose, checked as `--check` checks it.
+fn step(
+    hierarchy: &Hierarchy,
+    algorithm: &mut dyn LodAlgorithm,
+    frame: u64,
+    eye: DVec3,
+) -> FrameStats {
     let camera = Camera::new(&pose(eye), view_600());
-    let mut stats = FrameStats::default();
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera: &camera,
-            broken_bounds: BrokenBounds::all_if(frame == 0),
-        },
-        &mut stats,
-    );
-    stats
-}
-
-/// The value of the algorithm-specific column `name` in `stats`.
-fn extra(algorithm: &dyn LodAlgorithm, stats: &FrameStats, name: &str) -> f64 {
-    let k = algorithm
-        .extra_columns()
-        .iter()
-        .position(|c| *c == name)
-        .unwrap();
-    stats.extra[k]
+    let name = algorithm.name();
+    checked_step(hierarchy, algorithm, frame, &camera, frame == 0, name)
 }
 
 #[test]
@@ -761,40 +732,28 @@ fn budgets_below_the_base_mesh_hold_the_base_mesh_and_above_the_full_mesh_the_fu
         .collect();
     for (budget, expected, limit) in [(1, &base, -200), (1_000_000, &full, 200)] {
         let wu_config = WuConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: Some(64.0),
-            budget: Some(BudgetConfig {
-                triangles: budget,
-                dead_band: 0,
-                base_limit: 200,
-                initial_tau_k: 1.5,
-                tau_recentring: None,
-            }),
-            zone: ZoneVariant::Conservative,
             block_priority: true,
-            depth_limit: None,
-            cone_culling: false,
-            wheel_links: 64,
-            refine: Refinement::Everywhere,
+            ..wu_budget(64.0, budget, 200)
         };
         let mut wu = Wu::new(&hierarchy, wu_config, &view_600(), SPEED);
         for (frame, eye) in eyes.iter().enumerate() {
-            let stats = step(&mut wu, frame as u64, *eye);
-            validate_reported(lattice, wu.mesh(), stats.triangles).unwrap();
+            let stats = step(&hierarchy, &mut wu, frame as u64, *eye);
             if frame >= 250 {
-                assert_eq!(wu.mesh(), expected, "wu, budget {budget}, frame {frame}");
+                assert_eq!(
+                    wu.vertex_set(),
+                    expected,
+                    "wu, budget {budget}, frame {frame}"
+                );
                 assert_eq!(wu.base(), limit, "wu, budget {budget}");
-                assert_eq!(extra(&wu, &stats, "base_clamped"), 1.0);
+                assert_eq!(extra(&wu, &stats, BASE_CLAMPED), 1.0);
             }
         }
         // Culling flags aside: they keep triangles out of view coarse whatever the budget.
         for deferral in [false, true] {
             let roam = RoamConfig {
-                nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-                goal: RoamGoal::TargetTriangles(budget),
                 deferral,
-                culling_flags: false,
                 strips: deferral,
+                ..roam_target(budget)
             };
             for config in [
                 AlgorithmConfig::Roam(roam),
@@ -802,9 +761,9 @@ fn budgets_below_the_base_mesh_hold_the_base_mesh_and_above_the_full_mesh_the_fu
             ] {
                 let mut algorithm = config.build(&hierarchy, &view_600(), SPEED);
                 for (frame, eye) in eyes.iter().enumerate() {
-                    let stats = step(algorithm.as_mut(), frame as u64, *eye);
-                    validate_reported(lattice, algorithm.mesh(), stats.triangles).unwrap();
-                    assert_eq!(algorithm.mesh(), expected, "{config:?}, frame {frame}");
+                    let stats = step(&hierarchy, algorithm.as_mut(), frame as u64, *eye);
+                    let mesh = vertex_set(algorithm.as_ref());
+                    assert_eq!(mesh, expected, "{config:?}, frame {frame}");
                     assert_eq!(stats.triangles, expected.triangle_count(lattice));
                 }
             }

@@ -11,17 +11,12 @@
 
 mod common;
 
-use common::{bumpy_terrain, camera_at};
+use common::algorithms::{lindstrom, reference, roam_tolerance};
+use common::{bumpy_terrain, camera_at, checked_step, step, vertex_set};
 use glam::DVec3;
-use roamsim::sim::algorithm::{
-    AlgorithmConfig, FrameInput, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
-    SplitThreshold,
-};
-use roamsim::sim::algorithm::{BrokenBounds, Refinement, ViewThreshold};
+use roamsim::sim::algorithm::{AlgorithmConfig, RoamConfig};
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
-use roamsim::sim::mesh::validate::validate_reported;
-use roamsim::sim::stats::FrameStats;
 use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 
 const MILLION: u64 = 1_000_000;
@@ -58,33 +53,28 @@ fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun 
     let mut memory_after_first_lap = 0;
     for frame in 0..frames {
         let camera = camera_at(eye_at(frame));
-        let mut stats = FrameStats::default();
-        algorithm.update(
-            &FrameInput {
+        let checked = frame % 100_003 == 0 || frame + 1 == frames;
+        let stats = if checked {
+            let context = format!("{config:?}");
+            checked_step(
+                hierarchy,
+                algorithm.as_mut(),
                 frame,
-                camera: &camera,
-                broken_bounds: BrokenBounds::all_if(frame == 0),
-            },
-            &mut stats,
-        );
+                &camera,
+                frame == 0,
+                context,
+            )
+        } else {
+            step(algorithm.as_mut(), frame, &camera, frame == 0)
+        };
         inserted += u128::from(stats.vertices_inserted);
         deleted += u128::from(stats.vertices_deleted);
-        let checked = frame % 100_003 == 0 || frame + 1 == frames;
-        if checked
-            && let Err(error) = validate_reported(
-                hierarchy.lattice(),
-                algorithm.mesh(),
-                algorithm.triangle_count(),
-            )
-        {
-            panic!("{config:?}, frame {frame}: {error}");
-        }
         if frame + 1 == FRAMES_PER_LAP {
             memory_after_first_lap = algorithm.memory_bytes();
         }
     }
     LongRun {
-        final_mesh: algorithm.mesh().clone(),
+        final_mesh: vertex_set(algorithm.as_ref()).clone(),
         net_vertices: inserted as i128 - deleted as i128,
         total_changes: inserted + deleted,
         memory_after_first_lap,
@@ -95,16 +85,8 @@ fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun 
 /// The mesh a fresh instance builds for the view of `frame`.
 fn fresh_mesh(hierarchy: &Hierarchy, config: &AlgorithmConfig, frame: u64) -> VertexSet {
     let mut algorithm = config.build(hierarchy, &common::view_600(), SPEED);
-    let camera = camera_at(eye_at(frame));
-    algorithm.update(
-        &FrameInput {
-            frame: 0,
-            camera: &camera,
-            broken_bounds: BrokenBounds::ALL,
-        },
-        &mut FrameStats::default(),
-    );
-    algorithm.mesh().clone()
+    step(algorithm.as_mut(), 0, &camera_at(eye_at(frame)), true);
+    vertex_set(algorithm.as_ref()).clone()
 }
 
 fn check_million_frames(config: AlgorithmConfig) {
@@ -137,33 +119,24 @@ fn check_million_frames(config: AlgorithmConfig) {
 #[test]
 fn a_million_reference_frames_stay_exact() {
     // Wu's zones are large at small τ: at 4 px this flight stays inside all of them.
-    check_million_frames(AlgorithmConfig::Reference(ReferenceConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px: 64.0,
-        zone: ZoneVariant::Conservative,
-        threshold: SplitThreshold::LifeAtMost(0.0),
-        refine: Refinement::Everywhere,
-        view_threshold: ViewThreshold::InView,
-    }));
+    check_million_frames(AlgorithmConfig::Reference(reference(
+        64.0,
+        ZoneVariant::Conservative,
+    )));
 }
 
 #[test]
 fn a_million_lindstrom_frames_stay_exact() {
-    check_million_frames(AlgorithmConfig::Lindstrom(LindstromConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px: 4.0,
-        block_level: 1,
-    }));
+    check_million_frames(AlgorithmConfig::Lindstrom(lindstrom(4.0, 1)));
 }
 
 #[test]
 fn a_million_roam_frames_with_every_effect_stay_exact() {
     check_million_frames(AlgorithmConfig::Roam(RoamConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-        goal: RoamGoal::TolerancePx(4.0),
         deferral: true,
         culling_flags: true,
         strips: true,
+        ..roam_tolerance(4.0)
     }));
 }
 
@@ -171,11 +144,5 @@ fn a_million_roam_frames_with_every_effect_stay_exact() {
 fn a_million_roam_rebuild_frames_stay_exact() {
     // A coarser τ than roam's: the rebuild splits from the base mesh every frame, and its cost
     // grows with the mesh; the mesh still changes thousands of times.
-    check_million_frames(AlgorithmConfig::RoamRebuild(RoamConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-        goal: RoamGoal::TolerancePx(16.0),
-        deferral: false,
-        culling_flags: false,
-        strips: false,
-    }));
+    check_million_frames(AlgorithmConfig::RoamRebuild(roam_tolerance(16.0)));
 }

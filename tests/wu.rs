@@ -15,15 +15,20 @@
 
 mod common;
 
-use common::{bumpy_terrain, camera_at, view_600};
+use common::algorithms::{reference, wu, wu_budget};
+use common::{
+    bumpy_terrain, camera_at, checked_step, checked_step_breaking, extra, step, step_breaking,
+    view_600,
+};
 use glam::DVec3;
 use proptest::prelude::*;
+use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
 use roamsim::sim::algorithm::{
-    BrokenBounds, BudgetConfig, FrameInput, LodAlgorithm, Reference, ReferenceConfig, Refinement,
+    BrokenBounds, BudgetConfig, LodAlgorithm, Reference, ReferenceConfig, Refinement,
     SplitThreshold, ViewThreshold, Wu, WuConfig,
 };
 use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
-use roamsim::sim::mesh::validate::validate_reported;
+use roamsim::sim::mesh::MeshOutput;
 use roamsim::sim::metrics::view_angle_error_px;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
@@ -42,17 +47,11 @@ const TURNING: SpeedBound = SpeedBound {
     ..SPEED
 };
 
+/// Wu at a fixed τ with small wheels (16 links), so that overflow links are exercised.
 fn fixed_tau(tau_px: f64, zone: ZoneVariant) -> WuConfig {
     WuConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px: Some(tau_px),
-        budget: None,
-        zone,
-        block_priority: false,
-        depth_limit: None,
-        cone_culling: false,
         wheel_links: 16,
-        refine: Refinement::Everywhere,
+        ..wu(tau_px, zone)
     }
 }
 
@@ -65,22 +64,21 @@ fn in_view(config: WuConfig) -> WuConfig {
     }
 }
 
-/// One frame of `algorithm` with the eye at `eye` (within the speed bounds).
-fn step(algorithm: &mut dyn LodAlgorithm, frame: u64, eye: DVec3, stats: &mut FrameStats) {
-    step_to(algorithm, frame, &looking(eye, 0.0), stats);
+/// One frame of Wu with the eye at `eye` looking along +x (within the speed bounds), checked as
+/// `--check` checks it.
+fn wu_step(hierarchy: &Hierarchy, wu: &mut Wu, frame: u64, eye: DVec3) -> FrameStats {
+    checked_step(hierarchy, wu, frame, &camera_at(eye), false, "wu")
 }
 
-/// One frame of `algorithm` at `pose` (within the motion bounds).
-fn step_to(algorithm: &mut dyn LodAlgorithm, frame: u64, pose: &Pose, stats: &mut FrameStats) {
+/// One frame of Wu at `pose` (within the motion bounds), checked as `--check` checks it.
+fn wu_step_to(hierarchy: &Hierarchy, wu: &mut Wu, frame: u64, pose: &Pose) -> FrameStats {
     let camera = Camera::new(pose, view_600());
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera: &camera,
-            broken_bounds: BrokenBounds::NONE,
-        },
-        stats,
-    );
+    checked_step(hierarchy, wu, frame, &camera, false, "wu")
+}
+
+/// One frame of `algorithm` at `pose` (within the motion bounds), unchecked.
+fn step_to(algorithm: &mut dyn LodAlgorithm, frame: u64, pose: &Pose) -> FrameStats {
+    step(algorithm, frame, &Camera::new(pose, view_600()), false)
 }
 
 /// The terrain of a random scene: side 2^level + 1, 10 m posts.
@@ -120,16 +118,14 @@ impl<'h> Sandwich<'h> {
         speed: SpeedBound,
         refine: Refinement,
     ) -> Self {
-        let reference = |threshold, view_threshold| {
+        let from_scratch = |threshold, view_threshold| {
             Reference::new(
                 hierarchy,
                 ReferenceConfig {
-                    nesting: roamsim::sim::hierarchy::NestingRule::Max,
-                    tau_px,
-                    zone,
                     threshold,
                     refine,
                     view_threshold,
+                    ..reference(tau_px, zone)
                 },
                 &view_600(),
                 speed,
@@ -142,8 +138,8 @@ impl<'h> Sandwich<'h> {
         Sandwich {
             hierarchy,
             wu: Wu::new(hierarchy, config, &view_600(), speed),
-            lower: reference(SplitThreshold::LifeAtMost(0.0), ViewThreshold::InView),
-            upper: reference(SplitThreshold::LifeBelow(1.0), ViewThreshold::WithinMargin),
+            lower: from_scratch(SplitThreshold::LifeAtMost(0.0), ViewThreshold::InView),
+            upper: from_scratch(SplitThreshold::LifeBelow(1.0), ViewThreshold::WithinMargin),
             zone,
             frame: 0,
         }
@@ -160,35 +156,31 @@ impl<'h> Sandwich<'h> {
         let zones_nest = self.zone == ZoneVariant::Conservative;
         let camera = Camera::new(pose, view_600());
         let eye = pose.position;
-        let input = FrameInput {
-            frame: self.frame,
-            camera: &camera,
-            broken_bounds,
-        };
+        let frame = self.frame;
         self.frame += 1;
-        let mut stats = FrameStats::default();
-        self.wu.update(&input, &mut stats);
-        let mut scratch = FrameStats::default();
-        self.lower.update(&input, &mut scratch);
-        self.upper.update(&input, &mut scratch);
-        let lattice = self.hierarchy.lattice();
-        if let Err(error) = validate_reported(lattice, self.wu.mesh(), stats.triangles) {
-            panic!("frame {}, {pose:?}: {error}", input.frame);
-        }
+        let context = format!("{pose:?}");
+        let stats = checked_step_breaking(
+            self.hierarchy,
+            &mut self.wu,
+            frame,
+            &camera,
+            broken_bounds,
+            &context,
+        );
+        step_breaking(&mut self.lower, frame, &camera, broken_bounds);
+        step_breaking(&mut self.upper, frame, &camera, broken_bounds);
         if let Err(error) = self.wu.validate_queues(true) {
-            panic!("frame {}, {pose:?}: {error}", input.frame);
+            panic!("frame {frame}, {pose:?}: {error}");
         }
         assert!(
-            self.lower.mesh().is_subset(self.wu.mesh()),
-            "frame {}, eye {eye:?}: a vertex the eye is inside the zone of (and in view) is \
-             missing",
-            input.frame
+            self.lower.vertex_set().is_subset(self.wu.vertex_set()),
+            "frame {frame}, eye {eye:?}: a vertex the eye is inside the zone of (and in view) is \
+             missing"
         );
         assert!(
-            !zones_nest || self.wu.mesh().is_subset(self.upper.mesh()),
-            "frame {}, eye {eye:?}: a vertex whose life is ≥ 1 (or beyond the margin) is still \
-             active",
-            input.frame
+            !zones_nest || self.wu.vertex_set().is_subset(self.upper.vertex_set()),
+            "frame {frame}, eye {eye:?}: a vertex whose life is ≥ 1 (or beyond the margin) is \
+             still active"
         );
         stats
     }
@@ -271,18 +263,10 @@ fn without_the_violation_flag_a_teleport_would_leave_stale_lives() {
     );
     let mut reference = Reference::new(
         &hierarchy,
-        ReferenceConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: 1.0,
-            zone: ZoneVariant::Conservative,
-            threshold: SplitThreshold::LifeAtMost(0.0),
-            refine: Refinement::Everywhere,
-            view_threshold: ViewThreshold::InView,
-        },
+        reference(1.0, ZoneVariant::Conservative),
         &view,
         SPEED,
     );
-    let mut stats = FrameStats::default();
     for (frame, eye) in [
         DVec3::new(5000.0, 5000.0, 3000.0),
         DVec3::new(100.0, 100.0, 20.0),
@@ -291,15 +275,10 @@ fn without_the_violation_flag_a_teleport_would_leave_stale_lives() {
     .enumerate()
     {
         let camera = camera_at(eye);
-        let input = FrameInput {
-            frame: frame as u64,
-            camera: &camera,
-            broken_bounds: BrokenBounds::NONE,
-        };
-        wu.update(&input, &mut stats);
-        reference.update(&input, &mut stats);
+        step(&mut wu, frame as u64, &camera, false);
+        step(&mut reference, frame as u64, &camera, false);
     }
-    assert!(!reference.mesh().is_subset(wu.mesh()));
+    assert!(!reference.vertex_set().is_subset(wu.vertex_set()));
 }
 
 /// Terrain level, heights, walk steps, τ and whether to use the paper's zone.
@@ -353,7 +332,7 @@ fn with_the_conservative_zone_every_removed_vertex_error_subtends_at_most_tau() 
     let mut removed_checked = 0;
     for eye in serpentine(&hierarchy, 150.0, 10.0) {
         scene.fly_to(eye, false);
-        let mesh = scene.wu.mesh();
+        let mesh = scene.wu.vertex_set();
         for id in 0..lattice.n_vertices() as u32 {
             let p = lattice.point(id);
             if mesh.contains(id) || lattice.classify(p) == VertexClass::Corner {
@@ -390,20 +369,15 @@ fn max_nesting_does_not_bound_the_audited_surface_error_on_a_real_tile() {
         experiment.speed,
     );
     let camera = roamsim::sim::view::Camera::new(experiment.flight.pose(0), experiment.view);
-    let mut stats = FrameStats::default();
-    wu.update(
-        &FrameInput {
-            frame: 0,
-            camera: &camera,
-            broken_bounds: BrokenBounds::NONE,
-        },
-        &mut stats,
-    );
+    step(&mut wu, 0, &camera, false);
     let mut auditor = roamsim::sim::audit::Auditor::new(
         &hierarchy,
-        roamsim::sim::audit::AuditSettings { stride: 4 },
+        roamsim::sim::audit::AuditSettings {
+            stride: 4,
+            popping: false,
+        },
     );
-    let audit = auditor.audit(&hierarchy, wu.mesh(), &camera);
+    let audit = auditor.audit(&hierarchy, MeshOutput::lattice(wu.vertex_set()), &camera);
     let worst = audit.view_angle.unwrap().max;
     assert!(worst > 2.0, "worst audited view-angle error {worst} px");
 }
@@ -412,25 +386,17 @@ fn max_nesting_does_not_bound_the_audited_surface_error_on_a_real_tile() {
 fn an_unreachable_budget_keeps_b_clamped_and_reports_it() {
     let hierarchy = bumpy_terrain(4);
     let config = WuConfig {
-        tau_px: Some(1.0),
-        budget: Some(BudgetConfig {
-            triangles: 1_000_000,
-            dead_band: 0,
-            base_limit: 20,
-            initial_tau_k: 1.5,
-            tau_recentring: None,
-        }),
-        ..fixed_tau(1.0, ZoneVariant::Conservative)
+        wheel_links: 16,
+        ..wu_budget(1.0, 1_000_000, 20)
     };
     let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
     let mut stats = FrameStats::default();
     for frame in 0..60 {
-        step(&mut wu, frame, DVec3::new(80.0, 80.0, 400.0), &mut stats);
-        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+        stats = wu_step(&hierarchy, &mut wu, frame, DVec3::new(80.0, 80.0, 400.0));
         wu.validate_queues(false).unwrap();
     }
     assert_eq!(wu.base(), 20);
-    assert_eq!(stats.extra[1], 1.0, "base_clamped");
+    assert_eq!(extra(&wu, &stats, BASE_CLAMPED), 1.0);
     assert_eq!(
         stats.triangles,
         2 * 16 * 16,
@@ -447,9 +413,7 @@ fn fly_line(config: WuConfig, frames: u64, altitude: f64) -> (u64, u64, Vec<u64>
     let mut counts = Vec::new();
     for frame in 0..frames {
         let eye = DVec3::new(20.0 + 5.0 * frame as f64, 300.0, altitude);
-        let mut stats = FrameStats::default();
-        step(&mut wu, frame, eye, &mut stats);
-        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+        let stats = wu_step(&hierarchy, &mut wu, frame, eye);
         wu.validate_queues(false).unwrap();
         lives += stats.metric_evaluations;
         counts.push(stats.triangles);
@@ -497,11 +461,10 @@ fn a_depth_limit_spreads_the_first_refinement_over_several_frames() {
     let hierarchy = bumpy_terrain(6);
     let run = |config: WuConfig| {
         let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
-        let mut stats = FrameStats::default();
         for frame in 0..20 {
-            step(&mut wu, frame, DVec3::new(20.0, 300.0, 150.0), &mut stats);
+            wu_step(&hierarchy, &mut wu, frame, DVec3::new(20.0, 300.0, 150.0));
         }
-        wu.mesh().clone()
+        wu.vertex_set().clone()
     };
     assert_eq!(
         run(WuConfig {
@@ -516,14 +479,9 @@ fn a_depth_limit_spreads_the_first_refinement_over_several_frames() {
 fn a_budget_holds_the_triangle_count_near_the_budget() {
     let config = WuConfig {
         tau_px: None,
-        budget: Some(BudgetConfig {
-            triangles: 1500,
-            dead_band: 0,
-            base_limit: 1000,
-            initial_tau_k: 1.5,
-            tau_recentring: None,
-        }),
-        ..fixed_tau(1.0, ZoneVariant::Paper)
+        zone: ZoneVariant::Paper,
+        wheel_links: 16,
+        ..wu_budget(1.0, 1500, 1000)
     };
     let (_, _, counts) = fly_line(config, 200, 150.0);
     assert_settles_near(&counts[100..], 1500.0);
@@ -548,36 +506,27 @@ fn a_million_frames_keep_the_wheels_valid_and_b_bounded() {
     let hierarchy = bumpy_terrain(3);
     for refine in [Refinement::Everywhere, Refinement::InView] {
         let plain = WuConfig {
-            tau_px: Some(4.0),
-            budget: Some(BudgetConfig {
-                triangles: 40,
-                dead_band: 0,
-                base_limit: 50,
-                initial_tau_k: 1.5,
-                tau_recentring: None,
-            }),
-            ..fixed_tau(4.0, ZoneVariant::Conservative)
+            wheel_links: 16,
+            ..wu_budget(4.0, 40, 50)
         };
         let config = match refine {
             Refinement::Everywhere => plain,
             Refinement::InView => in_view(plain),
         };
         let mut wu = Wu::new(&hierarchy, config, &view_600(), TURNING);
-        let mut stats = FrameStats::default();
         let (mut lowest, mut highest) = (i64::MAX, i64::MIN);
-        for frame in 0..1_000_000u64 {
+        let circle = |frame: u64| {
             let angle = frame as f64 * std::f64::consts::TAU / 4000.0;
             let eye = DVec3::new(40.0 + 60.0 * angle.cos(), 40.0 + 60.0 * angle.sin(), 30.0);
-            step_to(
-                &mut wu,
-                frame,
-                &looking(eye, angle + std::f64::consts::FRAC_PI_2),
-                &mut stats,
-            );
+            looking(eye, angle + std::f64::consts::FRAC_PI_2)
+        };
+        for frame in 0..1_000_000u64 {
+            step_to(&mut wu, frame, &circle(frame));
             lowest = lowest.min(wu.base());
             highest = highest.max(wu.base());
         }
-        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+        // One more frame, checked as `--check` checks it.
+        wu_step_to(&hierarchy, &mut wu, 1_000_000, &circle(1_000_000));
         wu.validate_queues(false).unwrap();
         assert!(lowest < highest, "{refine:?}: b never moved ({lowest})");
         assert!((-50..=50).contains(&lowest) && (-50..=50).contains(&highest));
@@ -681,12 +630,11 @@ fn without_the_rotation_flag_a_fast_turn_would_leave_stale_view_keys() {
         TURNING,
     );
     let eye = DVec3::new(160.0, 160.0, 40.0);
-    let mut stats = FrameStats::default();
     for (frame, yaw) in [0.0, 0.0, 0.0, std::f64::consts::PI]
         .into_iter()
         .enumerate()
     {
-        step_to(&mut wu, frame as u64, &looking(eye, yaw), &mut stats);
+        step_to(&mut wu, frame as u64, &looking(eye, yaw));
     }
     let error = wu.validate_queues(false).unwrap_err();
     assert!(error.contains("in view"), "{error}");
@@ -745,28 +693,21 @@ fn in_view_refinement_leaves_what_is_behind_the_camera_coarse() {
 fn an_in_view_budget_holds_the_triangles_in_view_near_the_budget() {
     let config = in_view(WuConfig {
         tau_px: None,
-        budget: Some(BudgetConfig {
-            triangles: 1500,
-            dead_band: 0,
-            base_limit: 1000,
-            initial_tau_k: 1.5,
-            tau_recentring: None,
-        }),
-        ..fixed_tau(1.0, ZoneVariant::Paper)
+        zone: ZoneVariant::Paper,
+        wheel_links: 16,
+        ..wu_budget(1.0, 1500, 1000)
     });
     let hierarchy = bumpy_terrain(6);
     let mut wu = Wu::new(&hierarchy, config, &view_600(), TURNING);
     let mut counted = Vec::new();
     for frame in 0..300u64 {
         let eye = DVec3::new(20.0 + 2.0 * frame as f64, 300.0, 150.0);
-        let mut stats = FrameStats::default();
-        step_to(
+        wu_step_to(
+            &hierarchy,
             &mut wu,
             frame,
             &looking(eye, 0.01 * frame as f64),
-            &mut stats,
         );
-        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
         wu.validate_queues(false).unwrap();
         counted.push(wu.in_view_triangles().unwrap());
     }
@@ -809,12 +750,10 @@ fn tau_recentring_brings_the_mean_of_b_towards_zero() {
                 320.0 + 200.0 * angle.sin(),
                 60.0,
             );
-            let mut stats = FrameStats::default();
             step_to(
                 &mut wu,
                 frame,
                 &looking(eye, angle + std::f64::consts::FRAC_PI_2),
-                &mut stats,
             );
             bases.push(wu.base() as f64);
             wu.validate_queues(false).unwrap();

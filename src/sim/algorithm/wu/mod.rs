@@ -80,8 +80,10 @@ pub(super) use cull::Cone;
 use visibility::SphereShape;
 pub(super) use visibility::{ConeMotion, NodeSphere, Sight};
 
+use super::columns::wu as columns;
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, NestingRule, VertexClass};
+use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
@@ -185,26 +187,30 @@ struct Counters {
 
 /// The columns every run has, then the optional ones in this order: `cone_tests` (the view cone
 /// is followed), `triangles_in_view_blocks` (the in-view count is kept), `tau_px` (τ re-centring).
-macro_rules! columns {
-    ($($optional:literal),*) => {
+macro_rules! column_list {
+    ($($optional:expr),*) => {
         &[
-            "base_b",
-            "base_clamped",
-            "splittable",
-            "split_queue",
-            "mergeable",
-            "life_recomputations",
-            "forced_splits",
+            columns::BASE_B,
+            columns::BASE_CLAMPED,
+            columns::SPLITTABLE,
+            columns::SPLIT_QUEUE,
+            columns::MERGEABLE,
+            columns::LIFE_RECOMPUTATIONS,
+            columns::FORCED_SPLITS,
             $($optional),*
         ]
     };
 }
-const COLUMNS: &[&str] = columns!();
-const COLUMNS_CONE: &[&str] = columns!("cone_tests");
-const COLUMNS_COUNT: &[&str] = columns!("cone_tests", "triangles_in_view_blocks");
-const COLUMNS_TAU: &[&str] = columns!("tau_px");
-const COLUMNS_CONE_TAU: &[&str] = columns!("cone_tests", "tau_px");
-const COLUMNS_COUNT_TAU: &[&str] = columns!("cone_tests", "triangles_in_view_blocks", "tau_px");
+const COLUMNS: &[&str] = column_list!();
+const COLUMNS_CONE: &[&str] = column_list!(columns::CONE_TESTS);
+const COLUMNS_COUNT: &[&str] = column_list!(columns::CONE_TESTS, columns::TRIANGLES_IN_VIEW_BLOCKS);
+const COLUMNS_TAU: &[&str] = column_list!(columns::TAU_PX);
+const COLUMNS_CONE_TAU: &[&str] = column_list!(columns::CONE_TESTS, columns::TAU_PX);
+const COLUMNS_COUNT_TAU: &[&str] = column_list!(
+    columns::CONE_TESTS,
+    columns::TRIANGLES_IN_VIEW_BLOCKS,
+    columns::TAU_PX
+);
 
 /// Wu's algorithm over one terrain.
 pub struct Wu<'h> {
@@ -694,6 +700,13 @@ impl<'h> Wu<'h> {
     }
 }
 
+impl Wu<'_> {
+    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
+    pub fn vertex_set(&self) -> &VertexSet {
+        &self.mesh
+    }
+}
+
 impl LodAlgorithm for Wu<'_> {
     fn name(&self) -> &'static str {
         NAME
@@ -794,8 +807,8 @@ impl LodAlgorithm for Wu<'_> {
         }
     }
 
-    fn mesh(&self) -> &VertexSet {
-        &self.mesh
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::lattice(&self.mesh)
     }
 
     fn triangle_count(&self) -> u64 {

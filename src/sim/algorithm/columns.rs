@@ -1,0 +1,121 @@
+//! Every algorithm-specific column of `frames.csv`, named once.
+//!
+//! An algorithm declares its columns ([`super::LodAlgorithm::extra_columns`]) with these
+//! constants, and whoever reads a column by name (the plots, the report, the tests) uses them
+//! too, so a misspelt name is a compile error. A name that is not here at all (a string typed
+//! by hand) is refused loudly by [`extra_value`] and by the edge's column lookup: a panic, never
+//! a silent empty column. A new algorithm adds its module here and its names to [`ALL`].
+
+use crate::sim::stats::FrameStats;
+
+/// `wu` (Wu et al. 2001).
+pub mod wu {
+    pub const BASE_B: &str = "base_b";
+    pub const BASE_CLAMPED: &str = "base_clamped";
+    pub const SPLITTABLE: &str = "splittable";
+    pub const SPLIT_QUEUE: &str = "split_queue";
+    pub const MERGEABLE: &str = "mergeable";
+    pub const LIFE_RECOMPUTATIONS: &str = "life_recomputations";
+    pub const FORCED_SPLITS: &str = "forced_splits";
+    pub const CONE_TESTS: &str = "cone_tests";
+    pub const TRIANGLES_IN_VIEW_BLOCKS: &str = "triangles_in_view_blocks";
+    pub const TAU_PX: &str = "tau_px";
+}
+
+/// `lindstrom` (Lindstrom et al. 1996).
+pub mod lindstrom {
+    pub const BLOCKS_COARSEST: &str = "blocks_coarsest";
+    pub const BLOCKS_FINEST: &str = "blocks_finest";
+    pub const BLOCKS_PARTIAL: &str = "blocks_partial";
+    pub const VERTICES_EVALUATED: &str = "vertices_evaluated";
+    pub const VERTICES_BY_INTERVAL: &str = "vertices_by_interval";
+    pub const FORCED_ACTIVATIONS: &str = "forced_activations";
+}
+
+/// `roam` and `roam-rebuild` (Duchaineau et al. 1997).
+pub mod roam {
+    pub const FORCED_SPLITS: &str = "forced_splits";
+    pub const SPLIT_QUEUE: &str = "split_queue";
+    pub const MERGE_QUEUE: &str = "merge_queue";
+    pub const PRIORITY_RECOMPUTATIONS: &str = "priority_recomputations";
+    pub const OSCILLATION_GUARD_STOPS: &str = "oscillation_guard_stops";
+    pub const DEFERRED: &str = "deferred";
+    pub const REVALIDATIONS: &str = "revalidations";
+    pub const TRIANGLES_PER_STRIP: &str = "triangles_per_strip";
+}
+
+/// Every algorithm-specific column name (some are shared: `forced_splits`, `split_queue`).
+pub const ALL: &[&str] = &[
+    wu::BASE_B,
+    wu::BASE_CLAMPED,
+    wu::SPLITTABLE,
+    wu::SPLIT_QUEUE,
+    wu::MERGEABLE,
+    wu::LIFE_RECOMPUTATIONS,
+    wu::FORCED_SPLITS,
+    wu::CONE_TESTS,
+    wu::TRIANGLES_IN_VIEW_BLOCKS,
+    wu::TAU_PX,
+    lindstrom::BLOCKS_COARSEST,
+    lindstrom::BLOCKS_FINEST,
+    lindstrom::BLOCKS_PARTIAL,
+    lindstrom::VERTICES_EVALUATED,
+    lindstrom::VERTICES_BY_INTERVAL,
+    lindstrom::FORCED_ACTIVATIONS,
+    roam::FORCED_SPLITS,
+    roam::SPLIT_QUEUE,
+    roam::MERGE_QUEUE,
+    roam::PRIORITY_RECOMPUTATIONS,
+    roam::OSCILLATION_GUARD_STOPS,
+    roam::DEFERRED,
+    roam::REVALIDATIONS,
+    roam::TRIANGLES_PER_STRIP,
+];
+
+/// Whether `name` is an algorithm-specific column of some algorithm.
+pub fn is_known(name: &str) -> bool {
+    ALL.contains(&name)
+}
+
+/// The value of column `name` in `stats` of an algorithm that declares the columns `declared`:
+/// `None` when it does not declare `name`.
+///
+/// # Panics
+/// When `name` is no algorithm's column (a misspelt name must not read as "not applicable").
+pub fn extra_value(declared: &[&str], stats: &FrameStats, name: &str) -> Option<f64> {
+    assert!(
+        is_known(name),
+        "{name:?} is no algorithm's column (see sim::algorithm::columns)"
+    );
+    let k = declared.iter().position(|c| *c == name)?;
+    stats.extra.get(k).copied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_declared_column_is_read_and_an_undeclared_one_does_not_apply() {
+        let stats = FrameStats {
+            extra: vec![-3.0, 1.0],
+            ..FrameStats::default()
+        };
+        let declared = [wu::BASE_B, wu::BASE_CLAMPED];
+        assert_eq!(extra_value(&declared, &stats, wu::BASE_CLAMPED), Some(1.0));
+        assert_eq!(extra_value(&declared, &stats, roam::SPLIT_QUEUE), None);
+    }
+
+    #[test]
+    fn a_misspelt_column_is_refused_loudly() {
+        let result = std::panic::catch_unwind(|| {
+            extra_value(&[wu::BASE_B], &FrameStats::default(), "base_bb")
+        });
+        let message = result.expect_err("a misspelt column must panic");
+        let message = message.downcast_ref::<String>().map(String::as_str);
+        assert_eq!(
+            message,
+            Some("\"base_bb\" is no algorithm's column (see sim::algorithm::columns)")
+        );
+    }
+}
