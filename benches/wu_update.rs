@@ -1,12 +1,13 @@
 //! Per-frame update of Wu's algorithm at a 6000-triangle budget on the Table 1 flight
 //! (`experiments/wu-table1.json`), against the from-scratch reference at the same τ.
 //!
-//! Three measurements: `wu` as the experiment runs it (budget counted on cone-culled triangles,
-//! which adds the hierarchical cone count of `wu/cone_count.rs` per frame),
-//! `wu_budget_on_all_triangles` (the same budget on the whole mesh: the queue work alone), and the
-//! reference at the same τ.
-//! All start from the same warmed-up point of the flight (Wu's queues in steady state) and then
-//! advance one frame per iteration along the circle, so every measured update is a real frame.
+//! Four measurements: `wu_in_view` as the experiment runs it (refinement that follows the view
+//! cone, the budget counting the triangles of the active blocks in view, both kept incrementally),
+//! `wu_everywhere` (the same entry refining everywhere, the paper's queues over the whole terrain,
+//! the same O(1) count), and the from-scratch reference at the same τ in both modes
+//! (`reference_in_view_same_tau`, `reference_everywhere_same_tau`). All start from the same
+//! warmed-up point of the flight (Wu's queues in steady state) and then advance one frame per
+//! iteration along the circle, so every measured update is a real frame.
 //! Run with `cargo bench --bench wu_update`.
 
 mod common;
@@ -14,7 +15,10 @@ mod common;
 use common::drive;
 use criterion::{Criterion, criterion_group, criterion_main};
 use roamsim::edge::experiment;
-use roamsim::sim::algorithm::{AlgorithmConfig, Reference, ReferenceConfig, SplitThreshold, Wu};
+use roamsim::sim::algorithm::{
+    AlgorithmConfig, LodAlgorithm, Reference, ReferenceConfig, Refinement, SplitThreshold,
+    ViewThreshold, Wu, WuConfig,
+};
 use roamsim::sim::hierarchy::Hierarchy;
 use std::path::Path;
 
@@ -32,51 +36,54 @@ fn per_frame_update(c: &mut Criterion) {
     let AlgorithmConfig::Wu(config) = spec.config else {
         panic!("not a wu entry");
     };
-    let mut wu = Wu::new(&hierarchy, config, &experiment.view, experiment.speed);
-    // The same budget counted on all triangles: the queue work without the cone count.
-    let uncounted = roamsim::sim::algorithm::WuConfig {
-        cone_culling: false,
+    assert_eq!(config.refine, Refinement::InView, "the entry's default");
+    let wu_in_view = Wu::new(&hierarchy, config, &experiment.view, experiment.speed);
+    let everywhere = WuConfig {
+        refine: Refinement::Everywhere,
         ..config
     };
-    let mut wu_no_cone = Wu::new(&hierarchy, uncounted, &experiment.view, experiment.speed);
-    let mut reference = Reference::new(
-        &hierarchy,
-        ReferenceConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: wu.tau_px(),
-            zone: config.zone,
-            threshold: SplitThreshold::LifeAtMost(0.0),
-        },
-        &experiment.view,
-        experiment.speed,
-    );
-    for frame in 0..WARM_UP_FRAMES {
-        drive(&mut wu, &experiment, frame);
-        drive(&mut wu_no_cone, &experiment, frame);
-        drive(&mut reference, &experiment, frame);
-    }
+    let wu_everywhere = Wu::new(&hierarchy, everywhere, &experiment.view, experiment.speed);
+    let tau_px = wu_in_view.tau_px();
+    let reference = |refine| {
+        Reference::new(
+            &hierarchy,
+            ReferenceConfig {
+                nesting: config.nesting,
+                tau_px,
+                zone: config.zone,
+                threshold: SplitThreshold::LifeAtMost(0.0),
+                refine,
+                view_threshold: ViewThreshold::InView,
+            },
+            &experiment.view,
+            experiment.speed,
+        )
+    };
+    let mut entries: Vec<(&str, Box<dyn LodAlgorithm + '_>)> = vec![
+        ("wu_in_view", Box::new(wu_in_view)),
+        ("wu_everywhere", Box::new(wu_everywhere)),
+        (
+            "reference_in_view_same_tau",
+            Box::new(reference(Refinement::InView)),
+        ),
+        (
+            "reference_everywhere_same_tau",
+            Box::new(reference(Refinement::Everywhere)),
+        ),
+    ];
     let mut group = c.benchmark_group("per_frame_update_6000_triangles");
-    let mut frame = WARM_UP_FRAMES;
-    group.bench_function("wu", |b| {
-        b.iter(|| {
-            drive(&mut wu, &experiment, frame);
-            frame += 1;
-        })
-    });
-    let mut frame = WARM_UP_FRAMES;
-    group.bench_function("wu_budget_on_all_triangles", |b| {
-        b.iter(|| {
-            drive(&mut wu_no_cone, &experiment, frame);
-            frame += 1;
-        })
-    });
-    let mut frame = WARM_UP_FRAMES;
-    group.bench_function("reference_same_tau", |b| {
-        b.iter(|| {
-            drive(&mut reference, &experiment, frame);
-            frame += 1;
-        })
-    });
+    for (name, algorithm) in &mut entries {
+        for frame in 0..WARM_UP_FRAMES {
+            drive(algorithm.as_mut(), &experiment, frame);
+        }
+        let mut frame = WARM_UP_FRAMES;
+        group.bench_function(*name, |b| {
+            b.iter(|| {
+                drive(algorithm.as_mut(), &experiment, frame);
+                frame += 1;
+            })
+        });
+    }
     group.finish();
 }
 

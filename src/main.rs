@@ -196,7 +196,8 @@ fn run(
         let frames = &outcome.speed_violation_frames;
         let shown: Vec<String> = frames.iter().take(10).map(u64::to_string).collect();
         eprintln!(
-            "warning: {} frame(s) break the speed bounds (algorithms revalidated there): {}{}",
+            "warning: {} frame(s) break the speed or rotation bounds (algorithms revalidated \
+             there; summary.json says which bound): {}{}",
             frames.len(),
             shown.join(", "),
             if frames.len() > 10 { ", …" } else { "" }
@@ -239,7 +240,7 @@ fn validate(path: &Path) -> Result<(), String> {
         );
         if !experiment.violations.is_empty() {
             println!(
-                "note: {} frame(s) break the speed bounds (first: frame {})",
+                "note: {} frame(s) break the speed or rotation bounds (first: frame {})",
                 experiment.violations.len(),
                 experiment.violations[0].frame
             );

@@ -203,6 +203,82 @@ fn a_recorded_log_with_a_nan_is_refused_before_anything_runs() {
 }
 
 #[test]
+fn a_negative_rotation_bound_is_reported_with_its_path() {
+    assert_one_problem(
+        |e| e["speed_bounds"]["rotation_rad_per_frame"] = json!(-0.1),
+        "speed_bounds.rotation_rad_per_frame",
+        "expected a finite number of at least 0",
+    );
+}
+
+#[test]
+fn an_experiment_without_a_rotation_bound_loads_with_the_bound_that_bounds_nothing() {
+    // Files written before the rotation bound existed: π, which every turn honours.
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = quickstart();
+    experiment["speed_bounds"]
+        .as_object_mut()
+        .unwrap()
+        .remove("rotation_rad_per_frame");
+    let loaded = load(&save(dir.path(), "old", &experiment)).unwrap();
+    assert_eq!(loaded.speed.rotation, std::f64::consts::PI);
+}
+
+#[test]
+fn wu_refinement_and_tau_recentring_are_checked_against_what_they_need() {
+    assert_one_problem(
+        |e| e["algorithms"][2]["recentre_tau"] = json!(true),
+        "algorithms[2].recentre_tau",
+        "expected budget_triangles as well",
+    );
+    assert_one_problem(
+        |e| e["algorithms"][3]["recentre_tau_window_frames"] = json!(32),
+        "algorithms[3].recentre_tau_window_frames",
+        "expected \"recentre_tau\": true as well",
+    );
+    assert_one_problem(
+        |e| e["algorithms"][3]["refine"] = json!("behind"),
+        "algorithms[3].refine",
+        "unknown variant `behind`, expected `in_view` or `everywhere`",
+    );
+}
+
+#[test]
+fn wu_refines_in_view_by_default_when_it_culls_by_the_cone() {
+    use roamsim::sim::algorithm::{AlgorithmConfig, Refinement};
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = quickstart();
+    experiment["algorithms"] = json!([
+        { "name": "wu", "label": "plain", "tau_px": 2 },
+        { "name": "wu", "label": "cone", "tau_px": 2, "cone_culling": true },
+        { "name": "wu", "label": "in view", "tau_px": 2, "refine": "in_view" },
+        { "name": "wu", "label": "cone everywhere", "tau_px": 2, "cone_culling": true,
+          "refine": "everywhere" },
+        { "name": "wu", "label": "in view, whole mesh", "tau_px": 2, "refine": "in_view",
+          "cone_culling": false },
+    ]);
+    let loaded = load(&save(dir.path(), "defaults", &experiment)).unwrap();
+    let modes: Vec<(Refinement, bool)> = loaded
+        .algorithms
+        .iter()
+        .map(|spec| match spec.config {
+            AlgorithmConfig::Wu(c) => (c.refine, c.cone_culling),
+            _ => unreachable!("only wu entries"),
+        })
+        .collect();
+    assert_eq!(
+        modes,
+        vec![
+            (Refinement::Everywhere, false),
+            (Refinement::InView, true),
+            (Refinement::InView, true),
+            (Refinement::Everywhere, true),
+            (Refinement::InView, false),
+        ]
+    );
+}
+
+#[test]
 fn mesh_exports_name_entries_that_exist_and_frames_inside_the_flight() {
     assert_eq!(
         problems_of(|e| {

@@ -6,10 +6,12 @@
 mod common;
 
 use common::algorithms::{
-    every_algorithm, every_block_algorithm, reference, roam_target, wu, wu_budget,
+    every_algorithm, every_block_algorithm, reference, reference_in_view, roam_target, wu,
+    wu_budget,
 };
 use common::{checked_step, extra, vertex_set, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::Refinement;
 use roamsim::sim::algorithm::chunked::ChunkId;
 use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
 use roamsim::sim::algorithm::{
@@ -29,6 +31,7 @@ use roamsim::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, split_zone};
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 10.0,
     vertical: 5.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 fn terrain(side: usize, spacing: f64, height: impl Fn(usize, usize) -> f32) -> Hierarchy {
@@ -243,6 +246,7 @@ fn scaling_terrain_flight_and_speed_bounds_together_changes_no_mesh() {
         let scaled_speed = SpeedBound {
             horizontal: SPEED.horizontal * scale,
             vertical: SPEED.vertical * scale,
+            rotation: SPEED.rotation,
         };
         for config in every_algorithm(2.0) {
             let a = final_mesh(&small, &config, view, SPEED, &eyes);
@@ -266,6 +270,7 @@ fn zero_and_huge_speed_bounds_change_no_fixed_tau_mesh() {
         let huge = SpeedBound {
             horizontal: 1e12,
             vertical: 1e12,
+            rotation: SpeedBound::NO_ROTATION_BOUND,
         };
         assert_eq!(
             normal,
@@ -330,7 +335,16 @@ fn meshes_at(hierarchy: &Hierarchy, tau_px: f64, view: ViewSettings, eye: DVec3)
 
 /// Whether `config` keeps culled triangles coarse (its mesh then depends on the frustum).
 fn culls(config: &AlgorithmConfig) -> bool {
-    matches!(config, AlgorithmConfig::Roam(c) if c.culling_flags)
+    matches!(config, AlgorithmConfig::Roam(c) if c.culling_flags) || refines_in_view(config)
+}
+
+/// Whether the configuration refines only what the view cone needs.
+fn refines_in_view(config: &AlgorithmConfig) -> bool {
+    match config {
+        AlgorithmConfig::Wu(c) => c.refine == Refinement::InView,
+        AlgorithmConfig::Reference(c) => c.refine == Refinement::InView,
+        _ => false,
+    }
 }
 
 #[test]
@@ -629,6 +643,7 @@ fn a_zero_speed_bound_changes_no_fixed_tau_mesh_when_its_violations_are_flagged(
     let zero = SpeedBound {
         horizontal: 0.0,
         vertical: 0.0,
+        rotation: 0.0,
     };
     let moving: Vec<DVec3> = (0..25)
         .map(|f| DVec3::new(10.0 + 6.0 * f as f64, 100.0, 60.0 - f as f64))
@@ -636,8 +651,22 @@ fn a_zero_speed_bound_changes_no_fixed_tau_mesh_when_its_violations_are_flagged(
     let still = vec![DVec3::new(120.0, 150.0, 50.0); 5];
     for eyes in [&moving, &still] {
         for config in every_algorithm(2.0) {
-            let normal = final_mesh(&hierarchy, &config, view_600(), SPEED, eyes);
             let frozen = final_mesh(&hierarchy, &config, view_600(), zero, eyes);
+            if let AlgorithmConfig::Wu(wu) = config
+                && wu.refine == Refinement::InView
+            {
+                // In-view refinement merges a node once it is more than one frame of cone
+                // motion outside the view: a margin the bounds set, 0 here. So the frozen mesh
+                // is the in-view reference's, exactly.
+                let reference = AlgorithmConfig::Reference(ReferenceConfig {
+                    nesting: wu.nesting,
+                    ..reference_in_view(2.0, wu.zone)
+                });
+                let expected = final_mesh(&hierarchy, &reference, view_600(), zero, eyes);
+                assert_eq!(frozen, expected, "{config:?}");
+                continue;
+            }
+            let normal = final_mesh(&hierarchy, &config, view_600(), SPEED, eyes);
             assert_eq!(normal, frozen, "{config:?}");
         }
     }

@@ -34,6 +34,7 @@ const POST_M: f64 = 10.0;
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 10.0,
     vertical: 5.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 /// What one frame decided: the mesh and the counts of what changed.
@@ -223,6 +224,7 @@ proptest! {
         let scaled_speed = SpeedBound {
             horizontal: SPEED.horizontal * scale,
             vertical: SPEED.vertical * scale,
+            rotation: SPEED.rotation,
         };
         for config in every_algorithm(scene.tau_px) {
             let a = decisions(&original, &config, view, SPEED, &scene.poses);

@@ -34,6 +34,7 @@ const FRAMES_PER_LAP: u64 = 4000;
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 10.0,
     vertical: 5.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 /// The eye at `frame`: a circle of 60 m around the middle of a 9×9 terrain, 30 m up (0.1 m a

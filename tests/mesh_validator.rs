@@ -14,6 +14,7 @@ use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 5.0,
     vertical: 2.5,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 /// Runs the reference from every eye position on the grid (one frame each, in sequence, so the

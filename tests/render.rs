@@ -506,7 +506,7 @@ fn patches_at_each_checked_frame(check: &mut dyn FnMut(&Hierarchy, &Patches, &Fr
         hierarchy,
         view: &scene.experiment.view,
         flight: &scene.experiment.flight,
-        violation_frames: &[],
+        violations: &[],
         effects: Effects {
             audit: None,
             culling: true,

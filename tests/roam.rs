@@ -21,6 +21,7 @@ use roamsim::sim::zone::SpeedBound;
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 4.0,
     vertical: 2.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
 };
 
 /// A straight flight at 3 m per frame over a 33×33 (320 m) terrain, looking along +x, slightly

@@ -184,3 +184,49 @@ fn a_parametric_flight_that_overflows_to_infinity_is_refused_with_its_frame() {
         "{error}"
     );
 }
+
+#[test]
+fn a_turn_faster_than_the_rotation_bound_is_reported_as_a_rotation_violation() {
+    // Ten frames 1 m apart looking east, then north from frame 6 on: a quarter turn in one frame
+    // against a bound of 0.1 rad. Wu refines in view and revalidates there.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("frame,x_m,y_m,z_m,yaw_deg,pitch_deg\n");
+    for frame in 0..10 {
+        let yaw = if frame >= 6 { 90 } else { 0 };
+        text.push_str(&format!("{frame},{},600,200,{yaw},-20\n", 300 + frame));
+    }
+    std::fs::write(dir.path().join("log.csv"), text).unwrap();
+    let mut file = experiment(json!({ "path": { "recorded": { "path": "log.csv" } } }));
+    file["speed_bounds"]["rotation_rad_per_frame"] = json!(0.1);
+    file["algorithms"][0] = json!({ "name": "wu", "label": "wu", "tau_px": 2,
+                                    "refine": "in_view" });
+    let path = common::experiment::save(dir.path(), "turn", &file);
+    let loaded = load(&path).unwrap();
+    assert_eq!(loaded.violations.len(), 1);
+    let violation = loaded.violations[0];
+    assert_eq!(violation.frame, 6);
+    // Both looks pitched 20° down: cos(angle) = sin²(20°).
+    let expected = 20f64.to_radians().sin().powi(2).acos();
+    assert!(
+        (violation.rotation - expected).abs() < 1e-12,
+        "{violation:?}"
+    );
+    assert!(violation.broken.rotation && !violation.broken.speed());
+
+    let out = dir.path().join("out");
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: true,
+        threads: Some(1),
+    };
+    run_experiment(&path, &options, &NoProgress).unwrap();
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let flight = &summary["flight"];
+    assert_eq!(flight["speed_bounds"]["rotation_rad_per_frame"], 0.1);
+    assert_eq!(
+        flight["speed_violation_count_by_bound"],
+        json!({ "horizontal": 0, "vertical": 0, "rotation": 1 })
+    );
+    assert_eq!(flight["speed_violations"][0]["broken"], json!(["rotation"]));
+}

@@ -92,7 +92,7 @@ fn run_with_every_effect(
         hierarchy,
         view: &view_600(),
         flight: &flight,
-        violation_frames: &[],
+        violations: &[],
         effects: Effects {
             audit: Some(audit_settings(true)),
             culling: true,
@@ -268,6 +268,7 @@ fn a_4_8_mesh_drawn_as_a_triangle_list_passes_its_checks_and_audits_the_same() {
     let speed = SpeedBound {
         horizontal: 10.0,
         vertical: 5.0,
+        rotation: SpeedBound::NO_ROTATION_BOUND,
     };
     let mut reference = Reference::new(
         &hierarchy,

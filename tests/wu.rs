@@ -1,34 +1,50 @@
 //! Wu's algorithm against the from-scratch reference, and its queues against their validator.
 //!
-//! The central property (fixed τ, no budget, speed bounds honoured, traversal options off): after
-//! every frame,
+//! The central property (fixed τ, no budget, motion bounds honoured, traversal options off):
+//! after every frame,
 //!   from-scratch(split iff ℓ ≤ 0)  ⊆  wu's mesh  ⊆  from-scratch(split iff ℓ < 1),
-//! checked on exhaustive small cases and on random terrains and flights. The upper bound needs
-//! nested zones (a block's zone contains its sub-blocks'), which only the conservative variant
-//! guarantees: with the paper's boxes, centred on different vertices, a block can have ℓ ≥ 1
-//! while a sub-block that keeps it active has ℓ < 1. So the upper bound is checked for the
-//! conservative zone, the lower bound for both.
+//! and with in-view refinement (`refine: in_view`)
+//!   from-scratch(ℓ ≤ 0 and in view)  ⊆  wu's mesh  ⊆  from-scratch(ℓ < 1 and within the margin),
+//! checked on exhaustive small cases and on random terrains and flights, the camera turning.
+//! The upper bound needs nested zones (a block's zone contains its sub-blocks'), which only the
+//! conservative variant guarantees: with the paper's boxes, centred on different vertices, a
+//! block can have ℓ ≥ 1 while a sub-block that keeps it active has ℓ < 1. So the upper bound is
+//! checked for the conservative zone, the lower bound for both. (Spheres and margins nest for
+//! every zone variant.) The queue validator, which also recounts the in-view triangles and
+//! retests every in-view flag, runs after every frame.
 
 mod common;
 
 use common::algorithms::{reference, wu, wu_budget};
-use common::{bumpy_terrain, camera_at, checked_step, extra, step, view_600};
+use common::{
+    bumpy_terrain, camera_at, checked_step, checked_step_breaking, extra, step, step_breaking,
+    view_600,
+};
 use glam::DVec3;
 use proptest::prelude::*;
 use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
 use roamsim::sim::algorithm::{
-    LodAlgorithm, Reference, ReferenceConfig, SplitThreshold, Wu, WuConfig,
+    BrokenBounds, BudgetConfig, LodAlgorithm, Reference, ReferenceConfig, Refinement,
+    SplitThreshold, ViewThreshold, Wu, WuConfig,
 };
 use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
 use roamsim::sim::mesh::MeshOutput;
 use roamsim::sim::metrics::view_angle_error_px;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
+use roamsim::sim::view::{Camera, Pose};
 use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 
 const SPEED: SpeedBound = SpeedBound {
     horizontal: 10.0,
     vertical: 5.0,
+    rotation: SpeedBound::NO_ROTATION_BOUND,
+};
+
+/// The speed bounds with a rotation bound of 0.05 rad (2.9°) a frame.
+const TURNING: SpeedBound = SpeedBound {
+    rotation: 0.05,
+    ..SPEED
 };
 
 /// Wu at a fixed τ with small wheels (16 links), so that overflow links are exercised.
@@ -39,10 +55,45 @@ fn fixed_tau(tau_px: f64, zone: ZoneVariant) -> WuConfig {
     }
 }
 
-/// One frame of Wu with the eye at `eye` (within the speed bounds), checked as `--check`
-/// checks it.
+/// Wu refining only what the view cone needs.
+fn in_view(config: WuConfig) -> WuConfig {
+    WuConfig {
+        cone_culling: true,
+        refine: Refinement::InView,
+        ..config
+    }
+}
+
+/// One frame of Wu with the eye at `eye` looking along +x (within the speed bounds), checked as
+/// `--check` checks it.
 fn wu_step(hierarchy: &Hierarchy, wu: &mut Wu, frame: u64, eye: DVec3) -> FrameStats {
     checked_step(hierarchy, wu, frame, &camera_at(eye), false, "wu")
+}
+
+/// One frame of Wu at `pose` (within the motion bounds), checked as `--check` checks it.
+fn wu_step_to(hierarchy: &Hierarchy, wu: &mut Wu, frame: u64, pose: &Pose) -> FrameStats {
+    let camera = Camera::new(pose, view_600());
+    checked_step(hierarchy, wu, frame, &camera, false, "wu")
+}
+
+/// One frame of `algorithm` at `pose` (within the motion bounds), unchecked.
+fn step_to(algorithm: &mut dyn LodAlgorithm, frame: u64, pose: &Pose) -> FrameStats {
+    step(algorithm, frame, &Camera::new(pose, view_600()), false)
+}
+
+/// The terrain of a random scene: side 2^level + 1, 10 m posts.
+fn random_terrain(level: u32, heights: Vec<f32>) -> Hierarchy {
+    let side = (1usize << level) + 1;
+    Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 10.0, dy: 10.0 }).unwrap())
+}
+
+/// A pose at `eye` looking towards `yaw`, slightly down.
+fn looking(eye: DVec3, yaw: f64) -> Pose {
+    Pose {
+        position: eye,
+        yaw,
+        pitch: -0.3,
+    }
 }
 
 /// A scene: one terrain, the reference pair that sandwiches Wu, and Wu itself.
@@ -57,54 +108,79 @@ struct Sandwich<'h> {
 
 impl<'h> Sandwich<'h> {
     fn new(hierarchy: &'h Hierarchy, tau_px: f64, zone: ZoneVariant, speed: SpeedBound) -> Self {
-        let from_scratch = |threshold| {
+        Sandwich::refining(hierarchy, tau_px, zone, speed, Refinement::Everywhere)
+    }
+
+    fn refining(
+        hierarchy: &'h Hierarchy,
+        tau_px: f64,
+        zone: ZoneVariant,
+        speed: SpeedBound,
+        refine: Refinement,
+    ) -> Self {
+        let from_scratch = |threshold, view_threshold| {
             Reference::new(
                 hierarchy,
                 ReferenceConfig {
                     threshold,
+                    refine,
+                    view_threshold,
                     ..reference(tau_px, zone)
                 },
                 &view_600(),
                 speed,
             )
         };
+        let config = match refine {
+            Refinement::Everywhere => fixed_tau(tau_px, zone),
+            Refinement::InView => in_view(fixed_tau(tau_px, zone)),
+        };
         Sandwich {
             hierarchy,
-            wu: Wu::new(hierarchy, fixed_tau(tau_px, zone), &view_600(), speed),
-            lower: from_scratch(SplitThreshold::LifeAtMost(0.0)),
-            upper: from_scratch(SplitThreshold::LifeBelow(1.0)),
+            wu: Wu::new(hierarchy, config, &view_600(), speed),
+            lower: from_scratch(SplitThreshold::LifeAtMost(0.0), ViewThreshold::InView),
+            upper: from_scratch(SplitThreshold::LifeBelow(1.0), ViewThreshold::WithinMargin),
             zone,
             frame: 0,
         }
     }
 
-    /// Flies to `eye` and checks everything; `broken` says the move broke the speed bounds.
+    /// Flies to `eye` looking along +x and checks everything; `broken` says the move broke the
+    /// motion bounds.
     fn fly_to(&mut self, eye: DVec3, broken: bool) -> FrameStats {
+        self.fly(&looking(eye, 0.0), BrokenBounds::all_if(broken))
+    }
+
+    /// Flies to `pose` and checks everything.
+    fn fly(&mut self, pose: &Pose, broken_bounds: BrokenBounds) -> FrameStats {
         let zones_nest = self.zone == ZoneVariant::Conservative;
-        let camera = camera_at(eye);
+        let camera = Camera::new(pose, view_600());
+        let eye = pose.position;
         let frame = self.frame;
         self.frame += 1;
-        let context = format!("eye {eye:?}");
-        let stats = checked_step(
+        let context = format!("{pose:?}");
+        let stats = checked_step_breaking(
             self.hierarchy,
             &mut self.wu,
             frame,
             &camera,
-            broken,
+            broken_bounds,
             &context,
         );
-        step(&mut self.lower, frame, &camera, broken);
-        step(&mut self.upper, frame, &camera, broken);
+        step_breaking(&mut self.lower, frame, &camera, broken_bounds);
+        step_breaking(&mut self.upper, frame, &camera, broken_bounds);
         if let Err(error) = self.wu.validate_queues(true) {
-            panic!("frame {frame}, eye {eye:?}: {error}");
+            panic!("frame {frame}, {pose:?}: {error}");
         }
         assert!(
             self.lower.vertex_set().is_subset(self.wu.vertex_set()),
-            "frame {frame}, eye {eye:?}: a vertex the eye is inside the zone of is missing"
+            "frame {frame}, eye {eye:?}: a vertex the eye is inside the zone of (and in view) is \
+             missing"
         );
         assert!(
             !zones_nest || self.wu.vertex_set().is_subset(self.upper.vertex_set()),
-            "frame {frame}, eye {eye:?}: a vertex whose life is ≥ 1 is still active"
+            "frame {frame}, eye {eye:?}: a vertex whose life is ≥ 1 (or beyond the margin) is \
+             still active"
         );
         stats
     }
@@ -229,9 +305,7 @@ proptest! {
     fn wu_is_sandwiched_on_random_terrains_and_flights(
         (level, heights, walk, tau_px, paper_zone) in terrain_and_walk()
     ) {
-        let side = (1usize << level) + 1;
-        let field = Heightfield::new(side, heights, Spacing { dx: 10.0, dy: 10.0 }).unwrap();
-        let hierarchy = Hierarchy::new(field);
+        let hierarchy = random_terrain(level, heights);
         let zone = if paper_zone { ZoneVariant::Paper } else { ZoneVariant::Conservative };
         let mut scene = Sandwich::new(&hierarchy, tau_px, zone, SPEED);
         let mut eye = DVec3::new(40.0, 40.0, 50.0);
@@ -410,11 +484,16 @@ fn a_budget_holds_the_triangle_count_near_the_budget() {
         ..wu_budget(1.0, 1500, 1000)
     };
     let (_, _, counts) = fly_line(config, 200, 150.0);
-    let settled = &counts[100..];
-    let mean = settled.iter().sum::<u64>() as f64 / settled.len() as f64;
+    assert_settles_near(&counts[100..], 1500.0);
+}
+
+/// The mean of `counts` is within 10 % of `budget`.
+fn assert_settles_near(counts: &[u64], budget: f64) {
+    let mean = counts.iter().sum::<u64>() as f64 / counts.len() as f64;
     assert!(
-        (mean - 1500.0).abs() < 150.0,
-        "mean {mean} over the second half"
+        (mean - budget).abs() < 0.1 * budget,
+        "mean {mean} over the last {} frames, budget {budget}",
+        counts.len()
     );
 }
 
@@ -422,27 +501,318 @@ fn a_budget_holds_the_triangle_count_near_the_budget() {
 fn a_million_frames_keep_the_wheels_valid_and_b_bounded() {
     // A small terrain circled 250 times at a budget it reaches only near the terrain: b moves
     // both ways for 10^6 frames; the frame counter, the wheel heads and b must not overflow.
+    // In view, the camera looks along the circle (turning 1.6 mrad a frame), so the view keys,
+    // the in-view flags and count run for a million frames too.
     let hierarchy = bumpy_terrain(3);
-    let config = WuConfig {
-        wheel_links: 16,
-        ..wu_budget(4.0, 40, 50)
-    };
-    let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
-    let (mut lowest, mut highest) = (i64::MAX, i64::MIN);
-    for frame in 0..1_000_000u64 {
-        let angle = frame as f64 * std::f64::consts::TAU / 4000.0;
-        let eye = DVec3::new(40.0 + 60.0 * angle.cos(), 40.0 + 60.0 * angle.sin(), 30.0);
-        step(&mut wu, frame, &camera_at(eye), false);
-        lowest = lowest.min(wu.base());
-        highest = highest.max(wu.base());
+    for refine in [Refinement::Everywhere, Refinement::InView] {
+        let plain = WuConfig {
+            wheel_links: 16,
+            ..wu_budget(4.0, 40, 50)
+        };
+        let config = match refine {
+            Refinement::Everywhere => plain,
+            Refinement::InView => in_view(plain),
+        };
+        let mut wu = Wu::new(&hierarchy, config, &view_600(), TURNING);
+        let (mut lowest, mut highest) = (i64::MAX, i64::MIN);
+        let circle = |frame: u64| {
+            let angle = frame as f64 * std::f64::consts::TAU / 4000.0;
+            let eye = DVec3::new(40.0 + 60.0 * angle.cos(), 40.0 + 60.0 * angle.sin(), 30.0);
+            looking(eye, angle + std::f64::consts::FRAC_PI_2)
+        };
+        for frame in 0..1_000_000u64 {
+            step_to(&mut wu, frame, &circle(frame));
+            lowest = lowest.min(wu.base());
+            highest = highest.max(wu.base());
+        }
+        // One more frame, checked as `--check` checks it.
+        wu_step_to(&hierarchy, &mut wu, 1_000_000, &circle(1_000_000));
+        wu.validate_queues(false).unwrap();
+        assert!(lowest < highest, "{refine:?}: b never moved ({lowest})");
+        assert!((-50..=50).contains(&lowest) && (-50..=50).contains(&highest));
     }
-    wu_step(
+}
+
+/// The serpentine sweep with the look direction turning by `turn` radians a frame, looking
+/// further down from higher up (so that the terrain enters the view).
+fn turning_serpentine(hierarchy: &Hierarchy, altitude: f64, turn: f64) -> Vec<Pose> {
+    let pitch = if altitude > 100.0 { -1.2 } else { -0.3 };
+    serpentine(hierarchy, altitude, 10.0)
+        .into_iter()
+        .enumerate()
+        .map(|(k, eye)| Pose {
+            pitch,
+            ..looking(eye, turn * k as f64)
+        })
+        .collect()
+}
+
+#[test]
+fn in_view_wu_is_sandwiched_over_every_eye_of_a_9_by_9_terrain_while_turning() {
+    let hierarchy = bumpy_terrain(3);
+    for zone in [ZoneVariant::Conservative, ZoneVariant::Paper] {
+        for tau_px in [0.5, 3.0, 40.0] {
+            for altitude in [-10.0, 30.0, 300.0] {
+                for turn in [0.0, 0.05, -0.049] {
+                    let mut scene =
+                        Sandwich::refining(&hierarchy, tau_px, zone, TURNING, Refinement::InView);
+                    for pose in turning_serpentine(&hierarchy, altitude, turn) {
+                        scene.fly(&pose, BrokenBounds::NONE);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn in_view_wu_is_sandwiched_over_every_eye_of_a_17_by_17_terrain_while_turning() {
+    let hierarchy = bumpy_terrain(4);
+    let mut outside = 0;
+    for altitude in [5.0, 60.0, 2000.0] {
+        let mut scene = Sandwich::refining(
+            &hierarchy,
+            2.0,
+            ZoneVariant::Conservative,
+            TURNING,
+            Refinement::InView,
+        );
+        let mut total_ops = 0;
+        for pose in turning_serpentine(&hierarchy, altitude, 0.05) {
+            let stats = scene.fly(&pose, BrokenBounds::NONE);
+            total_ops += stats.splits + stats.merges;
+            let in_view = scene.wu.in_view_triangles().unwrap();
+            assert!(in_view <= stats.triangles);
+            outside += u64::from(in_view < stats.triangles);
+        }
+        assert!(total_ops > 0, "the flight at {altitude} m changed nothing");
+    }
+    assert!(outside > 0, "no flight ever left a triangle out of view");
+}
+
+#[test]
+fn a_turn_faster_than_the_rotation_bound_is_revalidated_and_stays_sandwiched() {
+    let hierarchy = bumpy_terrain(5);
+    let mut scene = Sandwich::refining(
         &hierarchy,
-        &mut wu,
-        1_000_000,
-        DVec3::new(100.0, 40.0, 30.0),
+        1.0,
+        ZoneVariant::Conservative,
+        TURNING,
+        Refinement::InView,
     );
-    wu.validate_queues(false).unwrap();
-    assert!(lowest < highest, "b never moved ({lowest})");
-    assert!((-50..=50).contains(&lowest) && (-50..=50).contains(&highest));
+    let eye = DVec3::new(160.0, 160.0, 40.0);
+    for frame in 0..30 {
+        scene.fly(&looking(eye, 0.04 * frame as f64), BrokenBounds::NONE);
+    }
+    // Half a turn in one frame, flagged by the runner: the view keys are recomputed.
+    let before = scene.wu.in_view_triangles();
+    let turned = BrokenBounds {
+        rotation: true,
+        ..BrokenBounds::NONE
+    };
+    scene.fly(&looking(eye, 1.2 + std::f64::consts::PI), turned);
+    assert_ne!(scene.wu.in_view_triangles(), before);
+    for frame in 1..30 {
+        let yaw = 1.2 + std::f64::consts::PI - 0.04 * frame as f64;
+        scene.fly(&looking(eye, yaw), BrokenBounds::NONE);
+    }
+}
+
+#[test]
+fn without_the_rotation_flag_a_fast_turn_would_leave_stale_view_keys() {
+    // The same half turn unflagged: the view keys promised the flags could not change yet, so the
+    // validator finds a flag (or the count) that no longer matches the cone.
+    let hierarchy = bumpy_terrain(5);
+    let mut wu = Wu::new(
+        &hierarchy,
+        in_view(fixed_tau(1.0, ZoneVariant::Conservative)),
+        &view_600(),
+        TURNING,
+    );
+    let eye = DVec3::new(160.0, 160.0, 40.0);
+    for (frame, yaw) in [0.0, 0.0, 0.0, std::f64::consts::PI]
+        .into_iter()
+        .enumerate()
+    {
+        step_to(&mut wu, frame as u64, &looking(eye, yaw));
+    }
+    let error = wu.validate_queues(false).unwrap_err();
+    assert!(error.contains("in view"), "{error}");
+}
+
+#[test]
+fn an_in_view_teleport_is_revalidated_not_kept_stale() {
+    let hierarchy = bumpy_terrain(5);
+    let mut scene = Sandwich::refining(
+        &hierarchy,
+        1.0,
+        ZoneVariant::Conservative,
+        TURNING,
+        Refinement::InView,
+    );
+    scene.fly(
+        &looking(DVec3::new(5000.0, 5000.0, 3000.0), 3.9),
+        BrokenBounds::NONE,
+    );
+    let coarse = scene.wu.triangle_count();
+    scene.fly(
+        &looking(DVec3::new(100.0, 100.0, 20.0), 0.5),
+        BrokenBounds::ALL,
+    );
+    assert!(scene.wu.triangle_count() > coarse);
+    for step in 1..20 {
+        let eye = DVec3::new(100.0 + 8.0 * step as f64, 100.0, 20.0);
+        scene.fly(&looking(eye, 0.5 + 0.04 * step as f64), BrokenBounds::NONE);
+    }
+}
+
+#[test]
+fn in_view_refinement_leaves_what_is_behind_the_camera_coarse() {
+    // Low over a 65² terrain, looking east from its west edge: everywhere-refinement splits the
+    // terrain behind and beside the camera too; in-view refinement keeps it coarse.
+    let hierarchy = bumpy_terrain(6);
+    let run = |refine: Refinement| {
+        let mut scene =
+            Sandwich::refining(&hierarchy, 1.0, ZoneVariant::Conservative, TURNING, refine);
+        let mut stats = FrameStats::default();
+        for frame in 0..10 {
+            let eye = DVec3::new(300.0 + 5.0 * frame as f64, 320.0, 40.0);
+            stats = scene.fly(&looking(eye, 0.0), BrokenBounds::NONE);
+        }
+        stats.triangles
+    };
+    let everywhere = run(Refinement::Everywhere);
+    let in_view = run(Refinement::InView);
+    assert!(
+        2 * in_view < everywhere,
+        "in view {in_view} triangles, everywhere {everywhere}"
+    );
+}
+
+#[test]
+fn an_in_view_budget_holds_the_triangles_in_view_near_the_budget() {
+    let config = in_view(WuConfig {
+        tau_px: None,
+        zone: ZoneVariant::Paper,
+        wheel_links: 16,
+        ..wu_budget(1.0, 1500, 1000)
+    });
+    let hierarchy = bumpy_terrain(6);
+    let mut wu = Wu::new(&hierarchy, config, &view_600(), TURNING);
+    let mut counted = Vec::new();
+    for frame in 0..300u64 {
+        let eye = DVec3::new(20.0 + 2.0 * frame as f64, 300.0, 150.0);
+        wu_step_to(
+            &hierarchy,
+            &mut wu,
+            frame,
+            &looking(eye, 0.01 * frame as f64),
+        );
+        wu.validate_queues(false).unwrap();
+        counted.push(wu.in_view_triangles().unwrap());
+    }
+    assert_settles_near(&counted[100..], 1500.0);
+}
+
+#[test]
+fn tau_recentring_brings_the_mean_of_b_towards_zero() {
+    // A τ far too coarse for the budget: b climbs to make up for it. Re-centring moves τ until b
+    // hovers around 0. (Slow speed bounds, which the 0.84 m a frame of the circle honours: b then
+    // grows the zones by little per frame, and climbs high.)
+    const SLOW: SpeedBound = SpeedBound {
+        horizontal: 1.0,
+        vertical: 0.5,
+        rotation: 0.05,
+    };
+    let hierarchy = bumpy_terrain(6);
+    let budget = BudgetConfig {
+        triangles: 1000,
+        dead_band: 0,
+        base_limit: 1000,
+        initial_tau_k: 1.5,
+        tau_recentring: None,
+    };
+    let run = |tau_recentring| {
+        let config = in_view(WuConfig {
+            tau_px: Some(300.0),
+            budget: Some(BudgetConfig {
+                tau_recentring,
+                ..budget
+            }),
+            ..fixed_tau(300.0, ZoneVariant::Paper)
+        });
+        let mut wu = Wu::new(&hierarchy, config, &view_600(), SLOW);
+        let mut bases = Vec::new();
+        for frame in 0..3000u64 {
+            let angle = frame as f64 * std::f64::consts::TAU / 1500.0;
+            let eye = DVec3::new(
+                320.0 + 200.0 * angle.cos(),
+                320.0 + 200.0 * angle.sin(),
+                60.0,
+            );
+            step_to(
+                &mut wu,
+                frame,
+                &looking(eye, angle + std::f64::consts::FRAC_PI_2),
+            );
+            bases.push(wu.base() as f64);
+            wu.validate_queues(false).unwrap();
+        }
+        let late = &bases[2000..];
+        (late.iter().sum::<f64>() / late.len() as f64, wu.tau_px())
+    };
+    let (fixed_mean, fixed_tau) = run(None);
+    let (recentred_mean, recentred_tau) = run(Some(roamsim::sim::algorithm::TauRecentring {
+        window_frames: 16,
+    }));
+    assert_eq!(fixed_tau, 300.0);
+    assert!(fixed_mean > 100.0, "b's mean {fixed_mean} with τ fixed");
+    assert!(recentred_tau < 300.0, "τ {recentred_tau}");
+    // Re-centring leaves a mean within its dead band (16 frames) alone.
+    assert!(
+        recentred_mean.abs() <= 16.0,
+        "b's mean {recentred_mean} re-centred, {fixed_mean} fixed"
+    );
+}
+
+/// A random walk's step: displacement within the speed bounds and a turn within the rotation
+/// bound.
+type WalkStep = (f64, f64, f64, f64);
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn in_view_wu_is_sandwiched_on_random_terrains_and_turning_flights(
+        (level, heights, walk, tau_px, paper_zone) in terrain_and_turning_walk()
+    ) {
+        let hierarchy = random_terrain(level, heights);
+        let zone = if paper_zone { ZoneVariant::Paper } else { ZoneVariant::Conservative };
+        let mut scene =
+            Sandwich::refining(&hierarchy, tau_px, zone, TURNING, Refinement::InView);
+        let mut pose = looking(DVec3::new(40.0, 40.0, 50.0), 0.3);
+        for (dx, dy, dz, turn) in walk {
+            pose.position += DVec3::new(dx * 7.0, dy * 7.0, dz * 5.0);
+            // Yaw and pitch turns whose combined angle stays within 0.05 rad.
+            pose.yaw += turn * 0.035;
+            pose.pitch = (pose.pitch + dz * 0.035).clamp(-1.5, 1.5);
+            scene.fly(&pose, BrokenBounds::NONE);
+        }
+    }
+}
+
+fn terrain_and_turning_walk() -> impl Strategy<Value = (u32, Vec<f32>, Vec<WalkStep>, f64, bool)> {
+    (3u32..=5).prop_flat_map(|level| {
+        let side = (1usize << level) + 1;
+        (
+            Just(level),
+            prop::collection::vec(-30.0f32..30.0, side * side),
+            prop::collection::vec(
+                (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+                1..40,
+            ),
+            prop_oneof![Just(0.0), 0.3f64..20.0],
+            any::<bool>(),
+        )
+    })
 }

@@ -2,6 +2,7 @@
 //! Not a bench target itself (Cargo only discovers `benches/*.rs`).
 
 use roamsim::edge::experiment::Experiment;
+use roamsim::sim::algorithm::BrokenBounds;
 use roamsim::sim::algorithm::{FrameInput, LodAlgorithm};
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::view::Camera;
@@ -20,7 +21,7 @@ pub fn drive(algorithm: &mut dyn LodAlgorithm, experiment: &Experiment, frame: u
         &FrameInput {
             frame,
             camera: &camera,
-            speed_bound_broken: frame > 0 && frame.is_multiple_of(n_frames),
+            broken_bounds: BrokenBounds::all_if(frame > 0 && frame.is_multiple_of(n_frames)),
         },
         &mut stats,
     );

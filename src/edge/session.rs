@@ -264,7 +264,7 @@ fn run_point(
         hierarchy: &hierarchy,
         view: &experiment.view,
         flight: &experiment.flight,
-        violation_frames: &violation_frames,
+        violations: &experiment.violations,
         effects: experiment.effects,
     };
     let n_frames = experiment.flight.n_frames();

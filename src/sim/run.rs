@@ -8,9 +8,9 @@
 //! morphing vertices (triangle lists and morphed 4-8 meshes only) are read off the mesh in
 //! O(1). Progress is reported through a callback; the runner itself does no IO.
 
-use crate::sim::algorithm::{FrameInput, LodAlgorithm};
+use crate::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
 use crate::sim::audit::{AuditSettings, Auditor};
-use crate::sim::flight::Flight;
+use crate::sim::flight::{Flight, SpeedViolation};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::check::{MeshCheckError, MeshChecker};
@@ -36,8 +36,8 @@ pub struct RunInputs<'a> {
     pub hierarchy: &'a Hierarchy,
     pub view: &'a ViewSettings,
     pub flight: &'a Flight,
-    /// Frames (sorted) that broke the speed bounds.
-    pub violation_frames: &'a [u64],
+    /// The frames (sorted) that broke the motion bounds, with the bounds each broke.
+    pub violations: &'a [SpeedViolation],
     pub effects: Effects,
 }
 
@@ -98,7 +98,7 @@ pub struct FrameRunner<'a> {
     auditor: Option<Auditor>,
     /// The mesh checks' buffers, when meshes are checked.
     checker: Option<MeshChecker>,
-    /// Index into `inputs.violation_frames` of the first violation not yet reached.
+    /// Index into `inputs.violations` of the first violation not yet reached.
     next_violation: usize,
     next_frame: u64,
 }
@@ -147,12 +147,17 @@ impl<'a> FrameRunner<'a> {
         let hierarchy = inputs.hierarchy;
         let pose = hierarchy.field().local_pose(inputs.flight.pose(frame));
         let camera = Camera::new(&pose, *inputs.view);
-        let speed_bound_broken = inputs.violation_frames.get(self.next_violation) == Some(&frame);
-        self.next_violation += usize::from(speed_bound_broken);
+        let broken_bounds = match inputs.violations.get(self.next_violation) {
+            Some(violation) if violation.frame == frame => {
+                self.next_violation += 1;
+                violation.broken
+            }
+            _ => BrokenBounds::NONE,
+        };
         let input = FrameInput {
             frame,
             camera: &camera,
-            speed_bound_broken,
+            broken_bounds,
         };
         let mut stats = FrameStats {
             frame,

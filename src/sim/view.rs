@@ -18,6 +18,15 @@ pub struct Pose {
     pub pitch: f64,
 }
 
+impl Pose {
+    /// The unit look direction: (cos pitch · cos yaw, cos pitch · sin yaw, sin pitch).
+    pub fn forward(&self) -> DVec3 {
+        let (sin_yaw, cos_yaw) = self.yaw.sin_cos();
+        let (sin_pitch, cos_pitch) = self.pitch.sin_cos();
+        DVec3::new(cos_pitch * cos_yaw, cos_pitch * sin_yaw, sin_pitch)
+    }
+}
+
 /// The window and lens shared by every frame of an experiment.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewSettings {
@@ -61,8 +70,7 @@ pub struct Camera {
 impl Camera {
     pub fn new(pose: &Pose, settings: ViewSettings) -> Camera {
         let (sin_yaw, cos_yaw) = pose.yaw.sin_cos();
-        let (sin_pitch, cos_pitch) = pose.pitch.sin_cos();
-        let forward = DVec3::new(cos_pitch * cos_yaw, cos_pitch * sin_yaw, sin_pitch);
+        let forward = pose.forward();
         let right = DVec3::new(sin_yaw, -cos_yaw, 0.0);
         let up = right.cross(forward);
         let tan_half_fovy = (0.5 * settings.fovy).tan();

@@ -37,13 +37,28 @@ impl ZoneVariant {
     }
 }
 
-/// Speed bounds in metres per frame.
+/// The motion bounds an experiment declares: how far the eye may move and how fast the look
+/// direction may turn between consecutive frames.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedBound {
-    /// Bound on the horizontal (xy) displacement per frame.
+    /// Bound on the horizontal (xy) displacement per frame, metres.
     pub horizontal: f64,
-    /// Bound on the vertical displacement per frame.
+    /// Bound on the vertical displacement per frame, metres.
     pub vertical: f64,
+    /// Bound on the angle between consecutive look directions, radians per frame. π bounds
+    /// nothing (two directions are never further apart): what experiments that do not declare a
+    /// rotation bound get.
+    pub rotation: f64,
+}
+
+impl SpeedBound {
+    /// The rotation bound of an experiment that declares none: π, which every turn honours.
+    pub const NO_ROTATION_BOUND: f64 = std::f64::consts::PI;
+
+    /// The longest the eye may move in one frame (the length of the displacement vector).
+    pub fn eye_step(&self) -> f64 {
+        self.horizontal.hypot(self.vertical)
+    }
 }
 
 /// An axis-aligned box: centre and half-extents (half-extents may be +∞).
@@ -164,7 +179,27 @@ pub fn split_zone_scaled(
     radius_per_error: f64,
     variant: ZoneVariant,
 ) -> Option<ZoneBox> {
-    let (delta, z_min, z_max) = errors.error_and_range(hierarchy, node, half);
+    let error_and_range = errors.error_and_range(hierarchy, node, half);
+    split_zone_of(
+        hierarchy,
+        node,
+        half,
+        error_and_range,
+        radius_per_error,
+        variant,
+    )
+}
+
+/// [`split_zone_scaled`] for a node whose δ and height range `(δ, z_min, z_max)` were already
+/// looked up (by [`NodeErrors::error_and_range`]).
+pub fn split_zone_of(
+    hierarchy: &Hierarchy,
+    node: GridPoint,
+    half: u32,
+    (delta, z_min, z_max): (f32, f32, f32),
+    radius_per_error: f64,
+    variant: ZoneVariant,
+) -> Option<ZoneBox> {
     let delta = f64::from(delta);
     if delta <= 0.0 {
         return None;
@@ -220,6 +255,7 @@ mod tests {
     const SPEED: SpeedBound = SpeedBound {
         horizontal: 10.0,
         vertical: 5.0,
+        rotation: SpeedBound::NO_ROTATION_BOUND,
     };
 
     fn unit_zone() -> ZoneBox {
@@ -277,6 +313,7 @@ mod tests {
         let still = SpeedBound {
             horizontal: 0.0,
             vertical: 0.0,
+            rotation: 0.0,
         };
         let zone = unit_zone();
         assert_eq!(

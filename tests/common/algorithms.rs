@@ -5,23 +5,35 @@
 
 use roamsim::sim::algorithm::{
     AlgorithmConfig, BlockGoal, BudgetConfig, ChunkedConfig, GeomipmapConfig, LevelDifference,
-    LindstromConfig, Projection, ReferenceConfig, RoamConfig, RoamGoal, SkirtDepth, SplitThreshold,
-    WuConfig,
+    LindstromConfig, Projection, ReferenceConfig, Refinement, RoamConfig, RoamGoal, SkirtDepth,
+    SplitThreshold, ViewThreshold, WuConfig,
 };
 use roamsim::sim::hierarchy::NestingRule;
 use roamsim::sim::zone::ZoneVariant;
 
-/// Wu's criterion from scratch: split iff ℓ ≤ 0, Wu's max nesting.
+/// Wu's criterion from scratch: split iff ℓ ≤ 0 wherever the node is, Wu's max nesting.
 pub fn reference(tau_px: f64, zone: ZoneVariant) -> ReferenceConfig {
     ReferenceConfig {
         nesting: NestingRule::Max,
         tau_px,
         zone,
         threshold: SplitThreshold::LifeAtMost(0.0),
+        refine: Refinement::Everywhere,
+        view_threshold: ViewThreshold::InView,
     }
 }
 
-/// Wu at a fixed τ: no budget, no traversal options, no cone culling, 64 links per wheel.
+/// [`reference`] splitting only nodes whose bounding sphere meets the view cone (the reference
+/// of [`wu_in_view`]).
+pub fn reference_in_view(tau_px: f64, zone: ZoneVariant) -> ReferenceConfig {
+    ReferenceConfig {
+        refine: Refinement::InView,
+        ..reference(tau_px, zone)
+    }
+}
+
+/// Wu at a fixed τ: no budget, no traversal options, refining everywhere without the view cone,
+/// 64 links per wheel.
 pub fn wu(tau_px: f64, zone: ZoneVariant) -> WuConfig {
     WuConfig {
         nesting: NestingRule::Max,
@@ -32,6 +44,16 @@ pub fn wu(tau_px: f64, zone: ZoneVariant) -> WuConfig {
         depth_limit: None,
         cone_culling: false,
         wheel_links: 64,
+        refine: Refinement::Everywhere,
+    }
+}
+
+/// [`wu`] refining only in the view cone and keeping the in-view count (the paper's way).
+pub fn wu_in_view(tau_px: f64, zone: ZoneVariant) -> WuConfig {
+    WuConfig {
+        cone_culling: true,
+        refine: Refinement::InView,
+        ..wu(tau_px, zone)
     }
 }
 
@@ -44,6 +66,7 @@ pub fn wu_budget(tau_px: f64, triangles: u64, base_limit: i64) -> WuConfig {
             dead_band: 0,
             base_limit,
             initial_tau_k: 1.5,
+            tau_recentring: None,
         }),
         ..wu(tau_px, ZoneVariant::Conservative)
     }
@@ -84,6 +107,9 @@ pub fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
     for zone in [ZoneVariant::Conservative, ZoneVariant::Paper] {
         configs.push(AlgorithmConfig::Reference(reference(tau_px, zone)));
         configs.push(AlgorithmConfig::Wu(wu(tau_px, zone)));
+        // Refining only in view: its reference is the in-view reference.
+        configs.push(AlgorithmConfig::Reference(reference_in_view(tau_px, zone)));
+        configs.push(AlgorithmConfig::Wu(wu_in_view(tau_px, zone)));
     }
     for block_level in [1, 3] {
         configs.push(AlgorithmConfig::Lindstrom(lindstrom(tau_px, block_level)));

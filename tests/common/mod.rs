@@ -10,7 +10,7 @@ pub mod experiment;
 pub mod patches;
 
 use glam::DVec3;
-use roamsim::sim::algorithm::{FrameInput, LodAlgorithm};
+use roamsim::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
 use roamsim::sim::mesh::check::MeshChecker;
@@ -20,12 +20,29 @@ use roamsim::sim::view::{Camera, Pose, ViewSettings};
 use std::fmt::Display;
 
 /// One frame of `algorithm`: its update for frame `frame` seen from `camera` (what the runner
-/// times), and the statistics it filled.
+/// times), and the statistics it filled. `bounds_broken`: every motion bound broke since the
+/// previous frame (a teleport, or the first frame), so whatever was deferred is revalidated.
 pub fn step(
     algorithm: &mut dyn LodAlgorithm,
     frame: u64,
     camera: &Camera,
-    speed_bound_broken: bool,
+    bounds_broken: bool,
+) -> FrameStats {
+    step_breaking(
+        algorithm,
+        frame,
+        camera,
+        BrokenBounds::all_if(bounds_broken),
+    )
+}
+
+/// [`step`], naming which motion bounds broke since the previous frame (a turn faster than
+/// the rotation bound, say).
+pub fn step_breaking(
+    algorithm: &mut dyn LodAlgorithm,
+    frame: u64,
+    camera: &Camera,
+    broken_bounds: BrokenBounds,
 ) -> FrameStats {
     let mut stats = FrameStats {
         frame,
@@ -35,7 +52,7 @@ pub fn step(
         &FrameInput {
             frame,
             camera,
-            speed_bound_broken,
+            broken_bounds,
         },
         &mut stats,
     );
@@ -50,10 +67,23 @@ pub fn checked_step(
     algorithm: &mut dyn LodAlgorithm,
     frame: u64,
     camera: &Camera,
-    speed_bound_broken: bool,
+    bounds_broken: bool,
     context: impl Display,
 ) -> FrameStats {
-    let stats = step(algorithm, frame, camera, speed_bound_broken);
+    let broken_bounds = BrokenBounds::all_if(bounds_broken);
+    checked_step_breaking(hierarchy, algorithm, frame, camera, broken_bounds, context)
+}
+
+/// [`checked_step`], naming which motion bounds broke since the previous frame.
+pub fn checked_step_breaking(
+    hierarchy: &Hierarchy,
+    algorithm: &mut dyn LodAlgorithm,
+    frame: u64,
+    camera: &Camera,
+    broken_bounds: BrokenBounds,
+    context: impl Display,
+) -> FrameStats {
+    let stats = step_breaking(algorithm, frame, camera, broken_bounds);
     if let Err(error) = MeshChecker::new().check(hierarchy, algorithm.mesh(), stats.triangles) {
         panic!("{context}, frame {frame}: {error}");
     }

@@ -136,6 +136,9 @@ pub struct ViewEntry {
 pub struct SpeedBoundsEntry {
     pub horizontal_m_per_frame: f64,
     pub vertical_m_per_frame: f64,
+    /// Bound on the turn of the look direction per frame; absent: π, which bounds nothing.
+    #[serde(default)]
+    pub rotation_rad_per_frame: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -232,6 +235,9 @@ pub struct ReferenceParameters {
     pub tau_px: f64,
     #[serde(default)]
     pub zone: Option<ZoneEntry>,
+    /// Default: everywhere.
+    #[serde(default)]
+    pub refine: Option<RefineEntry>,
     /// Default: Wu's max rule.
     #[serde(default)]
     pub nesting: Option<NestingEntry>,
@@ -262,8 +268,23 @@ pub struct WuParameters {
     pub depth_limit: Option<u32>,
     #[serde(default)]
     pub cone_culling: Option<bool>,
+    /// Default: `in_view` with cone culling, else `everywhere`.
+    #[serde(default)]
+    pub refine: Option<RefineEntry>,
+    #[serde(default)]
+    pub recentre_tau: Option<bool>,
+    #[serde(default)]
+    pub recentre_tau_window_frames: Option<u32>,
     #[serde(default)]
     pub wheel_links: Option<u32>,
+}
+
+/// Where Wu (and its reference) refine: only what the view cone needs, or everywhere.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum RefineEntry {
+    InView,
+    Everywhere,
 }
 
 /// Parameters of `lindstrom`: τ in pixels and the block level k (blocks of (2^k + 1)² samples,

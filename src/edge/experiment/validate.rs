@@ -8,7 +8,8 @@
 use super::format::{
     AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
     LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry, RawSampleEntry,
-    ReferenceParameters, RoamParameters, TerrainEntry, TerrainFormatEntry, WuParameters, ZoneEntry,
+    ReferenceParameters, RefineEntry, RoamParameters, TerrainEntry, TerrainFormatEntry,
+    WuParameters, ZoneEntry,
 };
 use super::sweep::{
     ExperimentPoint, MAX_SWEEP_POINTS, SweepChoice, cartesian, choice_label, expand_experiment,
@@ -19,8 +20,8 @@ use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
 use crate::sim::algorithm::{
-    AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
-    SplitThreshold, WuConfig,
+    AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, Refinement, RoamConfig,
+    RoamGoal, SplitThreshold, TauRecentring, ViewThreshold, WuConfig,
 };
 use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{
@@ -372,6 +373,9 @@ fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, ExperimentError>
         "speed_bounds.vertical_m_per_frame",
         bounds.vertical_m_per_frame,
     );
+    if let Some(rotation) = bounds.rotation_rad_per_frame {
+        problems.non_negative("speed_bounds.rotation_rad_per_frame", rotation);
+    }
     check_flight(&file.flight, &mut problems);
     let algorithms = check_algorithms(&file.algorithms, &mut problems);
     if let Some(audit) = &file.effects.audit {
@@ -399,6 +403,9 @@ fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, ExperimentError>
         speed: SpeedBound {
             horizontal: bounds.horizontal_m_per_frame,
             vertical: bounds.vertical_m_per_frame,
+            rotation: bounds
+                .rotation_rad_per_frame
+                .unwrap_or(SpeedBound::NO_ROTATION_BOUND),
         },
         algorithms,
         effects: Effects {
@@ -821,6 +828,8 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                     tau_px: p.tau_px,
                     zone: zone_variant(p.zone),
                     threshold: SplitThreshold::LifeAtMost(0.0),
+                    refine: refinement(p.refine.unwrap_or(RefineEntry::Everywhere)),
+                    view_threshold: ViewThreshold::InView,
                 }))
             }),
             "wu" => decode::<WuParameters>(k, &parameters, problems)
@@ -952,6 +961,7 @@ fn check_tau(origin: &str, tau_px: f64, problems: &mut Problems) -> Option<()> {
 const WU_DEFAULT_BASE_LIMIT: i64 = 1000;
 const WU_DEFAULT_INITIAL_TAU_K: f64 = 1.5;
 const WU_DEFAULT_WHEEL_LINKS: u32 = 256;
+const WU_DEFAULT_RECENTRE_TAU_WINDOW_FRAMES: u32 = 16;
 const WU_MAX_WHEEL_LINKS: u32 = 1 << 20;
 
 fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<AlgorithmConfig> {
@@ -996,6 +1006,36 @@ fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<A
             format!("{k}: expected a finite number above 0"),
         );
     }
+    // `refine` defaults to the paper's in-view refinement when the entry culls by the cone, and
+    // `cone_culling` to on when the entry refines in view (the paper's budget counts what is in
+    // view; `cone_culling: false` with `in_view` counts the whole mesh).
+    let refine = p.refine.unwrap_or(if p.cone_culling == Some(true) {
+        RefineEntry::InView
+    } else {
+        RefineEntry::Everywhere
+    });
+    let cone_culling = p.cone_culling.unwrap_or(refine == RefineEntry::InView);
+    let recentre_tau = p.recentre_tau.unwrap_or(false);
+    if recentre_tau && p.budget_triangles.is_none() {
+        problems.add(
+            field("recentre_tau"),
+            "true without a budget: re-centring moves τ to keep b near 0, expected \
+             budget_triangles as well",
+        );
+    }
+    if let Some(window) = p.recentre_tau_window_frames {
+        if !recentre_tau {
+            problems.add(
+                field("recentre_tau_window_frames"),
+                "only applies with recentre_tau: expected \"recentre_tau\": true as well",
+            );
+        } else if window == 0 {
+            problems.add(
+                field("recentre_tau_window_frames"),
+                "0: expected at least 1",
+            );
+        }
+    }
     let wheel_links = p.wheel_links.unwrap_or(WU_DEFAULT_WHEEL_LINKS);
     if !(2..=WU_MAX_WHEEL_LINKS).contains(&wheel_links) {
         problems.add(
@@ -1014,11 +1054,17 @@ fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<A
             dead_band: p.dead_band_triangles.unwrap_or(0),
             base_limit: p.base_limit.unwrap_or(WU_DEFAULT_BASE_LIMIT),
             initial_tau_k: p.initial_tau_k.unwrap_or(WU_DEFAULT_INITIAL_TAU_K),
+            tau_recentring: recentre_tau.then(|| TauRecentring {
+                window_frames: p
+                    .recentre_tau_window_frames
+                    .unwrap_or(WU_DEFAULT_RECENTRE_TAU_WINDOW_FRAMES),
+            }),
         }),
         zone: zone_variant(p.zone),
         block_priority: p.block_priority.unwrap_or(false),
         depth_limit: p.depth_limit,
-        cone_culling: p.cone_culling.unwrap_or(false),
+        cone_culling,
+        refine: refinement(refine),
         wheel_links,
     }))
 }
@@ -1035,6 +1081,13 @@ fn check_block_level(origin: &str, block_level: u32, problems: &mut Problems) ->
             ),
         );
         None
+    }
+}
+
+fn refinement(refine: RefineEntry) -> Refinement {
+    match refine {
+        RefineEntry::InView => Refinement::InView,
+        RefineEntry::Everywhere => Refinement::Everywhere,
     }
 }
 

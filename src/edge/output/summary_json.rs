@@ -4,6 +4,7 @@
 
 use super::columns::{RunColumns, numeric_columns, value};
 use crate::edge::experiment::Experiment;
+use crate::sim::flight::BrokenBounds;
 use crate::sim::stats::summarise;
 use serde_json::{Map, Value, json};
 
@@ -73,8 +74,23 @@ pub fn summary_json(
         .violations
         .iter()
         .take(MAX_LISTED_VIOLATIONS)
-        .map(|v| json!({"frame": v.frame, "horizontal_m": v.horizontal, "vertical_m": v.vertical}))
+        .map(|v| {
+            json!({
+                "frame": v.frame,
+                "horizontal_m": v.horizontal,
+                "vertical_m": v.vertical,
+                "rotation_rad": v.rotation,
+                "broken": broken_bound_names(v.broken),
+            })
+        })
         .collect();
+    let count_broken = |broke: fn(&BrokenBounds) -> bool| {
+        experiment
+            .violations
+            .iter()
+            .filter(|v| broke(&v.broken))
+            .count()
+    };
     json!({
         "format_version": SUMMARY_FORMAT_VERSION,
         "roamsim_version": env!("CARGO_PKG_VERSION"),
@@ -117,8 +133,14 @@ pub fn summary_json(
             "speed_bounds": {
                 "horizontal_m_per_frame": experiment.speed.horizontal,
                 "vertical_m_per_frame": experiment.speed.vertical,
+                "rotation_rad_per_frame": experiment.speed.rotation,
             },
             "speed_violation_count": experiment.violations.len(),
+            "speed_violation_count_by_bound": {
+                "horizontal": count_broken(|b| b.horizontal),
+                "vertical": count_broken(|b| b.vertical),
+                "rotation": count_broken(|b| b.rotation),
+            },
             "speed_violations": violations,
         },
         "effects": {
@@ -130,4 +152,16 @@ pub fn summary_json(
         },
         "algorithms": algorithms,
     })
+}
+
+/// The names of the bounds a frame broke, as `summary.json` lists them.
+fn broken_bound_names(broken: BrokenBounds) -> Vec<&'static str> {
+    [
+        ("horizontal", broken.horizontal),
+        ("vertical", broken.vertical),
+        ("rotation", broken.rotation),
+    ]
+    .into_iter()
+    .filter_map(|(name, broke)| broke.then_some(name))
+    .collect()
 }

@@ -16,7 +16,6 @@ use std::path::Path;
 pub struct Scene {
     pub experiment: Experiment,
     pub hierarchy: Hierarchy,
-    violation_frames: Vec<u64>,
 }
 
 /// The experiment has no algorithm entry of that label or name.
@@ -32,11 +31,9 @@ impl Scene {
     pub fn load(path: &Path) -> Result<Scene, ExperimentError> {
         let experiment = experiment::load(path)?;
         let hierarchy = Hierarchy::new(experiment.field.clone());
-        let violation_frames = experiment.violations.iter().map(|v| v.frame).collect();
         Ok(Scene {
             experiment,
             hierarchy,
-            violation_frames,
         })
     }
 
@@ -71,7 +68,7 @@ impl Scene {
             hierarchy: &self.hierarchy,
             view: &self.experiment.view,
             flight: &self.experiment.flight,
-            violation_frames: &self.violation_frames,
+            violations: &self.experiment.violations,
             effects: self.experiment.effects,
         }
     }

@@ -13,10 +13,13 @@ pub mod wu {
     pub const BASE_B: &str = "base_b";
     pub const BASE_CLAMPED: &str = "base_clamped";
     pub const SPLITTABLE: &str = "splittable";
+    pub const SPLIT_QUEUE: &str = "split_queue";
     pub const MERGEABLE: &str = "mergeable";
     pub const LIFE_RECOMPUTATIONS: &str = "life_recomputations";
     pub const FORCED_SPLITS: &str = "forced_splits";
-    pub const CONE_RENDERED: &str = "cone_rendered";
+    pub const CONE_TESTS: &str = "cone_tests";
+    pub const TRIANGLES_IN_VIEW_BLOCKS: &str = "triangles_in_view_blocks";
+    pub const TAU_PX: &str = "tau_px";
 }
 
 /// `lindstrom` (Lindstrom et al. 1996).
@@ -60,16 +63,19 @@ pub mod chunked {
     pub const TARGET_UNREACHABLE: &str = "target_unreachable";
 }
 
-/// Every algorithm-specific column name (some are shared: `forced_splits`, `tau_px`,
-/// `target_unreachable`).
+/// Every algorithm-specific column name (some are shared: `forced_splits`, `split_queue`,
+/// `tau_px`, `target_unreachable`).
 pub const ALL: &[&str] = &[
     wu::BASE_B,
     wu::BASE_CLAMPED,
     wu::SPLITTABLE,
+    wu::SPLIT_QUEUE,
     wu::MERGEABLE,
     wu::LIFE_RECOMPUTATIONS,
     wu::FORCED_SPLITS,
-    wu::CONE_RENDERED,
+    wu::CONE_TESTS,
+    wu::TRIANGLES_IN_VIEW_BLOCKS,
+    wu::TAU_PX,
     lindstrom::BLOCKS_COARSEST,
     lindstrom::BLOCKS_FINEST,
     lindstrom::BLOCKS_PARTIAL,

@@ -19,9 +19,11 @@ pub use block_lod::{BlockGoal, Projection};
 pub use chunked::{Chunked, ChunkedConfig, SkirtDepth};
 pub use geomipmap::{Geomipmap, GeomipmapConfig, LevelDifference};
 pub use lindstrom::{Lindstrom, LindstromConfig};
-pub use reference::{Reference, ReferenceConfig, SplitThreshold};
+pub use reference::{Reference, ReferenceConfig, SplitThreshold, ViewThreshold};
 pub use roam::{BintreeError, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild};
-pub use wu::{BudgetConfig, Wu, WuConfig, initial_tau_px};
+pub use wu::{BudgetConfig, Refinement, TauRecentring, Wu, WuConfig, initial_tau_px};
+
+pub use crate::sim::flight::BrokenBounds;
 
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::MeshOutput;
@@ -34,9 +36,10 @@ use crate::sim::zone::SpeedBound;
 pub struct FrameInput<'a> {
     pub frame: u64,
     pub camera: &'a Camera,
-    /// The eye moved faster than the speed bounds since the previous frame: anything deferred
-    /// on the strength of those bounds must be revalidated.
-    pub speed_bound_broken: bool,
+    /// The bounds the camera broke since the previous frame (the eye moved too far, the look
+    /// direction turned too fast): anything deferred on the strength of a broken bound must be
+    /// revalidated.
+    pub broken_bounds: BrokenBounds,
 }
 
 /// A view-dependent terrain LOD algorithm.

@@ -2,7 +2,10 @@
 //!
 //! Top-down over Wu's quadtree from the root block: a node splits when it has an error (δ > 0)
 //! and its signed life ℓ meets the [`SplitThreshold`] (by default ℓ ≤ 0, i.e. the eye is in its
-//! split zone); then its four sub-blocks are tested. Splitting activates the node's centre and,
+//! split zone) and, with [`Refinement::InView`] (Wu's `refine` option), its bounding sphere meets
+//! the view cone ([`ViewThreshold::InView`], by default) or lies within its margin of it
+//! ([`ViewThreshold::WithinMargin`], the loosest test Wu's deferred merges can leave behind; see
+//! `wu/visibility.rs`); then its four sub-blocks are tested. Splitting activates the node's centre and,
 //! first, whatever closure needs (its parents, recursively: the forced splits). After the
 //! traversal every edge midpoint whose parents are both active is inserted (boundary vertices are
 //! "free": Wu's nodes are the block centres, and a shared edge is subdivided as soon as both blocks
@@ -14,6 +17,7 @@
 //! frame's rebuild (forced ones included), `merges` = 0, `vertices_inserted`/`deleted` = the
 //! difference from the previous frame's mesh, `metric_evaluations` = lives computed.
 
+use super::wu::{Cone, ConeMotion, NodeSphere, Refinement, Sight};
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, NestingRule, VertexClass};
 use crate::sim::mesh::MeshOutput;
@@ -43,6 +47,16 @@ impl SplitThreshold {
     }
 }
 
+/// With in-view refinement, how far outside the view cone a node may be and still split.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewThreshold {
+    /// Its bounding sphere meets the cone (Wu's split test).
+    InView,
+    /// Its sphere is at most its margin (one frame of cone motion) outside the cone (Wu's merge
+    /// test: what Wu may still hold).
+    WithinMargin,
+}
+
 /// Parameters of the reference algorithm.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReferenceConfig {
@@ -52,6 +66,10 @@ pub struct ReferenceConfig {
     pub threshold: SplitThreshold,
     /// How δ nests (see `WuConfig::nesting`).
     pub nesting: NestingRule,
+    /// Split only in view, as Wu's `refine` option.
+    pub refine: Refinement,
+    /// What "in view" means with [`Refinement::InView`].
+    pub view_threshold: ViewThreshold,
 }
 
 /// The from-scratch reference. Per frame: O(nodes tested + active vertices).
@@ -60,6 +78,7 @@ pub struct Reference<'h> {
     config: ReferenceConfig,
     theta: f64,
     speed: SpeedBound,
+    motion: ConeMotion,
     errors: NodeErrors,
     mesh: RebuiltMesh,
     n_triangles: u64,
@@ -78,6 +97,7 @@ impl<'h> Reference<'h> {
             config,
             theta: config.tau_px * view.pixel_angle(),
             speed,
+            motion: ConeMotion::new(speed),
             errors: NodeErrors::new(hierarchy, config.nesting),
             mesh: RebuiltMesh::new(hierarchy.lattice()),
             n_triangles: 2,
@@ -130,6 +150,7 @@ impl LodAlgorithm for Reference<'_> {
         self.n_triangles = 2;
 
         let eye = input.camera.eye;
+        let cone = (self.config.refine == Refinement::InView).then(|| Cone::new(input.camera));
         let mut splits = 0;
         let mut evaluations = 0;
         self.stack.clear();
@@ -153,6 +174,16 @@ impl LodAlgorithm for Reference<'_> {
                 .splits(signed_life(zone.as_ref(), eye, self.speed))
             {
                 continue;
+            }
+            if let Some(cone) = &cone {
+                let sight = Sight::new(cone, &NodeSphere::of_node(hierarchy, node, half));
+                let in_view = match self.config.view_threshold {
+                    ViewThreshold::InView => sight.in_view(),
+                    ViewThreshold::WithinMargin => !sight.beyond_margin(&self.motion),
+                };
+                if !in_view {
+                    continue;
+                }
             }
             splits += self.activate_closed(node);
             if let Some(sub_blocks) = lattice.sub_blocks(node, half) {

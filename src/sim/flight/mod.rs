@@ -9,7 +9,7 @@ mod path;
 mod speed;
 
 pub use path::{FlightPath, Interpolation, Look, Waypoint};
-pub use speed::{SpeedViolation, speed_violations};
+pub use speed::{BrokenBounds, SpeedViolation, speed_violations};
 
 use crate::sim::view::Pose;
 

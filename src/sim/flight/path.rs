@@ -305,6 +305,7 @@ mod tests {
         let bound = SpeedBound {
             horizontal: 2.0,
             vertical: 1.0,
+            rotation: SpeedBound::NO_ROTATION_BOUND,
         };
         let frames: Vec<u64> = speed_violations(&flight, bound)
             .iter()

@@ -1,10 +1,57 @@
-//! The speed check: every frame whose displacement from the previous frame breaks the
-//! experiment's speed bounds.
+//! The motion check: every frame whose change from the previous frame breaks one of the
+//! experiment's bounds — the eye moved too far (horizontally or vertically) or the look direction
+//! turned too fast — with which bounds it broke.
 
 use super::Flight;
 use crate::sim::zone::SpeedBound;
 
-/// A frame that moved faster than the bounds allow.
+/// Which of the motion bounds a frame broke (what an algorithm sees in its frame input).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BrokenBounds {
+    /// The eye moved farther horizontally than the horizontal bound.
+    pub horizontal: bool,
+    /// The eye moved farther vertically than the vertical bound.
+    pub vertical: bool,
+    /// The look direction turned by more than the rotation bound.
+    pub rotation: bool,
+}
+
+impl BrokenBounds {
+    /// No bound broken.
+    pub const NONE: BrokenBounds = BrokenBounds {
+        horizontal: false,
+        vertical: false,
+        rotation: false,
+    };
+    /// Every bound broken (what a first frame or a teleport in a test looks like).
+    pub const ALL: BrokenBounds = BrokenBounds {
+        horizontal: true,
+        vertical: true,
+        rotation: true,
+    };
+
+    /// [`BrokenBounds::ALL`] when `broken`, else [`BrokenBounds::NONE`].
+    pub fn all_if(broken: bool) -> BrokenBounds {
+        if broken {
+            BrokenBounds::ALL
+        } else {
+            BrokenBounds::NONE
+        }
+    }
+
+    /// Whether the eye broke a speed bound (horizontal or vertical): positions may have moved
+    /// farther than the bounds say.
+    pub fn speed(self) -> bool {
+        self.horizontal || self.vertical
+    }
+
+    /// Whether any bound was broken.
+    pub fn any(self) -> bool {
+        self.speed() || self.rotation
+    }
+}
+
+/// A frame that broke the motion bounds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedViolation {
     pub frame: u64,
@@ -12,9 +59,13 @@ pub struct SpeedViolation {
     pub horizontal: f64,
     /// Absolute vertical displacement from the previous frame, metres.
     pub vertical: f64,
+    /// Angle between the previous frame's look direction and this one's, radians.
+    pub rotation: f64,
+    /// Which bounds these figures break.
+    pub broken: BrokenBounds,
 }
 
-/// All frames whose displacement from the previous frame exceeds `bound`, in frame order.
+/// All frames whose change from the previous frame exceeds `bound`, in frame order.
 pub fn speed_violations(flight: &Flight, bound: SpeedBound) -> Vec<SpeedViolation> {
     flight
         .poses()
@@ -24,10 +75,20 @@ pub fn speed_violations(flight: &Flight, bound: SpeedBound) -> Vec<SpeedViolatio
             let d = pair[1].position - pair[0].position;
             let horizontal = d.truncate().length();
             let vertical = d.z.abs();
-            (horizontal > bound.horizontal || vertical > bound.vertical).then_some(SpeedViolation {
+            let (from, to) = (pair[0].forward(), pair[1].forward());
+            // atan2 of sine and cosine: accurate for the tiny angles of a smooth flight.
+            let rotation = from.cross(to).length().atan2(from.dot(to));
+            let broken = BrokenBounds {
+                horizontal: horizontal > bound.horizontal,
+                vertical: vertical > bound.vertical,
+                rotation: rotation > bound.rotation,
+            };
+            broken.any().then_some(SpeedViolation {
                 frame: k as u64 + 1,
                 horizontal,
                 vertical,
+                rotation,
+                broken,
             })
         })
         .collect()

@@ -150,7 +150,7 @@ fn the_algorithm_matches_the_brute_force_mesh_along_a_low_flight_for_every_block
                 &FrameInput {
                     frame: u64::from(frame),
                     camera: &camera,
-                    speed_bound_broken: false,
+                    broken_bounds: crate::sim::algorithm::BrokenBounds::NONE,
                 },
                 &mut stats,
             );

@@ -784,7 +784,7 @@ impl LodAlgorithm for Roam<'_> {
         core.counters = FrameCounters::default();
         let orientation = (camera.forward, camera.up);
         let revalidate =
-            !core.deferring() || input.speed_bound_broken || self.orientation != Some(orientation);
+            !core.deferring() || input.broken_bounds.any() || self.orientation != Some(orientation);
         self.orientation = Some(orientation);
         if revalidate {
             core.counters.revalidations = 1;
@@ -959,6 +959,7 @@ mod tests {
     const STILL: SpeedBound = SpeedBound {
         horizontal: 1.0,
         vertical: 1.0,
+        rotation: SpeedBound::NO_ROTATION_BOUND,
     };
 
     fn assert_valid(core: &Core, camera: &Camera) {
@@ -990,7 +991,7 @@ mod tests {
             let input = FrameInput {
                 frame: 0,
                 camera: &view,
-                speed_bound_broken: true,
+                broken_bounds: crate::sim::algorithm::BrokenBounds::ALL,
             };
             let algorithms: [Box<dyn LodAlgorithm>; 2] = [
                 Box::new(Roam::new(&hierarchy, options, STILL)),
@@ -1074,7 +1075,7 @@ mod tests {
             &FrameInput {
                 frame,
                 camera,
-                speed_bound_broken: false,
+                broken_bounds: crate::sim::algorithm::BrokenBounds::NONE,
             },
             &mut stats,
         );

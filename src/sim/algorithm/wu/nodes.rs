@@ -1,12 +1,16 @@
-//! Wu's quadtree nodes by dense index, and their signed lives.
+//! Wu's quadtree nodes by dense index, their signed lives and where they are in the view.
 //!
 //! A node is a square block, numbered as in [`SquareIndex`]: coarsest level first, row-major
 //! within a level. Level k has 2^k × 2^k nodes; node (k, a, b) is centred at
 //! (half·(2a+1), half·(2b+1)) with half = 2^n / 2^(k+1). Quadtree parent, children and
 //! neighbours are index arithmetic; nothing is stored per node.
 
+use super::cull::Cone;
+use super::visibility::{Sight, SphereShape};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, SquareIndex};
-use crate::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, signed_life, split_zone_scaled};
+use crate::sim::zone::{
+    NodeErrors, SpeedBound, ZoneVariant, signed_life, split_zone_of, split_zone_scaled,
+};
 use glam::DVec3;
 
 /// Sentinel for "no node".
@@ -52,11 +56,11 @@ impl Nodes {
         let level = (63 - scaled.leading_zeros()) / 2;
         let first = ((1u64 << (2 * level)) - 1) / 3;
         let local = u64::from(node) - first;
-        let per_side = 1u64 << level;
+        // Row-major within the level, 2^level nodes a row: a mask and a shift, not a division.
         NodeCoordinates {
             level,
-            a: (local % per_side) as u32,
-            b: (local / per_side) as u32,
+            a: (local & ((1u64 << level) - 1)) as u32,
+            b: (local >> level) as u32,
         }
     }
 
@@ -124,6 +128,7 @@ pub(super) struct LifeRule {
     pub speed: SpeedBound,
     /// δ under the configured nesting rule.
     pub errors: NodeErrors,
+    pub spheres: SphereShape,
 }
 
 impl LifeRule {
@@ -139,6 +144,39 @@ impl LifeRule {
             self.zone,
         );
         signed_life(zone.as_ref(), eye, self.speed)
+    }
+
+    /// The life of `node` and where its sphere is relative to `cone`, from one lookup of the
+    /// node's data.
+    pub fn life_and_sight(
+        &self,
+        hierarchy: &Hierarchy,
+        nodes: &Nodes,
+        node: u32,
+        cone: &Cone,
+    ) -> (f64, Sight) {
+        let (centre, half) = nodes.centre(node);
+        let error_and_range = self.errors.error_and_range(hierarchy, centre, half);
+        let zone = split_zone_of(
+            hierarchy,
+            centre,
+            half,
+            error_and_range,
+            self.radius_per_error,
+            self.zone,
+        );
+        let (_, z_min, z_max) = error_and_range;
+        let sphere = self.spheres.sphere(centre, half, z_min, z_max);
+        (
+            signed_life(zone.as_ref(), cone.eye(), self.speed),
+            Sight::new(cone, &sphere),
+        )
+    }
+
+    /// Where `node`'s sphere is relative to `cone`.
+    pub fn sight(&self, hierarchy: &Hierarchy, nodes: &Nodes, node: u32, cone: &Cone) -> Sight {
+        let (centre, half) = nodes.centre(node);
+        Sight::new(cone, &self.spheres.node_sphere(hierarchy, centre, half))
     }
 }
 

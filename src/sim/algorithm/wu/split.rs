@@ -1,29 +1,31 @@
 //! Splitting a node: closure first (forced splits), then the node, its free boundary vertices,
 //! and the bookkeeping of the queues.
 
-use super::Wu;
 use super::nodes::NO_NODE;
 use super::wheel::Queue;
+use super::{NodeLook, Wu};
 use crate::sim::hierarchy::{GridPoint, VertexClass};
 
 impl Wu<'_> {
-    /// Splits a splittable node chosen by its life (not forced); `chain_depth` is how many splits
+    /// Splits a splittable node chosen by its look (not forced); `chain_depth` is how many splits
     /// of this frame's chain lie above it.
-    pub(super) fn split(&mut self, node: u32, life: f64, chain_depth: u32) {
-        self.activate_with_closure(node, Some(life), chain_depth);
+    pub(super) fn split(&mut self, node: u32, look: NodeLook, chain_depth: u32) {
+        self.record_for_recentring(node);
+        self.activate_with_closure(node, Some(look), chain_depth);
     }
 
-    /// Activates `node` after everything its centre depends on. `known_life` is its life when it
+    /// Activates `node` after everything its centre depends on. `known` is its look when it
     /// splits by its own criterion; forced activations have none.
-    fn activate_with_closure(&mut self, node: u32, known_life: Option<f64>, chain_depth: u32) {
+    fn activate_with_closure(&mut self, node: u32, known: Option<NodeLook>, chain_depth: u32) {
         if self.is_active(node) {
             return;
         }
         let (centre, _) = self.nodes.centre(node);
-        for parent in self.lattice.parents(centre).as_slice().to_vec() {
+        let parents = self.lattice.parents(centre);
+        for &parent in parents.as_slice() {
             self.ensure_vertex_active(parent, chain_depth);
         }
-        self.activate(node, known_life, chain_depth);
+        self.activate(node, known, chain_depth);
     }
 
     /// Makes a vertex active by forcing the squares it needs.
@@ -39,7 +41,8 @@ impl Wu<'_> {
             }
             VertexClass::Rotated { .. } => {
                 // A free vertex: active as soon as all its parents are.
-                for parent in self.lattice.parents(vertex).as_slice().to_vec() {
+                let parents = self.lattice.parents(vertex);
+                for &parent in parents.as_slice() {
                     self.ensure_vertex_active(parent, chain_depth);
                 }
             }
@@ -47,12 +50,22 @@ impl Wu<'_> {
     }
 
     /// Activates a node whose parents are active, and updates the queues around it.
-    fn activate(&mut self, node: u32, known_life: Option<f64>, chain_depth: u32) {
-        let forced = known_life.is_none();
+    fn activate(&mut self, node: u32, known: Option<NodeLook>, chain_depth: u32) {
+        let forced = known.is_none();
         let lattice = self.lattice;
         let (centre, half) = self.nodes.centre(node);
+        // An active node's look needs its sight whenever the view is followed.
+        let look = match known {
+            Some(look) if look.sight.is_some() || !self.active_needs_sight() => look,
+            Some(look) => NodeLook {
+                sight: self.current_sight(node),
+                ..look
+            },
+            None => self.active_look(node),
+        };
         self.wheels.remove(node);
         self.insert_vertex(centre);
+        self.node_activated(node, look.sight.is_some_and(|s| s.in_view()));
         self.n_triangles += 2;
         self.counters.inserted += 1;
         self.counters.splits += 1;
@@ -72,23 +85,25 @@ impl Wu<'_> {
                 self.counters.inserted += 1;
             }
         }
-        // The nodes this one now depends on are no longer mergeable.
+        // The nodes this one now depends on are no longer mergeable: they leave the merge queue
+        // (for the view queue, in the same link, when the view is followed: a merge key is never
+        // later than the view key it includes).
         for parent in lattice.parents(centre).as_slice() {
             for owner in lattice.parents(*parent).as_slice() {
                 if let VertexClass::Square { half } = lattice.classify(*owner) {
                     let owner = self.nodes.node_of(*owner, half);
                     if self.wheels.is_in(owner, Queue::Merge) {
-                        self.wheels.remove(owner);
+                        if self.counts_in_view() {
+                            self.wheels.move_to_queue(owner, Queue::View);
+                        } else {
+                            self.wheels.remove(owner);
+                        }
                     }
                 }
             }
         }
         // The node itself is mergeable until something depends on it.
-        let life = match known_life {
-            Some(life) => life,
-            None => self.life(node),
-        };
-        self.schedule_merge(node, life);
+        self.schedule_merge(node, look);
         // Its sub-blocks become splittable.
         if let Some(children) = self.nodes.children(node) {
             self.schedule_children(children, forced, chain_depth);
@@ -100,10 +115,12 @@ impl Wu<'_> {
 
     /// Queues the sub-blocks of a newly active node. After a real split they are tested now. With
     /// block-priority traversal they are tested by decreasing error and testing stops at the
-    /// first that does not split: its untested siblings take its key (the paper's premise that
-    /// siblings' errors "are in the same direction"), so they cost no life computation until that
-    /// key runs out. This is a heuristic: a sibling can need splitting before the key it took.
-    /// A forced activation is a split too; its sub-blocks start a new chain (depth 0).
+    /// first whose life does not let it split: its untested siblings take its life key (the
+    /// paper's premise that siblings' errors "are in the same direction"), so they cost no life
+    /// computation until that key runs out. This is a heuristic: a sibling can need splitting
+    /// before the key it took. (A child kept out only by the view does not stop the test: its
+    /// siblings may be in view.) A forced activation is a split too; its sub-blocks start a new
+    /// chain (depth 0).
     fn schedule_children(&mut self, children: [u32; 4], forced: bool, chain_depth: u32) {
         let mut order = children;
         let depth = if forced { 0 } else { chain_depth + 1 };
@@ -116,10 +133,10 @@ impl Wu<'_> {
                 error(b).total_cmp(&error(a)).then(a.cmp(&b))
             });
             for (k, &child) in order.iter().enumerate() {
-                let life = self.life(child);
-                let key = life - self.base as f64;
-                self.schedule_split(child, life, depth);
-                if let Some(link) = self.link_for(key) {
+                let look = self.split_look(child);
+                let life_key = look.life - self.base as f64;
+                self.schedule_split(child, look, depth);
+                if let Some(link) = self.link_for(life_key) {
                     // An infinite key must not park siblings that may have finite lives.
                     let link = if link == self.wheels.parked_link() {
                         self.link_after(1)
@@ -134,8 +151,8 @@ impl Wu<'_> {
             }
         } else {
             for child in order {
-                let life = self.life(child);
-                self.schedule_split(child, life, depth);
+                let look = self.split_look(child);
+                self.schedule_split(child, look, depth);
             }
         }
     }

@@ -1,6 +1,8 @@
-//! The split and merge queues: timing wheels of doubly linked links.
+//! The split, merge and view queues: timing wheels of doubly linked links.
 //!
-//! Each queue is an array of `W` links indexed by frame modulo `W` (the head is the link of the
+//! The split queue holds splittable nodes, the merge queue mergeable ones; the view queue, kept
+//! only when Wu tracks the view cone, holds the other active nodes, each due when its view may
+//! change (`visibility.rs`). Each queue is an array of `W` links indexed by frame modulo `W` (the head is the link of the
 //! current frame, so it rotates once per frame and nothing is decremented node by node), plus an
 //! **overflow** link for keys of `W` frames or more, re-examined whenever the wheel wraps, and a
 //! **parked** link for infinite keys (nodes without error, or a zero speed bound), which is only
@@ -21,6 +23,24 @@ use super::nodes::NO_NODE;
 pub(super) enum Queue {
     Split,
     Merge,
+    /// Active nodes that are not mergeable, queued by their view keys only.
+    View,
+}
+
+impl Queue {
+    const ALL: [Queue; 3] = [Queue::Split, Queue::Merge, Queue::View];
+
+    fn index(self) -> u32 {
+        match self {
+            Queue::Split => 0,
+            Queue::Merge => 1,
+            Queue::View => 2,
+        }
+    }
+
+    fn from_index(index: u32) -> Queue {
+        Queue::ALL[index as usize]
+    }
 }
 
 /// Where a node is.
@@ -32,7 +52,11 @@ pub(super) struct Slot {
 
 /// Sentinel for "no entry" (end of a link, an unqueued node, an empty free list).
 const NO_ENTRY: u32 = u32::MAX;
-const MERGE_BIT: u32 = 1 << 31;
+/// A slot is the link number with the queue's index in its top two bits and a mark below them
+/// (links < 2^29).
+const QUEUE_SHIFT: u32 = 30;
+const MARK_BIT: u32 = 1 << 29;
+const LINK_MASK: u32 = MARK_BIT - 1;
 
 /// One queued node's place in its link. `prev` and `next` are entry indices.
 #[derive(Clone, Copy, Debug)]
@@ -40,17 +64,20 @@ struct Entry {
     node: u32,
     prev: u32,
     next: u32,
-    /// The link, with [`MERGE_BIT`] set for the merge queue. For a free entry, unused.
+    /// The link, with the queue's index above [`QUEUE_SHIFT`] and the caller's mark in
+    /// [`MARK_BIT`]. For a free entry, unused.
     slot: u32,
 }
 
-/// Both queues over the same nodes.
+/// The three queues over the same nodes.
 pub(super) struct Wheels {
     n_links: u32,
-    /// First entry of each link: split links, then merge links; each queue has `n_links` wheel
-    /// links, then overflow, then parked.
+    /// First entry of each link: split links, then merge links, then view links; each queue has
+    /// `n_links` wheel links, then overflow, then parked.
     heads: Vec<u32>,
     counts: Vec<u32>,
+    /// Nodes in each queue.
+    totals: [u64; 3],
     /// Per node, its entry, or [`NO_ENTRY`] when it is not queued.
     entry_of: Vec<u32>,
     /// The entries of queued nodes, and free ones chained through `next` from `free`.
@@ -61,11 +88,16 @@ pub(super) struct Wheels {
 impl Wheels {
     /// Empty queues over `n_nodes` nodes with `n_links` wheel links each (n_links ≥ 2).
     pub fn new(n_nodes: usize, n_links: u32) -> Wheels {
+        assert!(
+            n_links + 2 <= LINK_MASK,
+            "{n_links} links do not fit a slot"
+        );
         let per_queue = (n_links + 2) as usize;
         Wheels {
             n_links,
-            heads: vec![NO_ENTRY; 2 * per_queue],
-            counts: vec![0; 2 * per_queue],
+            heads: vec![NO_ENTRY; 3 * per_queue],
+            counts: vec![0; 3 * per_queue],
+            totals: [0; 3],
             entry_of: vec![NO_ENTRY; n_nodes],
             entries: Vec::new(),
             free: NO_ENTRY,
@@ -92,20 +124,11 @@ impl Wheels {
     }
 
     fn head_index(&self, queue: Queue, link: u32) -> usize {
-        let base = match queue {
-            Queue::Split => 0,
-            Queue::Merge => self.n_links + 2,
-        };
-        (base + link) as usize
+        (queue.index() * (self.n_links + 2) + link) as usize
     }
 
     fn head_index_of_slot(&self, raw: u32) -> usize {
-        let base = if raw & MERGE_BIT != 0 {
-            self.n_links + 2
-        } else {
-            0
-        };
-        (base + (raw & !MERGE_BIT)) as usize
+        self.head_index(Queue::from_index(raw >> QUEUE_SHIFT), raw & LINK_MASK)
     }
 
     pub fn slot(&self, node: u32) -> Option<Slot> {
@@ -113,12 +136,8 @@ impl Wheels {
         (entry != NO_ENTRY).then(|| {
             let raw = self.entries[entry as usize].slot;
             Slot {
-                queue: if raw & MERGE_BIT != 0 {
-                    Queue::Merge
-                } else {
-                    Queue::Split
-                },
-                link: raw & !MERGE_BIT,
+                queue: Queue::from_index(raw >> QUEUE_SHIFT),
+                link: raw & LINK_MASK,
             }
         })
     }
@@ -129,6 +148,12 @@ impl Wheels {
 
     /// Puts `node` (not queued) at the front of a link.
     pub fn insert(&mut self, node: u32, queue: Queue, link: u32) {
+        self.insert_marked(node, queue, link, false);
+    }
+
+    /// Puts `node` (not queued) at the front of a link with a mark that [`Wheels::take_marked`]
+    /// gives back (Wu marks the merge entries that came due by a view key).
+    pub fn insert_marked(&mut self, node: u32, queue: Queue, link: u32, marked: bool) {
         debug_assert_eq!(
             self.entry_of[node as usize], NO_ENTRY,
             "node {node} queued twice"
@@ -139,10 +164,7 @@ impl Wheels {
             node,
             prev: NO_ENTRY,
             next: first,
-            slot: match queue {
-                Queue::Split => link,
-                Queue::Merge => link | MERGE_BIT,
-            },
+            slot: link | (queue.index() << QUEUE_SHIFT) | if marked { MARK_BIT } else { 0 },
         };
         if self.free == NO_ENTRY {
             self.grow();
@@ -156,6 +178,7 @@ impl Wheels {
         }
         self.heads[h] = e;
         self.counts[h] += 1;
+        self.totals[queue.index() as usize] += 1;
         self.entry_of[node as usize] = e;
     }
 
@@ -174,9 +197,18 @@ impl Wheels {
             self.entries[next as usize].prev = prev;
         }
         self.counts[h] -= 1;
+        self.totals[slot.queue.index() as usize] -= 1;
         self.entry_of[node as usize] = NO_ENTRY;
         self.release(e);
         Some(slot)
+    }
+
+    /// Moves `node` from whatever queue holds it to the same link of `queue`: the link comes due
+    /// when it did, which stays safe when the new queue's key is no sooner than the old one's.
+    pub fn move_to_queue(&mut self, node: u32, queue: Queue) {
+        if let Some(slot) = self.remove(node) {
+            self.insert(node, queue, slot.link);
+        }
     }
 
     /// Doubles the slab (at least 64 entries) and chains the new entries into the free list.
@@ -216,26 +248,35 @@ impl Wheels {
 
     /// Empties a link into `out` (front to back), leaving its nodes unqueued.
     pub fn take_link(&mut self, queue: Queue, link: u32, out: &mut Vec<u32>) {
+        self.drain_link(queue, link, |node, _| out.push(node));
+    }
+
+    /// Empties a link into `out` (front to back) with each node's mark, leaving them unqueued.
+    pub fn take_marked(&mut self, queue: Queue, link: u32, out: &mut Vec<(u32, bool)>) {
+        self.drain_link(queue, link, |node, marked| out.push((node, marked)));
+    }
+
+    /// Empties a link, front to back, handing each node and its mark to `each`.
+    fn drain_link(&mut self, queue: Queue, link: u32, mut each: impl FnMut(u32, bool)) {
         let h = self.head_index(queue, link);
         let mut e = self.heads[h];
         while e != NO_ENTRY {
-            let Entry { node, next, .. } = self.entries[e as usize];
-            out.push(node);
+            let Entry {
+                node, next, slot, ..
+            } = self.entries[e as usize];
+            each(node, slot & MARK_BIT != 0);
             self.entry_of[node as usize] = NO_ENTRY;
             self.release(e);
             e = next;
         }
+        self.totals[queue.index() as usize] -= u64::from(self.counts[h]);
         self.heads[h] = NO_ENTRY;
         self.counts[h] = 0;
     }
 
-    /// Nodes in a queue (all links).
+    /// Nodes in a queue (all links). O(1).
     pub fn len(&self, queue: Queue) -> u64 {
-        let start = self.head_index(queue, 0);
-        self.counts[start..start + (self.n_links + 2) as usize]
-            .iter()
-            .map(|&c| u64::from(c))
-            .sum()
+        self.totals[queue.index() as usize]
     }
 
     pub fn link_len(&self, queue: Queue, link: u32) -> u32 {
@@ -248,7 +289,8 @@ impl Wheels {
     pub fn check_structure(&self) -> Result<(), String> {
         let mut seen = vec![false; self.entry_of.len()];
         let mut linked_entries = 0usize;
-        for queue in [Queue::Split, Queue::Merge] {
+        for queue in Queue::ALL {
+            let mut n_in_queue = 0u64;
             for link in 0..self.n_links + 2 {
                 let h = self.head_index(queue, link);
                 let mut previous = NO_ENTRY;
@@ -286,6 +328,13 @@ impl Wheels {
                     ));
                 }
                 linked_entries += n_linked as usize;
+                n_in_queue += u64::from(n_linked);
+            }
+            if n_in_queue != self.len(queue) {
+                return Err(format!(
+                    "{queue:?}: total {} but {n_in_queue} nodes linked",
+                    self.len(queue)
+                ));
             }
         }
         for (node, &e) in self.entry_of.iter().enumerate() {
