@@ -36,7 +36,7 @@ pub enum Projection {
     /// distance from the eye to the block's box. Conservative for an eye above the block (a
     /// vertical segment seen from above looks shorter), accurate near the ground.
     HorizontalView,
-    /// The exact projection the paper refers to (Lindstrom et al. 1996, its [13]): the
+    /// The exact projection the paper refers to (Lindstrom et al. 1996, its \[13\]): the
     /// vertical-projection error λ·δ·r/(r² + h²), its largest value over the block's box, used
     /// as the equivalent distance d = 1/max(r/(r² + h²)). Never refines more than
     /// `HorizontalView`; still independent of the view direction (the audit measures the real

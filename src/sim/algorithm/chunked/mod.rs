@@ -26,7 +26,7 @@
 //!   The same d drives the morph factor.
 //! - **The projection.** The paper assumes a horizontal view direction (eq. 3.2), which we keep
 //!   as the default; [`Projection::Exact`] uses the exact vertical projection of its reference
-//!   [13] (Lindstrom'96) over the box instead, so that the audit can show what the assumption
+//!   \[13\] (Lindstrom'96) over the box instead, so that the audit can show what the assumption
 //!   costs.
 //! - **Skirt depth.** The paper's δ_c is zero at the leaves, so a leaf's skirt covers nothing;
 //!   [`SkirtDepth::Covering`] is the option whose skirts provably cover every crack (see
