@@ -3,14 +3,14 @@
 # (timings are only comparable from --threads 1 runs). Counts and meshes are deterministic; the
 # timing columns and the plots drawn from them depend on the machine.
 #
-#   bash scripts/regenerate-plots.sh            # all of them (about 8 minutes; scaling needs about 9 GiB)
+#   bash scripts/regenerate-plots.sh            # all of them (about 11 minutes; scaling needs about 9 GiB)
 #   bash scripts/regenerate-plots.sh quickstart compare-circle   # only these
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 experiments=("$@")
 if [ ${#experiments[@]} -eq 0 ]; then
-    experiments=(quickstart accuracy-vs-time compare-circle scaling)
+    experiments=(quickstart accuracy-vs-time compare-circle scaling chunked-tau)
 fi
 
 cargo build --release --locked

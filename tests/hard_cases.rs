@@ -6,19 +6,22 @@
 mod common;
 
 use common::algorithms::{
-    every_algorithm, reference, reference_in_view, roam_target, wu, wu_budget,
+    every_algorithm, every_block_algorithm, reference, reference_in_view, roam_target, wu,
+    wu_budget,
 };
 use common::{checked_step, extra, vertex_set, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::Refinement;
+use roamsim::sim::algorithm::chunked::ChunkId;
 use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
 use roamsim::sim::algorithm::{
-    AlgorithmConfig, LodAlgorithm, ReferenceConfig, RoamConfig, SplitThreshold, Wu, WuConfig,
+    AlgorithmConfig, BlockGoal, Chunked, ChunkedConfig, Geomipmap, GeomipmapConfig, LodAlgorithm,
+    ReferenceConfig, RoamConfig, SplitThreshold, Wu, WuConfig,
 };
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::{Flight, speed_violations};
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
-use roamsim::sim::mesh::{MeshOutput, VertexSet};
+use roamsim::sim::mesh::{MeshOutput, TriangleRole, VertexSet};
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::embed::{Fit, embed};
 use roamsim::sim::terrain::{Heightfield, SampleGrid, Spacing};
@@ -766,6 +769,576 @@ fn budgets_below_the_base_mesh_hold_the_base_mesh_and_above_the_full_mesh_the_fu
                     assert_eq!(mesh, expected, "{config:?}, frame {frame}");
                     assert_eq!(stats.triangles, expected.triangle_count(lattice));
                 }
+            }
+        }
+    }
+}
+
+// ---- The block-based algorithms (triangle lists): the same hard cases, their right answers.
+// The coarsest mesh is the root chunk alone, or every patch at its coarsest level; the finest
+// is every leaf chunk, or every patch at full resolution. Every frame is checked as `--check`
+// checks it and by the algorithm's own structure validator.
+
+/// A block algorithm of `every_block_algorithm`, concretely, so that its structure can be read.
+enum Block<'h> {
+    Geomipmap(Geomipmap<'h>),
+    Chunked(Chunked<'h>),
+}
+
+/// A drawn triangle's corner positions (fixed point), role, group and level.
+type TriangleShape = ([(i64, i64); 3], usize, u32, u32);
+
+/// What a block algorithm drew: its structure and its triangles.
+#[derive(Debug, PartialEq)]
+struct BlockFrame {
+    /// geomipmap: every patch's level (0: full resolution), as (level, patch, 0); chunked: the
+    /// drawn chunks (level, x, y), sorted.
+    detail: Vec<(u32, u32, u32)>,
+    /// Every triangle: its corners' fixed-point positions, role, group and level.
+    shape: Vec<TriangleShape>,
+    /// Every triangle's corners' heights, in order.
+    heights: Vec<[f32; 3]>,
+}
+
+impl<'h> Block<'h> {
+    fn build(hierarchy: &'h Hierarchy, config: &AlgorithmConfig, view: &ViewSettings) -> Block<'h> {
+        match config {
+            AlgorithmConfig::Geomipmap(c) => Block::Geomipmap(Geomipmap::new(hierarchy, *c, view)),
+            AlgorithmConfig::Chunked(c) => Block::Chunked(Chunked::new(hierarchy, *c, view)),
+            other => panic!("{other:?} is not a block algorithm"),
+        }
+    }
+
+    fn algorithm(&mut self) -> &mut dyn LodAlgorithm {
+        match self {
+            Block::Geomipmap(a) => a,
+            Block::Chunked(a) => a,
+        }
+    }
+
+    fn mesh(&self) -> MeshOutput<'_> {
+        match self {
+            Block::Geomipmap(a) => a.mesh(),
+            Block::Chunked(a) => a.mesh(),
+        }
+    }
+
+    fn validate(&self, camera: &Camera) {
+        match self {
+            Block::Geomipmap(a) => a.validate(camera).unwrap(),
+            Block::Chunked(a) => a.validate_frame(camera).unwrap(),
+        }
+    }
+
+    fn frame(&self, hierarchy: &Hierarchy) -> BlockFrame {
+        let mut detail: Vec<(u32, u32, u32)> = match self {
+            Block::Geomipmap(a) => (0u32..)
+                .zip(a.levels())
+                .map(|(patch, &level)| (level, patch, 0))
+                .collect(),
+            Block::Chunked(a) => a
+                .drawn()
+                .iter()
+                .map(|c| (c.id.level, c.id.x, c.id.y))
+                .collect(),
+        };
+        detail.sort_unstable();
+        let (mut shape, mut heights) = (Vec::new(), Vec::new());
+        self.mesh().for_each_triangle(hierarchy, |t| {
+            let info = t.info;
+            shape.push((
+                t.corners.map(|c| c.position.raw()),
+                info.role.index(),
+                info.group,
+                info.level,
+            ));
+            heights.push(t.corners.map(|c| c.z));
+        });
+        BlockFrame {
+            detail,
+            shape,
+            heights,
+        }
+    }
+
+    /// The root chunk alone (or nothing, when culling drops it), or every patch at level k.
+    fn is_coarsest(&self) -> bool {
+        match self {
+            Block::Geomipmap(a) => a.levels().iter().all(|&l| l == a.patch_level()),
+            Block::Chunked(a) => a.drawn().iter().all(|c| c.id == ChunkId::ROOT),
+        }
+    }
+
+    /// Every drawn chunk a leaf (every leaf, without culling), or every patch at level 0.
+    fn is_finest(&self) -> bool {
+        match self {
+            Block::Geomipmap(a) => a.levels().iter().all(|&l| l == 0),
+            Block::Chunked(a) => {
+                let leaves = a.drawn().iter().all(|c| c.id.level == a.leaf_level());
+                let all = a.drawn().len() == 1 << (2 * a.leaf_level());
+                leaves && (all || !a.culled().is_empty())
+            }
+        }
+    }
+
+    /// The block drawn over the point (x, y) (metres) is at full resolution.
+    fn finest_at(&self, hierarchy: &Hierarchy, x: f64, y: f64) -> bool {
+        let spacing = hierarchy.field().spacing();
+        let (i, j) = (x / spacing.dx, y / spacing.dy);
+        let cells = f64::from(hierarchy.lattice().cells());
+        match self {
+            Block::Geomipmap(a) => {
+                let n = a.patches_per_side();
+                let per = cells / f64::from(n);
+                let (px, py) = (((i / per) as u32).min(n - 1), ((j / per) as u32).min(n - 1));
+                a.levels()[(py * n + px) as usize] == 0
+            }
+            Block::Chunked(a) => a.drawn().iter().any(|c| {
+                let per = cells / f64::from(1u32 << c.id.level);
+                let inside =
+                    |v: f64, k: u32| (f64::from(k) * per..=f64::from(k + 1) * per).contains(&v);
+                c.id.level == a.leaf_level() && inside(i, c.id.x) && inside(j, c.id.y)
+            }),
+        }
+    }
+}
+
+/// Runs `config` over `poses` (world poses, one frame each), checking every frame; returns the
+/// algorithm after the last.
+fn run_block<'h>(
+    hierarchy: &'h Hierarchy,
+    config: &AlgorithmConfig,
+    view: ViewSettings,
+    poses: &[Pose],
+) -> Block<'h> {
+    let mut block = Block::build(hierarchy, config, &view);
+    for (frame, pose) in poses.iter().enumerate() {
+        let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+        let context = format!("{config:?}, eye {:?}", pose.position);
+        checked_step(
+            hierarchy,
+            block.algorithm(),
+            frame as u64,
+            &camera,
+            frame == 0,
+            &context,
+        );
+        block.validate(&camera);
+    }
+    block
+}
+
+fn run_block_eyes<'h>(
+    hierarchy: &'h Hierarchy,
+    config: &AlgorithmConfig,
+    view: ViewSettings,
+    eyes: &[DVec3],
+) -> Block<'h> {
+    let poses: Vec<Pose> = eyes.iter().map(|&e| pose(e)).collect();
+    run_block(hierarchy, config, view, &poses)
+}
+
+/// Whether the config culls (its mesh depends on the frustum, not only on what is refined).
+fn block_culls(config: &AlgorithmConfig) -> bool {
+    matches!(config, AlgorithmConfig::Chunked(c) if c.culling)
+}
+
+/// The largest projected audit error of a triangle list from `eye` looking straight down.
+fn audited_list_max_px(hierarchy: &Hierarchy, mesh: MeshOutput, eye: DVec3) -> f64 {
+    let camera = Camera::new(
+        &Pose {
+            position: eye,
+            yaw: 0.0,
+            pitch: -std::f64::consts::FRAC_PI_2,
+        },
+        view_600(),
+    );
+    let settings = AuditSettings {
+        stride: 1,
+        popping: false,
+    };
+    let audit = Auditor::new(hierarchy, settings).audit(hierarchy, mesh, &camera);
+    assert!(audit.samples_in_view > 0);
+    assert_eq!(audit.coverage.map(|c| c.holes), Some(0));
+    audit.projected.unwrap().max
+}
+
+fn straight_down(position: DVec3) -> Pose {
+    Pose {
+        position,
+        yaw: 0.0,
+        pitch: -std::f64::consts::FRAC_PI_2,
+    }
+}
+
+#[test]
+fn block_algorithms_draw_the_coarsest_mesh_over_flat_terrain_from_far_away_and_at_huge_tau() {
+    let flat = terrain(17, 10.0, |_, _| 123.0);
+    for tau_px in [0.0, 1.0, 1e9] {
+        for config in every_block_algorithm(tau_px) {
+            for eye in [
+                DVec3::new(80.0, 80.0, 123.0),
+                DVec3::new(-50.0, 30.0, 500.0),
+            ] {
+                let block = run_block_eyes(&flat, &config, view_600(), &[eye]);
+                assert!(block.is_coarsest(), "{config:?} from {eye:?}");
+            }
+        }
+    }
+    let hierarchy = rough(33, 10.0, 50.0);
+    for config in every_block_algorithm(1.0) {
+        let block = run_block_eyes(
+            &hierarchy,
+            &config,
+            view_600(),
+            &[DVec3::new(0.0, 0.0, 1e9)],
+        );
+        assert!(block.is_coarsest(), "{config:?} from 10^9 m");
+    }
+    for config in every_block_algorithm(1e12) {
+        let eye = DVec3::new(-5e3, 160.0, 400.0);
+        let block = run_block_eyes(&hierarchy, &config, view_600(), &[eye]);
+        assert!(block.is_coarsest(), "{config:?} at τ = 10^12 px");
+    }
+}
+
+#[test]
+fn block_algorithms_draw_full_resolution_at_tau_zero_even_on_tiny_terrains() {
+    for side in [3, 5, 17] {
+        let hierarchy = rough(side, 10.0, 50.0);
+        let middle = 5.0 * (side - 1) as f64;
+        let above = straight_down(DVec3::new(middle, middle, 1000.0));
+        for config in every_block_algorithm(0.0) {
+            let block = run_block(&hierarchy, &config, view_600(), &[above]);
+            assert!(block.is_finest(), "{config:?} on {side}×{side}");
+            let error = audited_list_max_px(&hierarchy, block.mesh(), above.position);
+            assert!(error < 1e-3, "{config:?} on {side}×{side}: {error} px");
+        }
+    }
+}
+
+#[test]
+fn block_algorithms_draw_the_block_under_the_eye_at_full_resolution() {
+    let hierarchy = rough(17, 10.0, 50.0);
+    let field = hierarchy.field();
+    // On the middle sample, on an edge, 10 m inside the terrain; far below it the right answer
+    // is the mirrored scene's (next test).
+    for (i, j, below) in [(8, 8, 0.0), (4, 8, 0.0), (5, 11, -10.0)] {
+        let eye = field.position(i, j) + DVec3::new(0.0, 0.0, below);
+        for config in every_block_algorithm(1.0) {
+            let block = run_block_eyes(&hierarchy, &config, view_600(), &[eye]);
+            assert!(
+                block.finest_at(&hierarchy, eye.x, eye.y),
+                "{config:?}: eye {eye:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn block_algorithms_under_the_terrain_draw_the_mirrored_scene() {
+    let heights = |sign: f32| move |i, j| sign * 30.0 * noise(i, j) as f32;
+    let terrain_up = terrain(17, 10.0, heights(1.0));
+    let terrain_down = terrain(17, 10.0, heights(-1.0));
+    for (x, y, depth) in [(33.0, 47.0, 40.0), (80.0, 80.0, 1000.0)] {
+        let below = Pose {
+            position: DVec3::new(x, y, -30.0 - depth),
+            yaw: 0.7,
+            pitch: 0.4,
+        };
+        let mirrored = Pose {
+            position: DVec3::new(x, y, 30.0 + depth),
+            yaw: 0.7,
+            pitch: -0.4,
+        };
+        for config in every_block_algorithm(1.0) {
+            let under = run_block(&terrain_up, &config, view_600(), &[below]).frame(&terrain_up);
+            let over =
+                run_block(&terrain_down, &config, view_600(), &[mirrored]).frame(&terrain_down);
+            assert_eq!(under.detail, over.detail, "{config:?}, {depth} m below");
+            assert!(under.shape == over.shape, "{config:?}, {depth} m below");
+            // The surface is mirrored; skirts hang down in both scenes.
+            let mirrored = under
+                .shape
+                .iter()
+                .zip(under.heights.iter().zip(&over.heights))
+                .filter(|(shape, _)| TriangleRole::ALL[shape.1].is_surface())
+                .all(|(_, (a, b))| *a == b.map(|z| -z));
+            assert!(mirrored, "{config:?}, {depth} m below");
+        }
+    }
+}
+
+#[test]
+fn block_algorithms_draw_the_same_mesh_scaled_translated_or_with_any_speed_bound() {
+    let eyes: Vec<DVec3> = (0..20)
+        .map(|f| DVec3::new(20.0 + 7.0 * f as f64, 60.0 + 3.0 * f as f64, 70.0))
+        .collect();
+    let poses: Vec<Pose> = eyes.iter().map(|&e| pose(e)).collect();
+    let small = rough(33, 10.0, 20.0);
+    for scale in [0.001, 1000.0] {
+        let scaled = terrain(33, 10.0 * scale, |i, j| {
+            (f64::from(20.0 * noise(i, j) as f32) * scale) as f32
+        });
+        let scaled_poses: Vec<Pose> = poses
+            .iter()
+            .map(|p| Pose {
+                position: p.position * scale,
+                ..*p
+            })
+            .collect();
+        let view = view_600();
+        let scaled_view = ViewSettings {
+            near: view.near * scale,
+            far: view.far * scale,
+            ..view
+        };
+        for config in every_block_algorithm(2.0) {
+            let a = run_block(&small, &config, view, &poses).frame(&small);
+            let b = run_block(&scaled, &config, scaled_view, &scaled_poses).frame(&scaled);
+            assert_eq!(
+                (a.detail, a.shape),
+                (b.detail, b.shape),
+                "{config:?} at scale {scale}"
+            );
+        }
+    }
+    let heights: Vec<f32> = (0..33 * 33)
+        .map(|k| 30.0 * noise(k % 33, k / 33) as f32)
+        .collect();
+    let field = |origin: DVec3| {
+        Heightfield::new(33, heights.clone(), Spacing { dx: 10.0, dy: 10.0 })
+            .unwrap()
+            .with_origin(origin)
+    };
+    let far_away = DVec3::new(1.0e6, -1.0e6, 1.0e6);
+    let (near, far) = (
+        Hierarchy::new(field(DVec3::ZERO)),
+        Hierarchy::new(field(far_away)),
+    );
+    let moved: Vec<Pose> = poses
+        .iter()
+        .map(|p| Pose {
+            position: p.position + far_away,
+            ..*p
+        })
+        .collect();
+    for config in every_block_algorithm(2.0) {
+        let a = run_block(&near, &config, view_600(), &poses).frame(&near);
+        let b = run_block(&far, &config, view_600(), &moved).frame(&far);
+        assert_eq!(a, b, "{config:?} 10^6 m away");
+    }
+    // Block algorithms assume no speed bound: zero and huge ones change nothing (the runner's
+    // speed bounds do not reach them; the same runs as above must hold).
+    for config in every_block_algorithm(2.0) {
+        let a = run_block(&small, &config, view_600(), &poses).frame(&small);
+        let mut zero = Block::build(&small, &config, &view_600());
+        for (frame, pose) in poses.iter().enumerate() {
+            let camera = Camera::new(pose, view_600());
+            checked_step(
+                &small,
+                zero.algorithm(),
+                frame as u64,
+                &camera,
+                true,
+                "broken",
+            );
+        }
+        assert_eq!(
+            a,
+            zero.frame(&small),
+            "{config:?} with every frame breaking the bounds"
+        );
+    }
+}
+
+#[test]
+fn block_algorithms_in_extreme_views_a_one_pixel_window_and_fields_of_view_near_0_and_180() {
+    let hierarchy = rough(33, 10.0, 30.0);
+    let window = |side| ViewSettings {
+        width_px: side,
+        height_px: side,
+        ..view_600()
+    };
+    let eyes = [DVec3::new(33.0, 47.0, 80.0), DVec3::new(250.0, 90.0, 40.0)];
+    for tau_px in [1.0 / 256.0, 1.0 / 64.0] {
+        let configs = every_block_algorithm(tau_px).into_iter();
+        for (one, many) in configs.zip(every_block_algorithm(512.0 * tau_px)) {
+            let a = run_block_eyes(&hierarchy, &one, window(1), &eyes).frame(&hierarchy);
+            let b = run_block_eyes(&hierarchy, &many, window(512), &eyes).frame(&hierarchy);
+            assert_eq!(a, b, "{one:?}");
+        }
+    }
+    let small = rough(17, 10.0, 30.0);
+    let eye = DVec3::new(-3000.0, -3000.0, 2000.0);
+    let with_fovy = |degrees: f64| ViewSettings {
+        fovy: degrees.to_radians(),
+        ..view_600()
+    };
+    for config in every_block_algorithm(1.0) {
+        let narrow = run_block_eyes(&small, &config, with_fovy(0.001), &[eye]);
+        let normal = run_block_eyes(&small, &config, with_fovy(60.0), &[eye]);
+        let wide = run_block_eyes(&small, &config, with_fovy(179.9), &[eye]);
+        if !block_culls(&config) {
+            assert!(narrow.is_finest(), "{config:?} at fovy 0.001°");
+        }
+        let triangles = |block: &Block| block.mesh().counts(0).unwrap().triangles_by_role[0];
+        assert!(
+            triangles(&wide) < triangles(&normal),
+            "{config:?} at fovy 179.9°"
+        );
+        for (width_px, height_px, fovy) in [(1, 1, 60.0), (600, 600, 0.001), (600, 600, 179.9)] {
+            let view = ViewSettings {
+                width_px,
+                height_px,
+                fovy: f64::to_radians(fovy),
+                near: 0.1,
+                far: 1e5,
+            };
+            run_block_eyes(
+                &small,
+                &config,
+                view,
+                &[DVec3::new(30.0, 40.0, 80.0), DVec3::new(31.0, 40.0, 80.0)],
+            );
+        }
+    }
+}
+
+#[test]
+fn block_algorithms_keep_spikes_and_cliffs_exactly_at_tau_zero_and_drop_them_far_away() {
+    let cliff = terrain(17, 10.0, |i, _| if i < 7 { 0.0 } else { 1000.0 });
+    let above = straight_down(DVec3::new(80.0, 80.0, 5000.0));
+    for hierarchy in [spike(100.0), spike(-100.0), cliff] {
+        for config in every_block_algorithm(0.0) {
+            let block = run_block(&hierarchy, &config, view_600(), &[above]);
+            let error = audited_list_max_px(&hierarchy, block.mesh(), above.position);
+            assert!(error < 1e-3, "{config:?}: {error} px");
+            assert!(
+                !block.is_finest(),
+                "{config:?}: flat parts should stay coarse"
+            );
+        }
+    }
+    // The spike's tip drawn near the eye (τ = 0 and 1 px), gone from 10^9 m.
+    let hierarchy = spike(100.0);
+    for tau_px in [0.0, 1.0] {
+        for config in every_block_algorithm(tau_px) {
+            let block = run_block_eyes(
+                &hierarchy,
+                &config,
+                view_600(),
+                &[DVec3::new(-100.0, -40.0, 150.0)],
+            );
+            // A vertex of the surface, at its own height at τ = 0 (at τ = 1 px it may be
+            // morphing towards the coarser level).
+            let mut tip = false;
+            block.mesh().for_each_triangle(&hierarchy, |t| {
+                tip |= t.info.role.is_surface()
+                    && t.corners.iter().any(|c| {
+                        c.position.raw() == (5 << 16, 11 << 16) && (tau_px > 0.0 || c.z == 100.0)
+                    });
+            });
+            assert!(tip, "{config:?} at τ {tau_px}");
+        }
+    }
+    for config in every_block_algorithm(1.0) {
+        let block = run_block_eyes(
+            &hierarchy,
+            &config,
+            view_600(),
+            &[DVec3::new(0.0, 0.0, 1e9)],
+        );
+        assert!(block.is_coarsest(), "{config:?}");
+    }
+}
+
+#[test]
+fn block_algorithms_with_ten_kilometre_heights_millimetre_relief_and_padding() {
+    let quantised =
+        |offset: f32| move |i, j| offset + (noise(i, j) * 20.0 * 64.0).round() as f32 / 64.0;
+    let sea_level = terrain(33, 10.0, quantised(0.0));
+    let eyes = [DVec3::new(33.0, 47.0, 60.0), DVec3::new(200.0, 250.0, 30.0)];
+    for offset in [10_240.0_f32, -10_240.0] {
+        let shifted = terrain(33, 10.0, quantised(offset));
+        let lifted: Vec<DVec3> = eyes
+            .iter()
+            .map(|e| *e + DVec3::Z * f64::from(offset))
+            .collect();
+        for config in every_block_algorithm(1.0) {
+            let a = run_block_eyes(&sea_level, &config, view_600(), &eyes).frame(&sea_level);
+            let b = run_block_eyes(&shifted, &config, view_600(), &lifted).frame(&shifted);
+            assert_eq!(
+                (a.detail, a.shape),
+                (b.detail, b.shape),
+                "{config:?} at {offset} m"
+            );
+        }
+    }
+    let alps = rough(17, 100.0, 10_000.0);
+    for config in every_block_algorithm(0.0) {
+        let high_above = straight_down(DVec3::new(800.0, 800.0, 3e4));
+        assert!(
+            run_block(&alps, &config, view_600(), &[high_above]).is_finest(),
+            "{config:?}"
+        );
+    }
+    // 1 mm of relief: refined at τ = 0, invisible at 1 px from 100 m.
+    let millimetres = rough(17, 10.0, 0.001);
+    for config in every_block_algorithm(0.0) {
+        let high = straight_down(DVec3::new(80.0, 80.0, 1000.0));
+        assert!(
+            run_block(&millimetres, &config, view_600(), &[high]).is_finest(),
+            "{config:?}"
+        );
+    }
+    for config in every_block_algorithm(1.0) {
+        let above = straight_down(DVec3::new(80.0, 80.0, 100.0));
+        assert!(
+            run_block(&millimetres, &config, view_600(), &[above]).is_coarsest(),
+            "{config:?}"
+        );
+    }
+    // 18×18 samples padded to 33×33: exact over the real samples at τ = 0.
+    let side = 18;
+    let heights: Vec<f32> = (0..side * side)
+        .map(|k| 25.0 * noise(k % side, k / side) as f32)
+        .collect();
+    let grid = SampleGrid::new(side, side, heights, Vec::new()).unwrap();
+    let (field, _) = embed(&grid, Fit::Pad, Spacing { dx: 10.0, dy: 10.0 }).unwrap();
+    let padded = Hierarchy::new(field);
+    let above = straight_down(DVec3::new(160.0, 160.0, 2000.0));
+    for config in every_block_algorithm(0.0) {
+        let block = run_block(&padded, &config, view_600(), &[above]);
+        let error = audited_list_max_px(&padded, block.mesh(), above.position);
+        assert!(error < 1e-3, "{config:?}: {error} px over the real samples");
+    }
+}
+
+#[test]
+fn block_algorithm_targets_below_the_coarsest_and_above_the_finest_mesh() {
+    let hierarchy = rough(33, 10.0, 20.0);
+    // High over the terrain's box: the coarsest mesh is reachable only by τ, not refined by
+    // an eye inside a box.
+    let above = straight_down(DVec3::new(160.0, 160.0, 600.0));
+    for (target, coarsest) in [(1, true), (1_000_000, false)] {
+        for config in every_block_algorithm(1.0) {
+            let config = match config {
+                AlgorithmConfig::Geomipmap(c) => AlgorithmConfig::Geomipmap(GeomipmapConfig {
+                    goal: BlockGoal::TargetTriangles(target),
+                    ..c
+                }),
+                AlgorithmConfig::Chunked(c) => AlgorithmConfig::Chunked(ChunkedConfig {
+                    goal: BlockGoal::TargetTriangles(target),
+                    ..c
+                }),
+                other => other,
+            };
+            let block = run_block(&hierarchy, &config, view_600(), &[above, above]);
+            if coarsest {
+                assert!(block.is_coarsest(), "{config:?}, target {target}");
+            } else {
+                assert!(block.is_finest(), "{config:?}, target {target}");
             }
         }
     }

@@ -8,12 +8,16 @@
 //!   would be an absolute length hidden in the arithmetic (an epsilon in metres, a clamp); other
 //!   factors (0.001, 1000) are checked on a fixed scene in `tests/hard_cases.rs`.
 //!
+//! The block-based algorithms (triangle lists) are held to the same properties through their
+//! drawn triangles: positions, roles, groups, levels and heights (scaled heights divided by the
+//! power of two, exactly), and their counts.
+//!
 //! This file does not check that the meshes are right, only that they do not move;
 //! `tests/hard_cases.rs` and the per-algorithm tests check the right answers.
 
 mod common;
 
-use common::algorithms::every_algorithm;
+use common::algorithms::{every_algorithm, every_block_algorithm};
 use common::{step, vertex_set, view_600};
 use glam::DVec3;
 use proptest::prelude::*;
@@ -109,6 +113,81 @@ fn decisions(
         .collect()
 }
 
+/// One triangle as a block algorithm drew it: corner positions (fixed point), role, group,
+/// level — what it decided.
+type DrawnSignature = ([(i64, i64); 3], usize, u32, u32);
+
+/// What one frame of a block algorithm decided: its triangles and its counts, and the corner
+/// heights it drew them at (divided by the scene's scale).
+#[derive(Debug, PartialEq)]
+struct BlockDecisions {
+    triangles: Vec<DrawnSignature>,
+    counts: [u64; 6],
+    heights: Vec<[f64; 3]>,
+}
+
+impl BlockDecisions {
+    /// The same triangles and counts, and heights within `tolerance_m` of each other.
+    fn same_within(&self, other: &BlockDecisions, tolerance_m: f64) -> bool {
+        self.triangles == other.triangles
+            && self.counts == other.counts
+            && self.heights.len() == other.heights.len()
+            && self
+                .heights
+                .iter()
+                .zip(&other.heights)
+                .all(|(a, b)| a.iter().zip(b).all(|(a, b)| (a - b).abs() <= tolerance_m))
+    }
+}
+
+/// How far a morphed height may move when the terrain and the flight are translated: the eye's
+/// terrain-local position is `(p + offset) − offset`, which rounds at a million metres by up to
+/// about 10⁻¹⁰ m, and a morph factor is a continuous function of that distance (a decision
+/// is not: levels, positions, roles and counts must match exactly).
+const TRANSLATED_MORPH_TOLERANCE_M: f64 = 1e-6;
+
+/// Every frame's decisions of a block algorithm over the poses, heights divided by `scale`.
+fn block_decisions(
+    hierarchy: &Hierarchy,
+    config: &AlgorithmConfig,
+    view: ViewSettings,
+    poses: &[Pose],
+    scale: f64,
+) -> Vec<BlockDecisions> {
+    let mut algorithm = config.build(hierarchy, &view, SPEED);
+    poses
+        .iter()
+        .enumerate()
+        .map(|(frame, pose)| {
+            let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+            let stats = step(algorithm.as_mut(), frame as u64, &camera, frame == 0);
+            let mut triangles = Vec::new();
+            let mut heights = Vec::new();
+            algorithm.mesh().for_each_triangle(hierarchy, |t| {
+                triangles.push((
+                    t.corners.map(|c| c.position.raw()),
+                    t.info.role.index(),
+                    t.info.group,
+                    t.info.level,
+                ));
+                heights.push(t.corners.map(|c| f64::from(c.z) / scale));
+            });
+            BlockDecisions {
+                triangles,
+                counts: [
+                    stats.triangles,
+                    stats.splits,
+                    stats.merges,
+                    stats.vertices_inserted,
+                    stats.vertices_deleted,
+                    stats.vertices_changed.unwrap_or(u64::MAX),
+                ],
+                heights,
+            }
+        })
+        .collect()
+}
+
 fn hierarchy(heights: Vec<f32>, post_m: f64, origin: DVec3) -> Hierarchy {
     let spacing = Spacing {
         dx: post_m,
@@ -142,6 +221,15 @@ proptest! {
             let b = decisions(&there, &config, view_600(), SPEED, &moved);
             prop_assert_eq!(a, b, "{:?}, offset {:?}", config, offset);
         }
+        for config in every_block_algorithm(scene.tau_px) {
+            let a = block_decisions(&here, &config, view_600(), &scene.poses, 1.0);
+            let b = block_decisions(&there, &config, view_600(), &moved, 1.0);
+            let same = a
+                .iter()
+                .zip(&b)
+                .all(|(a, b)| a.same_within(b, TRANSLATED_MORPH_TOLERANCE_M));
+            prop_assert!(a.len() == b.len() && same, "{:?}, offset {:?}", config, offset);
+        }
     }
 
     #[test]
@@ -169,6 +257,11 @@ proptest! {
             let a = decisions(&original, &config, view, SPEED, &scene.poses);
             let b = decisions(&scaled, &config, scaled_view, scaled_speed, &scaled_poses);
             prop_assert_eq!(a, b, "{:?} at scale 2^{}", config, exponent);
+        }
+        for config in every_block_algorithm(scene.tau_px) {
+            let a = block_decisions(&original, &config, view, &scene.poses, 1.0);
+            let b = block_decisions(&scaled, &config, scaled_view, &scaled_poses, scale);
+            prop_assert!(a == b, "{:?} at scale 2^{}", config, exponent);
         }
     }
 }

@@ -5,17 +5,24 @@
 //! that the inserted and deleted vertices summed over the run account exactly for the final mesh
 //! (no counter wrapped or lost a change), that the algorithm's memory stays bounded (no leak
 //! from frame to frame), and that the final mesh is the one a fresh instance builds for the
-//! final view (no drift).
+//! final view (no drift). The block-based algorithms (geomipmap, chunked) are held to the same,
+//! their vertices counted in their triangle lists (every chunk's or patch's own).
 //!
 //! This file does not measure speed; `benches/` does.
 
 mod common;
 
-use common::algorithms::{lindstrom, reference, roam_tolerance};
+use common::algorithms::{
+    chunked, chunked_with_everything, geomipmap, lindstrom, reference, roam_tolerance,
+};
 use common::{bumpy_terrain, camera_at, checked_step, step, vertex_set};
 use glam::DVec3;
-use roamsim::sim::algorithm::{AlgorithmConfig, RoamConfig};
+use roamsim::sim::algorithm::{
+    AlgorithmConfig, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference, LodAlgorithm,
+    RoamConfig,
+};
 use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::MeshOutput;
 use roamsim::sim::mesh::VertexSet;
 use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 
@@ -145,4 +152,103 @@ fn a_million_roam_rebuild_frames_stay_exact() {
     // A coarser τ than roam's: the rebuild splits from the base mesh every frame, and its cost
     // grows with the mesh; the mesh still changes thousands of times.
     check_million_frames(AlgorithmConfig::RoamRebuild(roam_tolerance(16.0)));
+}
+
+/// One drawn triangle as comparable values: its corners (position and height bits), role, group
+/// and level.
+type TriangleSignature = ([(i64, i64, u32); 3], usize, u32, u32);
+
+/// A block algorithm's triangle list as comparable values.
+fn list_signature(hierarchy: &Hierarchy, algorithm: &dyn LodAlgorithm) -> Vec<TriangleSignature> {
+    let mut triangles = Vec::new();
+    algorithm.mesh().for_each_triangle(hierarchy, |t| {
+        triangles.push((
+            t.corners.map(|c| {
+                let (x, y) = c.position.raw();
+                (x, y, c.z.to_bits())
+            }),
+            t.info.role.index(),
+            t.info.group,
+            t.info.level,
+        ));
+    });
+    triangles
+}
+
+/// A million frames of a block algorithm: the mesh valid at the checked frames, the vertices
+/// inserted and deleted over the run adding up to the final list's, memory bounded, and the
+/// final list the one a fresh instance draws for the final view.
+fn check_million_block_frames(config: AlgorithmConfig) {
+    let hierarchy = bumpy_terrain(3);
+    let mut algorithm = config.build(&hierarchy, &common::view_600(), SPEED);
+    let (mut inserted, mut deleted) = (0u128, 0u128);
+    let mut memory_after_first_lap = 0;
+    for frame in 0..MILLION {
+        let camera = camera_at(eye_at(frame));
+        let stats = if frame % 100_003 == 0 || frame + 1 == MILLION {
+            let context = format!("{config:?}");
+            checked_step(
+                &hierarchy,
+                algorithm.as_mut(),
+                frame,
+                &camera,
+                frame == 0,
+                context,
+            )
+        } else {
+            step(algorithm.as_mut(), frame, &camera, frame == 0)
+        };
+        inserted += u128::from(stats.vertices_inserted);
+        deleted += u128::from(stats.vertices_deleted);
+        if frame + 1 == FRAMES_PER_LAP {
+            memory_after_first_lap = algorithm.memory_bytes();
+        }
+    }
+    let MeshOutput::Triangles(list) = algorithm.mesh() else {
+        panic!("{config:?} draws a triangle list");
+    };
+    assert_eq!(
+        inserted as i128 - deleted as i128,
+        list.vertices().len() as i128,
+        "{config:?}: the inserted and deleted counts do not account for the final mesh"
+    );
+    assert!(
+        inserted + deleted > 1000,
+        "{config:?}: the mesh hardly changed ({} changes), the flight tests nothing",
+        inserted + deleted
+    );
+    let memory_at_end = algorithm.memory_bytes();
+    assert!(
+        memory_at_end <= 2 * memory_after_first_lap.max(1),
+        "{config:?}: memory grew from {memory_after_first_lap} to {memory_at_end} bytes"
+    );
+    let mut fresh = config.build(&hierarchy, &common::view_600(), SPEED);
+    step(fresh.as_mut(), 0, &camera_at(eye_at(MILLION - 1)), true);
+    assert!(
+        list_signature(&hierarchy, algorithm.as_ref())
+            == list_signature(&hierarchy, fresh.as_ref()),
+        "{config:?}: the mesh after 10^6 frames is not the one the final view calls for"
+    );
+}
+
+#[test]
+fn a_million_geomipmap_frames_with_morphing_stay_exact() {
+    check_million_block_frames(AlgorithmConfig::Geomipmap(GeomipmapConfig {
+        morph: true,
+        level_difference: LevelDifference::Any,
+        // 4 patches of 4×4 cells: 8 to 128 triangles; held at 40, they change level around
+        // the circle.
+        goal: BlockGoal::TargetTriangles(40),
+        ..geomipmap(1.0, 2)
+    }));
+}
+
+#[test]
+fn a_million_chunked_frames_with_every_effect_and_a_target_stay_exact() {
+    check_million_block_frames(AlgorithmConfig::Chunked(chunked_with_everything(4.0, 1)));
+    check_million_block_frames(AlgorithmConfig::Chunked(ChunkedConfig {
+        goal: BlockGoal::TargetTriangles(250),
+        morph: true,
+        ..chunked(4.0, 1)
+    }));
 }

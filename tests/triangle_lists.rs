@@ -18,7 +18,7 @@ use roamsim::sim::mesh::check::{MeshCheckError, MeshChecker};
 use roamsim::sim::mesh::list_validate::TriangleListError;
 use roamsim::sim::mesh::{CrackPolicy, MeshOutput, TriangleList, TriangleRole};
 use roamsim::sim::run::{Effects, RunInputs, run_algorithm};
-use roamsim::sim::stats::FrameStats;
+use roamsim::sim::stats::{FrameStats, SurfaceCoverage};
 use roamsim::sim::view::{Camera, Pose};
 use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 
@@ -157,7 +157,8 @@ fn without_skirts_the_validator_finds_the_first_uncovered_crack() {
 #[test]
 fn skirts_hide_cracks_but_do_not_close_them_and_collapsed_borders_close_them() {
     // The same view three ways: the surface with skirts and without is the same, so the audit
-    // finds the same crack gaps (skirts are never surface); collapsing the borders closes them.
+    // finds the same crack gaps (skirts are never surface), which the skirts cover and nothing
+    // covers without them; collapsing the borders closes them.
     let hierarchy = bumpy_terrain(6);
     let camera = camera_towards_middle(DVec3::new(100.0, 100.0, 40.0));
     let audit_of = |config: PatchConfig| {
@@ -168,9 +169,13 @@ fn skirts_hide_cracks_but_do_not_close_them_and_collapsed_borders_close_them() {
     };
     let (with_skirts, without, closed) =
         (audit_of(skirted()), audit_of(open()), audit_of(collapsed()));
-    assert_eq!(with_skirts.coverage, without.coverage);
+    let (skirted_coverage, bare) = (with_skirts.coverage.unwrap(), without.coverage.unwrap());
+    let surface = |c: SurfaceCoverage| (c.holes, c.crack_samples, c.crack_gap_max_m);
+    assert_eq!(surface(skirted_coverage), surface(bare));
     assert_eq!(with_skirts.projected, without.projected);
-    assert!(with_skirts.coverage.unwrap().crack_samples > 0);
+    assert!(skirted_coverage.crack_samples > 0);
+    assert_eq!(bare.cracks_uncovered, bare.crack_samples);
+    assert!(skirted_coverage.cracks_uncovered < bare.cracks_uncovered);
     let closed_coverage = closed.coverage.unwrap();
     assert_eq!(
         (closed_coverage.holes, closed_coverage.crack_samples),

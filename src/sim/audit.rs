@@ -15,7 +15,10 @@
 //!   are surface; skirts and degenerate triangles never are. A sample no surface triangle covers
 //!   is a **hole** (counted, and left out of the error figures); where the triangles meeting at
 //!   a sample disagree on its height (a T-junction, heights that differ across a border) the
-//!   disagreement is a **crack gap**, counted and measured in metres and projected pixels.
+//!   disagreement is a **crack gap**, counted and measured in metres and projected pixels. The
+//!   skirts hung there (vertical triangles) cover the part of the gap their vertical extent
+//!   spans; what no skirt spans is the gap left **uncovered**, the crack a viewer could see
+//!   through (counted and measured too; without skirts it is the whole gap).
 //!
 //! The vertical segment between the sample and the surface is measured as projected
 //! screen-space pixels and as view-angle pixels from the current eye, over the samples inside
@@ -38,7 +41,7 @@
 
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle};
-use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL};
+use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, TriangleRole};
 use crate::sim::metrics::{projected_error_px, view_angle_error_px};
 use crate::sim::stats::{AuditFrame, ErrorSummary, PoppingFrame, SurfaceCoverage};
 use crate::sim::view::Camera;
@@ -69,10 +72,35 @@ pub struct Auditor {
     view_angle: Vec<f64>,
 }
 
-/// The lowest and highest height any surface triangle draws at each audited sample.
+/// The lowest and highest height any surface triangle draws at each audited sample, and the
+/// vertical spans skirts cover at the samples where those differ.
 struct CrackHeights {
     low: Vec<f32>,
     high: Vec<f32>,
+    /// (sample index, lowest, highest height) of each skirt triangle over a cracked sample,
+    /// sorted by index then height.
+    skirt_spans: Vec<(usize, f32, f32)>,
+}
+
+impl CrackHeights {
+    /// The length of the crack gap at `index` that no skirt spans, metres.
+    fn uncovered(&self, index: usize) -> f64 {
+        let (low, high) = (f64::from(self.low[index]), f64::from(self.high[index]));
+        let first = self.skirt_spans.partition_point(|span| span.0 < index);
+        let mut reached = low;
+        let mut open = 0.0;
+        for &(at, span_low, span_high) in &self.skirt_spans[first..] {
+            if at != index || reached >= high {
+                break;
+            }
+            let (span_low, span_high) = (f64::from(span_low), f64::from(span_high));
+            if span_low > reached {
+                open += span_low.min(high) - reached;
+            }
+            reached = reached.max(span_high);
+        }
+        open + (high - reached).max(0.0)
+    }
 }
 
 impl Auditor {
@@ -114,6 +142,9 @@ impl Auditor {
             crack_samples: 0,
             crack_gap_max_m: 0.0,
             crack_gap_max_px: 0.0,
+            cracks_uncovered: 0,
+            crack_uncovered_max_m: 0.0,
+            crack_uncovered_max_px: 0.0,
         });
         let mut popping = PoppingSums::default();
         let previous = self.previous_height.as_deref();
@@ -135,6 +166,16 @@ impl Auditor {
                         let base = DVec3::new(sample.x, sample.y, f64::from(low));
                         if let Some(px) = projected_error_px(camera, base, gap) {
                             coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
+                        }
+                        let open = crack.uncovered(index);
+                        if open > 0.0 {
+                            coverage.cracks_uncovered += 1;
+                            coverage.crack_uncovered_max_m =
+                                coverage.crack_uncovered_max_m.max(open);
+                            if let Some(px) = projected_error_px(camera, base, open) {
+                                coverage.crack_uncovered_max_px =
+                                    coverage.crack_uncovered_max_px.max(px);
+                            }
                         }
                     }
                     if drawn.is_nan() {
@@ -190,10 +231,12 @@ impl Auditor {
         let crack = self.crack.get_or_insert_with(|| CrackHeights {
             low: vec![0.0; n],
             high: vec![0.0; n],
+            skirt_spans: Vec::new(),
         });
         self.mesh_height.fill(f32::NAN);
         crack.low.fill(f32::INFINITY);
         crack.high.fill(f32::NEG_INFINITY);
+        crack.skirt_spans.clear();
         let domain_max = i64::from(hierarchy.lattice().cells()) * SUBGRID_UNITS_PER_CELL;
         let raster = SampleRaster::new(
             self.stride as i64 * SUBGRID_UNITS_PER_CELL,
@@ -214,6 +257,28 @@ impl Auditor {
                 crack.high[sample.index] = crack.high[sample.index].max(height);
             });
         });
+        let has_skirts = mesh
+            .counts(0)
+            .is_some_and(|counts| counts.triangles_by_role[TriangleRole::Skirt.index()] > 0);
+        if has_skirts {
+            let spans = &mut crack.skirt_spans;
+            let (low, high) = (&crack.low, &crack.high);
+            mesh.for_each_triangle(hierarchy, |triangle| {
+                if triangle.info.role != TriangleRole::Skirt {
+                    return;
+                }
+                raster.for_each_vertical_span(&triangle.corners, |index, bottom, top| {
+                    if low[index] < high[index] {
+                        spans.push((index, bottom as f32, top as f32));
+                    }
+                });
+            });
+            spans.sort_unstable_by(|a, b| {
+                (a.0.cmp(&b.0))
+                    .then(a.1.total_cmp(&b.1))
+                    .then(a.2.total_cmp(&b.2))
+            });
+        }
     }
 }
 
@@ -426,6 +491,53 @@ mod tests {
             75,
             "holes are left out of popping"
         );
+    }
+
+    #[test]
+    fn skirts_cover_the_part_of_a_crack_they_span_and_the_rest_is_left_open() {
+        let hierarchy = spike_field();
+        let camera = camera_above(&hierarchy);
+        let mut auditor = Auditor::new(&hierarchy, settings(1, false));
+        // The T-junction of `t_junction_list`: along x = 4 the east half rises to 8 m over the
+        // west half's 0 m. A skirt hung from the east half's edges reaching `depth` below.
+        let skirted = |depth: f32| {
+            let mut list = t_junction_list(false);
+            let skirt = TriangleInfo {
+                role: TriangleRole::Skirt,
+                group: 1,
+                level: 0,
+            };
+            for (from, to) in [((4, 0, 0.0), (4, 4, 8.0)), ((4, 4, 8.0), (4, 8, 0.0))] {
+                let mut v =
+                    |(i, j, z): (u32, u32, f32)| list.add_vertex(SubgridPoint::grid(i, j), z);
+                let (top_a, top_b) = (v(from), v(to));
+                let (bottom_a, bottom_b) = (
+                    v((from.0, from.1, from.2 - depth)),
+                    v((to.0, to.1, to.2 - depth)),
+                );
+                list.add_triangle([top_a, top_b, bottom_b], skirt);
+                list.add_triangle([top_a, bottom_b, bottom_a], skirt);
+            }
+            list
+        };
+        let coverage = |list: &TriangleList, auditor: &mut Auditor| {
+            auditor
+                .audit(&hierarchy, MeshOutput::triangles(list), &camera)
+                .coverage
+                .unwrap()
+        };
+        let bare = coverage(&t_junction_list(false), &mut auditor);
+        assert_eq!((bare.crack_samples, bare.cracks_uncovered), (7, 7));
+        assert_eq!(bare.crack_uncovered_max_m, 8.0);
+        // Deep enough: every crack covered.
+        let deep = coverage(&skirted(8.0), &mut auditor);
+        assert_eq!((deep.crack_samples, deep.cracks_uncovered), (7, 0));
+        assert_eq!(deep.crack_uncovered_max_m, 0.0);
+        // 3 m deep: the gaps of 2, 4, 6, 8, 6, 4, 2 m keep 0, 1, 3, 5, 3, 1, 0 m open.
+        let shallow = coverage(&skirted(3.0), &mut auditor);
+        assert_eq!((shallow.crack_samples, shallow.cracks_uncovered), (7, 5));
+        assert_eq!(shallow.crack_uncovered_max_m, 5.0);
+        assert!(shallow.crack_uncovered_max_px > 0.0);
     }
 
     #[test]

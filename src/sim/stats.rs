@@ -43,6 +43,15 @@ pub struct SurfaceCoverage {
     /// The same gap as projected screen-space pixels (its largest; 0 without cracks or when
     /// every crack is behind the near plane).
     pub crack_gap_max_px: f64,
+    /// Crack samples where the skirts hung there leave part of the gap open (every crack
+    /// sample, when the mesh has no skirts).
+    pub cracks_uncovered: u64,
+    /// The largest part of a crack gap no skirt spans, metres (0 when the skirts cover every
+    /// crack).
+    pub crack_uncovered_max_m: f64,
+    /// The same as projected screen-space pixels (a vertical segment from the crack's lower
+    /// end).
+    pub crack_uncovered_max_px: f64,
 }
 
 /// The change of the drawn surface height at the audited samples in view since the previous

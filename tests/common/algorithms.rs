@@ -4,8 +4,9 @@
 //! algorithm at one tolerance for the hard-case and invariance tests.
 
 use roamsim::sim::algorithm::{
-    AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, Refinement, RoamConfig,
-    RoamGoal, SplitThreshold, ViewThreshold, WuConfig,
+    AlgorithmConfig, BlockGoal, BudgetConfig, ChunkedConfig, GeomipmapConfig, LevelDifference,
+    LindstromConfig, Projection, ReferenceConfig, Refinement, RoamConfig, RoamGoal, SkirtDepth,
+    SplitThreshold, ViewThreshold, WuConfig,
 };
 use roamsim::sim::hierarchy::NestingRule;
 use roamsim::sim::zone::ZoneVariant;
@@ -123,4 +124,60 @@ pub fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
     }));
     configs.push(AlgorithmConfig::RoamRebuild(roam));
     configs
+}
+
+/// Geomipmapping at τ with patches of (2^patch_level + 1)² samples: the survey's one-level
+/// limit, no morphing, the horizontal-view projection.
+pub fn geomipmap(tau_px: f64, patch_level: u32) -> GeomipmapConfig {
+    GeomipmapConfig {
+        patch_level,
+        goal: BlockGoal::TolerancePx(tau_px),
+        level_difference: LevelDifference::AtMostOne,
+        morph: false,
+        projection: Projection::HorizontalView,
+    }
+}
+
+/// The chunked quadtree at τ with chunks of (2^chunk_level + 1)² vertices: the paper's skirts,
+/// the horizontal-view projection, no effects.
+pub fn chunked(tau_px: f64, chunk_level: u32) -> ChunkedConfig {
+    ChunkedConfig {
+        chunk_level,
+        goal: BlockGoal::TolerancePx(tau_px),
+        projection: Projection::HorizontalView,
+        skirts: SkirtDepth::ChunkError,
+        morph: false,
+        culling: false,
+        front_to_back: false,
+    }
+}
+
+/// The chunked quadtree with every effect and option that is not the default: morphing, box
+/// culling, front-to-back order, covering skirts, the exact projection.
+pub fn chunked_with_everything(tau_px: f64, chunk_level: u32) -> ChunkedConfig {
+    ChunkedConfig {
+        projection: Projection::Exact,
+        skirts: SkirtDepth::Covering,
+        morph: true,
+        culling: true,
+        front_to_back: true,
+        ..chunked(tau_px, chunk_level)
+    }
+}
+
+/// Every block-based configuration at tolerance `tau_px`, with the options that make it a pure
+/// function of the view: geomipmap with both level limits, morphing and the exact projection;
+/// chunked plain and with everything (culling: its mesh depends on the frustum).
+pub fn every_block_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
+    vec![
+        AlgorithmConfig::Geomipmap(geomipmap(tau_px, 2)),
+        AlgorithmConfig::Geomipmap(GeomipmapConfig {
+            level_difference: LevelDifference::Any,
+            morph: true,
+            projection: Projection::Exact,
+            ..geomipmap(tau_px, 3)
+        }),
+        AlgorithmConfig::Chunked(chunked(tau_px, 2)),
+        AlgorithmConfig::Chunked(chunked_with_everything(tau_px, 1)),
+    ]
 }

@@ -6,6 +6,7 @@
 //! once; reading the terrain or a flight log stops at the first. Nothing runs before all of this
 //! has passed. The format is documented in `docs/experiment-format.md`.
 
+mod block_lod;
 mod format;
 mod sweep;
 mod validate;

@@ -42,7 +42,15 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 /// Algorithms this build knows, as the experiment file names them.
-pub const KNOWN_ALGORITHMS: &[&str] = &["reference", "wu", "lindstrom", "roam", "roam-rebuild"];
+pub const KNOWN_ALGORITHMS: &[&str] = &[
+    "reference",
+    "wu",
+    "lindstrom",
+    "roam",
+    "roam-rebuild",
+    "geomipmap",
+    "chunked",
+];
 
 /// A validated, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -851,6 +859,12 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                         Some(AlgorithmConfig::RoamRebuild(config))
                     }
                 }),
+            "geomipmap" => super::block_lod::geomipmap_config(k, &parameters)
+                .map_err(|list| problems.list.extend(list))
+                .ok(),
+            "chunked" => super::block_lod::chunked_config(k, &parameters)
+                .map_err(|list| problems.list.extend(list))
+                .ok(),
             other => {
                 problems.add(
                     format!("{k}.name"),

@@ -54,6 +54,9 @@ pub const COVERAGE_COLUMNS: &[&str] = &[
     "audit_crack_samples",
     "audit_crack_gap_max_m",
     "audit_crack_gap_max_px",
+    "audit_cracks_uncovered",
+    "audit_crack_uncovered_max_m",
+    "audit_crack_uncovered_max_px",
 ];
 
 /// Popping columns, in order (present when popping was measured).
@@ -152,6 +155,9 @@ fn audit_value(audit: Option<&AuditFrame>, column: &str) -> Option<f64> {
         "audit_crack_samples" => coverage(|c| c.crack_samples as f64),
         "audit_crack_gap_max_m" => coverage(|c| c.crack_gap_max_m),
         "audit_crack_gap_max_px" => coverage(|c| c.crack_gap_max_px),
+        "audit_cracks_uncovered" => coverage(|c| c.cracks_uncovered as f64),
+        "audit_crack_uncovered_max_m" => coverage(|c| c.crack_uncovered_max_m),
+        "audit_crack_uncovered_max_px" => coverage(|c| c.crack_uncovered_max_px),
         _ => panic!("{column:?} is no audit column"),
     }
 }

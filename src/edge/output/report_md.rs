@@ -232,12 +232,12 @@ fn write_triangle_lists(out: &mut String, runs: &[RunColumns]) {
     }
     let _ = writeln!(
         out,
-        "\n## Meshes beyond the 4-8 family\n\n| entry | surface | skirt | degenerate | stitch | draw batches | morphing vertices | vertices changed | holes | crack samples | crack gap max (m) |\n|---|---|---|---|---|---|---|---|---|---|---|"
+        "\n## Meshes beyond the 4-8 family\n\n| entry | surface | skirt | degenerate | stitch | draw batches | morphing vertices | vertices changed | holes | crack samples | crack gap max (m) | left open by skirts max (m) |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for run in listed {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             run.label.replace('|', "\\|"),
             cell(mean_of(run, "triangles_surface"), 0),
             cell(mean_of(run, "triangles_skirt"), 0),
@@ -249,13 +249,16 @@ fn write_triangle_lists(out: &mut String, runs: &[RunColumns]) {
             cell(max_of(run, "audit_holes"), 0),
             cell(mean_of(run, "audit_crack_samples"), 1),
             cell(max_of(run, "audit_crack_gap_max_m"), 3),
+            cell(max_of(run, "audit_crack_uncovered_max_m"), 3),
         );
     }
     let _ = writeln!(
         out,
         "\nMeans per frame, except *holes* (the most audited samples in view that no surface \
-         triangle covered, in any frame) and *crack gap* (the largest height disagreement \
-         between surface triangles meeting at a sample, over the flight)."
+         triangle covered, in any frame), *crack gap* (the largest height disagreement \
+         between surface triangles meeting at a sample, over the flight) and *left open by \
+         skirts* (the largest part of a crack gap that no skirt hung there spans: a crack a \
+         viewer can see through)."
     );
 }
 
@@ -308,6 +311,9 @@ mod tests {
                     crack_samples: 4,
                     crack_gap_max_m: gap,
                     crack_gap_max_px: 1.0,
+                    cracks_uncovered: 1,
+                    crack_uncovered_max_m: gap / 2.0,
+                    crack_uncovered_max_px: 0.5,
                 }),
                 popping: None,
             }),
@@ -336,7 +342,7 @@ mod tests {
         let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| ")).collect();
         assert_eq!(
             rows[1..],
-            ["| patches | 10 | 4 | 2 | 0 | 3.0 | 5 | 1 | 7 | 4.0 | 1.250 |"]
+            ["| patches | 10 | 4 | 2 | 0 | 3.0 | 5 | 1 | 7 | 4.0 | 1.250 | 0.625 |"]
         );
         let mut none = String::new();
         write_triangle_lists(&mut none, &runs[1..]);

@@ -44,7 +44,27 @@ pub mod roam {
     pub const TRIANGLES_PER_STRIP: &str = "triangles_per_strip";
 }
 
-/// Every algorithm-specific column name (some are shared: `forced_splits`, `split_queue`).
+/// `geomipmap` (de Boer 2000).
+pub mod geomipmap {
+    pub const PATCHES_REFINED_FOR_NEIGHBOURS: &str = "patches_refined_for_neighbours";
+    pub const STITCHED_SIDES: &str = "stitched_sides";
+    pub const PATCH_LEVEL_MEAN: &str = "patch_level_mean";
+    pub const TAU: &str = "tau_px";
+    pub const TARGET_UNREACHABLE: &str = "target_unreachable";
+}
+
+/// `chunked` (Lauritsen and Nielsen 2005).
+pub mod chunked {
+    pub const CHUNKS_DRAWN: &str = "chunks_drawn";
+    pub const CHUNKS_CULLED: &str = "chunks_culled";
+    pub const SKIRT_DEPTH_MAX: &str = "skirt_depth_max_m";
+    pub const ORDER_INVERSIONS: &str = "order_inversions";
+    pub const TAU: &str = "tau_px";
+    pub const TARGET_UNREACHABLE: &str = "target_unreachable";
+}
+
+/// Every algorithm-specific column name (some are shared: `forced_splits`, `split_queue`,
+/// `tau_px`, `target_unreachable`).
 pub const ALL: &[&str] = &[
     wu::BASE_B,
     wu::BASE_CLAMPED,
@@ -70,6 +90,17 @@ pub const ALL: &[&str] = &[
     roam::DEFERRED,
     roam::REVALIDATIONS,
     roam::TRIANGLES_PER_STRIP,
+    geomipmap::PATCHES_REFINED_FOR_NEIGHBOURS,
+    geomipmap::STITCHED_SIDES,
+    geomipmap::PATCH_LEVEL_MEAN,
+    geomipmap::TAU,
+    geomipmap::TARGET_UNREACHABLE,
+    chunked::CHUNKS_DRAWN,
+    chunked::CHUNKS_CULLED,
+    chunked::SKIRT_DEPTH_MAX,
+    chunked::ORDER_INVERSIONS,
+    chunked::TAU,
+    chunked::TARGET_UNREACHABLE,
 ];
 
 /// Whether `name` is an algorithm-specific column of some algorithm.

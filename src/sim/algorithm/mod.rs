@@ -6,12 +6,18 @@
 //! validates, culls and audits every algorithm the same way, through the mesh's triangle
 //! visitor. No algorithm reads another's state.
 
+mod block_lod;
+pub mod chunked;
 pub mod columns;
+pub mod geomipmap;
 pub mod lindstrom;
 mod reference;
 mod roam;
 mod wu;
 
+pub use block_lod::{BlockGoal, Projection};
+pub use chunked::{Chunked, ChunkedConfig, SkirtDepth};
+pub use geomipmap::{Geomipmap, GeomipmapConfig, LevelDifference};
 pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold, ViewThreshold};
 pub use roam::{BintreeError, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild};
@@ -66,6 +72,8 @@ pub enum AlgorithmConfig {
     Lindstrom(LindstromConfig),
     Roam(RoamConfig),
     RoamRebuild(RoamConfig),
+    Geomipmap(GeomipmapConfig),
+    Chunked(ChunkedConfig),
 }
 
 impl AlgorithmConfig {
@@ -76,6 +84,8 @@ impl AlgorithmConfig {
             AlgorithmConfig::Lindstrom(_) => lindstrom::NAME,
             AlgorithmConfig::Roam(_) => roam::NAME,
             AlgorithmConfig::RoamRebuild(_) => roam::REBUILD_NAME,
+            AlgorithmConfig::Geomipmap(_) => geomipmap::NAME,
+            AlgorithmConfig::Chunked(_) => chunked::NAME,
         }
     }
 
@@ -98,6 +108,10 @@ impl AlgorithmConfig {
             AlgorithmConfig::RoamRebuild(config) => {
                 Box::new(RoamRebuild::new(hierarchy, *config, speed))
             }
+            AlgorithmConfig::Geomipmap(config) => {
+                Box::new(Geomipmap::new(hierarchy, *config, view))
+            }
+            AlgorithmConfig::Chunked(config) => Box::new(Chunked::new(hierarchy, *config, view)),
         }
     }
 }

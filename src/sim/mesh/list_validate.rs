@@ -9,17 +9,22 @@
 //! 2. shapes: surface and stitch triangles have area in the plane; degenerate and skirt
 //!    triangles have none (a skirt is vertical; a degenerate triangle is collapsed or a strip
 //!    join);
-//! 3. the surface tiles the domain: the plane areas of the surface triangles add up to the
-//!    domain's, exactly (fixed-point integers), and every grid sample is owned by exactly one
-//!    surface triangle under the rasteriser's tie rule ([`SampleRaster`]: a sample owned twice is
-//!    an overlap, one owned by none a hole);
+//! 3. the surface tiles the domain, less the regions the algorithm declares culled
+//!    ([`TriangleList::culled_regions`]): the plane areas of the surface triangles and of the
+//!    culled regions add up to the domain's, exactly (fixed-point integers), and every grid
+//!    sample is owned by exactly one surface triangle under the rasteriser's tie rule
+//!    ([`SampleRaster`]: a sample owned twice is an overlap, one owned by none a hole), except
+//!    that a sample in a culled region is owned by none (strictly inside it) or at most one (on
+//!    its boundary);
 //! 4. borders: a surface edge inside the domain (ends and heights) must be shared by exactly two
 //!    surface triangles under `closed`, `stitched` and `collapsed` (stitch triangles are surface;
 //!    degenerate triangles are left out, so a collapsed border is closed by the triangles that
-//!    keep their area); under `skirted`, an edge that is not shared is a crack and must be the
-//!    top edge of a skirt triangle (same ends and heights) that hangs below it. The validator
-//!    checks that a skirt is there, not how deep it reaches: the audit measures the crack gaps
-//!    a skirt has to hide (`audit_crack_gap_max_m`);
+//!    keep their area), one on the domain's border or a culled region's; under `skirted`, an
+//!    edge that is not shared is a crack and must be the top edge of a skirt triangle (same ends
+//!    and heights) that hangs below it, at a depth of zero or more. The validator checks that a
+//!    skirt is there, not how deep it reaches: the audit measures the crack gaps a skirt has to
+//!    hide (`audit_crack_gap_max_m`) and the part of them the skirts leave open
+//!    (`audit_crack_uncovered_max_m`);
 //! 5. the algorithm's own triangle count equals the list's.
 //!
 //! Every check reads the list through the mesh visitor ([`MeshOutput::for_each_triangle`]), the
@@ -137,6 +142,15 @@ impl TriangleListValidator {
             return Err(error);
         }
         let domain = i128::from(list.domain_max());
+        let culled_area2: i128 = list
+            .culled_regions()
+            .iter()
+            .map(|(low, high)| {
+                let ((x0, y0), (x1, y1)) = (low.raw(), high.raw());
+                2 * i128::from(x1 - x0) * i128::from(y1 - y0)
+            })
+            .sum();
+        let surface_area2 = surface_area2 + culled_area2;
         if surface_area2 != 2 * domain * domain {
             let cell2 = (SUBGRID_UNITS_PER_CELL as f64).powi(2);
             return Err(TriangleListError::AreaMismatch {
@@ -174,6 +188,28 @@ impl TriangleListValidator {
                 });
             }
         });
+        // Culled regions: nothing may own a sample strictly inside one; a sample on a region's
+        // boundary may be owned by the surface beside it, or by none.
+        let step = SUBGRID_UNITS_PER_CELL;
+        for &(low, high) in list.culled_regions() {
+            let ((x0, y0), (x1, y1)) = (low.raw(), high.raw());
+            let first = |v: i64| ((v + step - 1) / step) as usize;
+            let last = |v: i64| (v / step) as usize;
+            for j in first(y0)..=last(y1) {
+                for i in first(x0)..=last(x1) {
+                    let (x, y) = (i as i64 * step, j as i64 * step);
+                    let inside = x0 < x && x < x1 && y0 < y && y < y1;
+                    let owners = &mut self.owners[j * side + i];
+                    if inside && *owners != 0 {
+                        return Err(TriangleListError::Overlap {
+                            sample: (i, j),
+                            owners: *owners + 1,
+                        });
+                    }
+                    *owners = (*owners).max(1);
+                }
+            }
+        }
         match self.owners.iter().position(|&n| n != 1) {
             None => Ok(()),
             Some(index) => {
@@ -211,8 +247,8 @@ impl TriangleListValidator {
                     // The third corner must hang below the edge: on the plane position of one
                     // of its ends, lower.
                     let c = corners[(k + 2) % 3];
-                    let hangs = (c.position == a.position && c.z < a.z)
-                        || (c.position == b.position && c.z < b.z);
+                    let hangs = (c.position == a.position && c.z <= a.z)
+                        || (c.position == b.position && c.z <= b.z);
                     *skirt_edges.entry(key).or_insert(false) |= hangs;
                 }
             }
@@ -227,7 +263,8 @@ impl TriangleListValidator {
                 let (a, b) = (t.corners[k], t.corners[(k + 1) % 3]);
                 let key = edge_key(a, b);
                 let count = self.surface_edges[&key];
-                let on_border = on_domain_border(a.position, b.position, domain_max);
+                let on_border = on_domain_border(a.position, b.position, domain_max)
+                    || on_culled_boundary(a.position, b.position, list.culled_regions());
                 if count == if on_border { 1 } else { 2 } {
                     continue;
                 }
@@ -274,6 +311,23 @@ fn on_domain_border(a: SubgridPoint, b: SubgridPoint, domain_max: i64) -> bool {
     let ((ax, ay), (bx, by)) = (a.raw(), b.raw());
     let both = |u: i64, v: i64, at: i64| u == at && v == at;
     both(ax, bx, 0) || both(ax, bx, domain_max) || both(ay, by, 0) || both(ay, by, domain_max)
+}
+
+/// Whether the segment lies on a side of one of the culled rectangles. O(regions); only asked
+/// about edges that are not shared.
+fn on_culled_boundary(
+    a: SubgridPoint,
+    b: SubgridPoint,
+    culled: &[(SubgridPoint, SubgridPoint)],
+) -> bool {
+    let ((ax, ay), (bx, by)) = (a.raw(), b.raw());
+    culled.iter().any(|(low, high)| {
+        let ((x0, y0), (x1, y1)) = (low.raw(), high.raw());
+        let within = |u: i64, lo: i64, hi: i64| lo <= u && u <= hi;
+        let on_vertical = |x: i64| ax == x && bx == x && within(ay, y0, y1) && within(by, y0, y1);
+        let on_horizontal = |y: i64| ay == y && by == y && within(ax, x0, x1) && within(bx, x0, x1);
+        on_vertical(x0) || on_vertical(x1) || on_horizontal(y0) || on_horizontal(y1)
+    })
 }
 
 #[cfg(test)]
@@ -392,6 +446,59 @@ mod tests {
         assert!(matches!(
             validator.validate(&terrain(), &list, 2),
             Err(TriangleListError::Overlap { owners: 2, .. })
+        ));
+    }
+
+    #[test]
+    fn a_culled_region_may_be_left_uncovered_but_not_overlapped_or_miscounted() {
+        let mut validator = TriangleListValidator::new();
+        // The west half drawn as two triangles, the east half declared culled.
+        let half = |culled: Option<(SubgridPoint, SubgridPoint)>| {
+            let mut list = TriangleList::new(&Lattice::new(2), CrackPolicy::Closed);
+            let c = [(0, 0), (2, 0), (2, 4), (0, 4)]
+                .map(|(i, j)| list.add_vertex(SubgridPoint::grid(i, j), 1.0));
+            list.add_triangle([c[0], c[1], c[2]], surface(0));
+            list.add_triangle([c[0], c[2], c[3]], surface(0));
+            if let Some((low, high)) = culled {
+                list.add_culled_region(low, high);
+            }
+            list
+        };
+        let east = (SubgridPoint::grid(2, 0), SubgridPoint::grid(4, 4));
+        // Its border with the culled half is open, like the domain's border.
+        assert_eq!(validator.validate(&terrain(), &half(Some(east)), 2), Ok(()));
+        assert!(matches!(
+            validator.validate(&terrain(), &half(None), 2),
+            Err(TriangleListError::AreaMismatch { .. })
+        ));
+        // A culled region over drawn triangles: an overlap (here found by the areas).
+        let west = (SubgridPoint::grid(0, 0), SubgridPoint::grid(2, 4));
+        let mut both = half(Some(west));
+        both.add_culled_region(east.0, east.1);
+        assert!(validator.validate(&terrain(), &both, 2).is_err());
+        // The areas add up, but the drawn triangle reaches into a culled region and leaves a
+        // hole elsewhere: the sample (3, 1) is on its edge, owned by nothing.
+        let mut list = TriangleList::new(&Lattice::new(2), CrackPolicy::Closed);
+        let c =
+            [(0, 0), (4, 0), (0, 4)].map(|(i, j)| list.add_vertex(SubgridPoint::grid(i, j), 1.0));
+        list.add_triangle([c[0], c[1], c[2]], surface(0));
+        list.add_culled_region(SubgridPoint::grid(2, 2), SubgridPoint::grid(4, 4));
+        list.add_culled_region(SubgridPoint::grid(0, 2), SubgridPoint::grid(2, 4));
+        assert_eq!(
+            validator.validate(&terrain(), &list, 1),
+            Err(TriangleListError::Hole { sample: (3, 1) })
+        );
+        // A drawn square inside a culled region: the sample strictly inside both is owned.
+        let mut list = TriangleList::new(&Lattice::new(2), CrackPolicy::Closed);
+        let c = [(0, 0), (4, 0), (4, 4), (0, 4)]
+            .map(|(i, j)| list.add_vertex(SubgridPoint::grid(i, j), 1.0));
+        list.add_triangle([c[0], c[1], c[2]], surface(0));
+        list.add_triangle([c[0], c[2], c[3]], surface(0));
+        let mut overlapping = list.clone();
+        overlapping.add_culled_region(SubgridPoint::grid(1, 1), SubgridPoint::grid(3, 3));
+        assert!(matches!(
+            validator.validate(&terrain(), &overlapping, 2),
+            Err(TriangleListError::AreaMismatch { .. })
         ));
     }
 

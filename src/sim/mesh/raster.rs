@@ -204,6 +204,100 @@ impl SampleRaster {
     }
 }
 
+impl SampleRaster {
+    /// For a triangle of zero area in the plane (a vertical one, such as a skirt), calls
+    /// `visit(index, low, high)` for every sample of the lattice on its projection (a segment,
+    /// or a point), with the lowest and highest height the triangle reaches above that sample.
+    /// Heights along an edge are interpolated from the edge's two ends in the canonical order
+    /// [`SampleRaster::for_each_covered_sample`] uses, so a skirt's top edge gives a sample on it
+    /// exactly the height a surface triangle with the same edge gives it. Triangles with area
+    /// visit nothing. O(samples along the segment).
+    pub fn for_each_vertical_span(
+        &self,
+        corners: &[SurfacePoint; 3],
+        mut visit: impl FnMut(usize, f64, f64),
+    ) {
+        let ends: [((i128, i128), f32); 3] = corners.map(|c| {
+            let (x, y) = c.position.raw();
+            ((i128::from(x), i128::from(y)), c.z)
+        });
+        let (a, b, c) = (ends[0].0, ends[1].0, ends[2].0);
+        if cross(sub(b, a), sub(c, a)) != 0 {
+            return;
+        }
+        // The segment's ends: the two corners farthest apart.
+        let pairs = [(0, 1), (1, 2), (0, 2)];
+        let (p, q) = pairs
+            .iter()
+            .map(|&(u, v)| (ends[u].0, ends[v].0))
+            .max_by_key(|&(u, v)| dot(sub(v, u), sub(v, u)))
+            .unwrap_or((a, a));
+        let step = i128::from(self.step);
+        let last = self.side as i128 - 1;
+        let mut span_at = |s: (i128, i128)| {
+            let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+            for k in 0..3 {
+                let (u, v) = (ends[k], ends[(k + 1) % 3]);
+                let heights = if u.0 == v.0 {
+                    if u.0 != s {
+                        continue;
+                    }
+                    [f64::from(u.1), f64::from(v.1)]
+                } else {
+                    // Collinear with the segment: on the edge when between its ends.
+                    let between = |m: i128, n: i128, w: i128| m.min(n) <= w && w <= m.max(n);
+                    if !(between(u.0.0, v.0.0, s.0) && between(u.0.1, v.0.1, s.1)) {
+                        continue;
+                    }
+                    let z = along_edge(u, v, s);
+                    [z, z]
+                };
+                low = low.min(heights[0].min(heights[1]));
+                high = high.max(heights[0].max(heights[1]));
+            }
+            if low <= high {
+                let (i, j) = (s.0 / step, s.1 / step);
+                visit(j as usize * self.side + i as usize, low, high);
+            }
+        };
+        let on_lattice = |v: i128| v % step == 0 && (0..=last).contains(&(v / step));
+        let d = sub(q, p);
+        if d == (0, 0) {
+            if on_lattice(p.0) && on_lattice(p.1) {
+                span_at(p);
+            }
+            return;
+        }
+        // Walk the axis the segment runs along most; keep the points whose other coordinate
+        // is exactly on the lattice.
+        let (along, across) = if d.0.abs() >= d.1.abs() {
+            (0, 1)
+        } else {
+            (1, 0)
+        };
+        let get = |point: (i128, i128), w: usize| if w == 0 { point.0 } else { point.1 };
+        let (from, to) = (
+            get(p, along).min(get(q, along)),
+            get(p, along).max(get(q, along)),
+        );
+        let first = ((from + step - 1).div_euclid(step)).max(0);
+        let final_index = to.div_euclid(step).min(last);
+        for k in first..=final_index {
+            let t = k * step;
+            let offset = (t - get(p, along)) * get(d, across);
+            if offset % get(d, along) != 0 {
+                continue;
+            }
+            let other = get(p, across) + offset / get(d, along);
+            if !on_lattice(other) {
+                continue;
+            }
+            let s = if along == 0 { (t, other) } else { (other, t) };
+            span_at(s);
+        }
+    }
+}
+
 /// The height at `s` on the segment between `p` and `q` (their heights interpolated), computed
 /// from the ends in a fixed order whatever order they come in.
 fn along_edge(p: ((i128, i128), f32), q: ((i128, i128), f32), s: (i128, i128)) -> f64 {
@@ -330,6 +424,54 @@ mod tests {
         }
         assert!((f64::from_bits(heights[5][0]) - 4.0).abs() < 1e-12);
         assert_eq!(heights[15], vec![10f64.to_bits(), 10f64.to_bits()]);
+    }
+
+    #[test]
+    fn a_vertical_triangle_spans_from_its_bottom_to_its_top_edge_above_each_sample() {
+        // A skirt below the edge (0, 1)–(4, 1) at heights 2 → 10, hanging 4 m below (4, 1).
+        let skirt = [
+            corner(0.0, 1.0, 2.0),
+            corner(4.0, 1.0, 10.0),
+            corner(4.0, 1.0, 6.0),
+        ];
+        let mut spans = Vec::new();
+        unit_raster().for_each_vertical_span(&skirt, |index, low, high| {
+            spans.push((index, low, high));
+        });
+        // Samples (0..=4, 1): the top edge rises 2 m a cell, the slanted bottom edge 1 m.
+        let expected: Vec<(usize, f64, f64)> = (0..=4)
+            .map(|i| {
+                (
+                    5 + i,
+                    2.0 + f64::from(i as u32),
+                    2.0 + 2.0 * f64::from(i as u32),
+                )
+            })
+            .collect();
+        assert_eq!(spans, expected);
+        // The same top edge through a surface triangle gives the same heights, bit for bit.
+        let surface = [
+            corner(0.0, 1.0, 2.0),
+            corner(4.0, 1.0, 10.0),
+            corner(2.0, 3.0, 0.0),
+        ];
+        unit_raster().for_each_covered_sample(&surface, |sample| {
+            if let Some(&(_, _, top)) = spans.iter().find(|s| s.0 == sample.index) {
+                assert_eq!(top.to_bits(), sample.height.to_bits());
+            }
+        });
+        // A diagonal segment only visits the samples exactly on it; a triangle with area none.
+        let diagonal = [
+            corner(0.0, 0.0, 1.0),
+            corner(3.0, 1.5, 1.0),
+            corner(3.0, 1.5, 0.0),
+        ];
+        let mut visited = Vec::new();
+        unit_raster().for_each_vertical_span(&diagonal, |index, _, _| visited.push(index));
+        assert_eq!(visited, [0, 5 + 2]);
+        let mut none = 0;
+        unit_raster().for_each_vertical_span(&surface, |_, _, _| none += 1);
+        assert_eq!(none, 0);
     }
 
     #[test]

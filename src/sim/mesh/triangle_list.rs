@@ -12,6 +12,11 @@
 //! vertex or a triangle is O(1) amortised. Role counts, draw batches and morphing vertices are
 //! counted as the list is built, so reading them is O(1).
 //!
+//! An algorithm that culls (leaves out what lies outside the view volume, as chunked LOD's box
+//! culling does) declares each square it left undrawn with [`TriangleList::add_culled_region`]:
+//! the validator then lets the surface leave exactly those squares uncovered, and the audit,
+//! which only measures samples in view, counts any sample of them it does see as a hole.
+//!
 //! What it is not: a mesh structure with adjacency (algorithms keep their own), nor a GPU
 //! buffer (the preview builds its own from the triangle visitor).
 
@@ -133,6 +138,9 @@ pub struct TriangleList {
     role_counts: [u64; 4],
     draw_batches: u64,
     morphing_vertices: u64,
+    /// Axis-aligned rectangles (low, high corners) the algorithm culled: left undrawn because
+    /// they lie outside the view volume.
+    culled: Vec<(SubgridPoint, SubgridPoint)>,
 }
 
 impl TriangleList {
@@ -147,6 +155,7 @@ impl TriangleList {
             role_counts: [0; 4],
             draw_batches: 0,
             morphing_vertices: 0,
+            culled: Vec::new(),
         }
     }
 
@@ -158,6 +167,7 @@ impl TriangleList {
         self.role_counts = [0; 4];
         self.draw_batches = 0;
         self.morphing_vertices = 0;
+        self.culled.clear();
     }
 
     /// Adds a vertex at `position` with height `z` (terrain-local metres); returns its index.
@@ -201,6 +211,28 @@ impl TriangleList {
         self.role_counts[info.role.index()] += 1;
         self.triangles.push(corners);
         self.info.push(info);
+    }
+
+    /// Declares the rectangle from `low` to `high` (a non-empty, axis-aligned part of the
+    /// domain) left undrawn because it lies outside the view volume: the surface need not cover
+    /// it. Regions must not overlap each other or the surface (the validator checks the areas).
+    ///
+    /// # Panics
+    /// When the rectangle is empty or inverted, or lies outside the terrain's domain.
+    pub fn add_culled_region(&mut self, low: SubgridPoint, high: SubgridPoint) {
+        let ((x0, y0), (x1, y1)) = (low.raw(), high.raw());
+        assert!(
+            x0 < x1 && y0 < y1 && x1 <= self.domain_max && y1 <= self.domain_max,
+            "culled region {:?}–{:?} is empty or outside the terrain's domain",
+            low.grid_units(),
+            high.grid_units()
+        );
+        self.culled.push((low, high));
+    }
+
+    /// The rectangles declared culled this frame (low and high corners), in the order added.
+    pub fn culled_regions(&self) -> &[(SubgridPoint, SubgridPoint)] {
+        &self.culled
     }
 
     pub fn crack_policy(&self) -> CrackPolicy {
@@ -251,6 +283,7 @@ impl TriangleList {
         self.vertices.capacity() * std::mem::size_of::<SurfacePoint>()
             + self.triangles.capacity() * std::mem::size_of::<[u32; 3]>()
             + self.info.capacity() * std::mem::size_of::<TriangleInfo>()
+            + self.culled.capacity() * std::mem::size_of::<(SubgridPoint, SubgridPoint)>()
     }
 }
 

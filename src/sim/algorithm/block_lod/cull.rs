@@ -1,0 +1,121 @@
+//! Box culling (Lauritsen–Nielsen §3.2.12): a block whose box lies entirely outside the view
+//! volume is not drawn, and nothing below it in the quadtree is looked at.
+//!
+//! The test is the usual conservative one: the box is outside when its eight corners are all
+//! beyond one of the six planes of the frustum (near, far, left, right, bottom, top), by a
+//! relative margin ([`CULL_MARGIN`]) so that no rounding can cull a box a sample of which the
+//! camera sees ([`Camera::sees`], the audit's test): every point of the box is a convex
+//! combination of its corners, and the planes are linear. A box that straddles a corner of the
+//! frustum may be kept although it is outside (the test is per plane); that costs triangles,
+//! never a hole.
+
+use super::threshold::BlockBox;
+use crate::sim::view::Camera;
+use glam::DVec3;
+
+/// Relative margin by which every corner must clear a plane before the box is culled: far above
+/// the rounding of the camera transform (~10⁻¹⁵), far below anything visible.
+pub(crate) const CULL_MARGIN: f64 = 1e-9;
+
+/// Whether the box lies entirely outside the camera's view volume.
+pub(crate) fn box_outside_view(camera: &Camera, block: &BlockBox) -> bool {
+    let settings = camera.settings;
+    let tan_y = (0.5 * settings.fovy).tan();
+    let tan_x = tan_y * settings.aspect();
+    let (near, far) = (settings.near, settings.far);
+    let corners = [0, 1, 2, 3, 4, 5, 6, 7].map(|k| {
+        let pick = |bit: usize, low: f64, high: f64| if k & bit == 0 { low } else { high };
+        let world = DVec3::new(
+            pick(1, block.low.x, block.high.x),
+            pick(2, block.low.y, block.high.y),
+            pick(4, block.low.z, block.high.z),
+        );
+        camera.to_camera(world)
+    });
+    // Each plane as "how far outside" a camera-space point is (positive: outside).
+    let planes: [&dyn Fn(DVec3) -> f64; 6] = [
+        &|p| near - p.z,
+        &|p| p.z - far,
+        &|p| p.x - p.z * tan_x,
+        &|p| -p.x - p.z * tan_x,
+        &|p| p.y - p.z * tan_y,
+        &|p| -p.y - p.z * tan_y,
+    ];
+    planes.iter().any(|outside| {
+        corners.iter().all(|&p| {
+            let scale = p.x.abs() + p.y.abs() + p.z.abs() + near;
+            outside(p) > CULL_MARGIN * scale
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::view::{Pose, ViewSettings};
+
+    fn camera() -> Camera {
+        Camera::new(
+            &Pose {
+                position: DVec3::ZERO,
+                yaw: 0.0,
+                pitch: 0.0,
+            },
+            ViewSettings {
+                width_px: 600,
+                height_px: 600,
+                fovy: 60f64.to_radians(),
+                near: 1.0,
+                far: 1000.0,
+            },
+        )
+    }
+
+    fn cube(centre: DVec3, half: f64) -> BlockBox {
+        BlockBox {
+            low: centre - DVec3::splat(half),
+            high: centre + DVec3::splat(half),
+        }
+    }
+
+    #[test]
+    fn boxes_ahead_are_kept_and_boxes_behind_beyond_or_aside_are_culled() {
+        let camera = camera();
+        assert!(!box_outside_view(
+            &camera,
+            &cube(DVec3::new(50.0, 0.0, 0.0), 5.0)
+        ));
+        assert!(box_outside_view(
+            &camera,
+            &cube(DVec3::new(-50.0, 0.0, 0.0), 5.0)
+        ));
+        assert!(box_outside_view(
+            &camera,
+            &cube(DVec3::new(2000.0, 0.0, 0.0), 5.0)
+        ));
+        assert!(box_outside_view(
+            &camera,
+            &cube(DVec3::new(50.0, 200.0, 0.0), 5.0)
+        ));
+        // Containing the eye, or straddling the left plane: kept.
+        assert!(!box_outside_view(&camera, &cube(DVec3::ZERO, 5.0)));
+        assert!(!box_outside_view(
+            &camera,
+            &cube(DVec3::new(50.0, 30.0, 0.0), 5.0)
+        ));
+    }
+
+    #[test]
+    fn a_box_whose_corner_the_camera_sees_is_never_culled() {
+        let camera = camera();
+        // A corner exactly on the left plane of the frustum, the rest outside it.
+        let tan_x = (0.5 * 60f64.to_radians()).tan();
+        let corner = DVec3::new(100.0, 100.0 * tan_x, 0.0);
+        assert!(camera.sees(corner));
+        let block = BlockBox {
+            low: corner,
+            high: corner + DVec3::new(10.0, 10.0, 10.0),
+        };
+        assert!(!box_outside_view(&camera, &block));
+    }
+}

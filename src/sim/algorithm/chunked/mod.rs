@@ -1,0 +1,409 @@
+//! `chunked`: the chunked quadtree of Lauritsen and Nielsen 2005 (§3.2), after Ulrich's chunked
+//! LOD: chunks of (2^c + 1)² vertices at every level of a quadtree, selected top-down each
+//! frame, skirts hung from every chunk border, morphing, box culling and front-to-back order as
+//! effects.
+//!
+//! # The algorithm as the paper gives it
+//!
+//! - **Chunks** (§3.2.1–3.2.3): the root holds the whole terrain every 2^D-th sample, each
+//!   level halves the stride, the leaves (level D) hold the samples themselves; every chunk is a
+//!   grid of (2^c + 1)² vertices (65² by default, the paper's), simplified by dropping every
+//!   other row and column (geomipmapping's scheme). See `tree.rs`.
+//! - **Errors** (eq. 3.1): δ_c = 0 at a leaf, max(children's δ_c) + δ_m above, δ_m the largest
+//!   vertical distance of a dropped vertex from the line between its two neighbours.
+//! - **Selection** (listing 3.2): from the root, refine while d < δ_c·C (eq. 3.3,
+//!   C = S/(2τ·tan(fov/2))), draw otherwise. See `select.rs`.
+//! - **Skirts** (§3.2.6): a vertical curtain of depth δ_c below every chunk border. See
+//!   `mesh.rs`.
+//! - **Morphing** (§3.2.8, eq. 3.4–3.5), an effect: per chunk, f = 1 − (d − d_m)/(d_mp − d_m).
+//! - **Culling and order** (§3.2.11–12), effects: chunks whose box is outside the view volume
+//!   are not drawn and not descended; children are visited nearest first.
+//!
+//! # Decisions where the paper is open (ARCHITECTURE.md "Decisions")
+//!
+//! - **The distance d** is from the eye to the chunk's box (its square × the height range of
+//!   its samples), 0 inside it; the paper says "the distance from the viewpoint to the chunk".
+//!   The same d drives the morph factor.
+//! - **The projection.** The paper assumes a horizontal view direction (eq. 3.2), which we keep
+//!   as the default; [`Projection::Exact`] uses the exact vertical projection of its reference
+//!   \[13\] (Lindstrom'96) over the box instead, so that the audit can show what the assumption
+//!   costs.
+//! - **Skirt depth.** The paper's δ_c is zero at the leaves, so a leaf's skirt covers nothing;
+//!   [`SkirtDepth::Covering`] is the option whose skirts provably cover every crack (see
+//!   there). The audit's `audit_cracks_uncovered` measures both.
+//! - **Morph heights at borders**: every odd vertex of the chunk morphs, its border vertices
+//!   included, so neighbours with different factors disagree along their border; the skirts
+//!   hide that too (as the paper intends), and the audit measures the gap.
+//! - **Culled chunks** are left out of the mesh and declared to it as culled regions, so
+//!   `--check` knows the surface may leave them uncovered; the audit counts any sample of them
+//!   in view as a hole (none, since the culling test is conservative).
+//! - **Triangle target** ([`BlockGoal::TargetTriangles`]): τ is chosen every frame as the
+//!   smallest (to 1/64 of an octave) whose mesh fits the target, skirts included (see
+//!   `block_lod/budget.rs`).
+//! - **Counters.** `splits`: chunks drawn last frame that are refined now; `merges`: chunks
+//!   drawn now that were refined last frame; `vertices_inserted`/`vertices_deleted`: the
+//!   vertices (grid and skirt bottoms) of chunks that started or stopped being drawn;
+//!   `vertices_changed`: those inserted plus the morph-dependent vertices of chunks drawn in
+//!   both frames whose morph factor changed (what a renderer would upload again);
+//!   `metric_evaluations`: chunks visited, over every selection pass of the frame (the target
+//!   search runs several). Columns: `chunks_drawn`, `chunks_culled`, `skirt_depth_max_m` (the
+//!   deepest skirt drawn), `order_inversions` (consecutive drawn chunks the second of which is
+//!   nearer: what front-to-back order removes), `tau_px`, `target_unreachable`.
+//!
+//! # For the extension to runtime detail and out-of-core loading
+//!
+//! Chunks are named by [`ChunkId`] (level, x, y), never by an index into an array built up
+//! front, and the selection and the mesh builder read them through the `ChunkSource` trait
+//! (`tree.rs`), asking whether a chunk is available: a cache of synthesised or loaded chunks
+//! is another source, and a chunk whose children are not available is drawn in their place.
+//!
+//! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
+//! triangle list (O(drawn triangles)), the selection's buffers. Per frame: O(chunks visited +
+//! drawn triangles), several selection passes with a target.
+
+mod brute_force;
+mod mesh;
+mod select;
+mod tree;
+mod validate;
+
+pub use brute_force::chunks_from_scratch;
+pub use select::DrawnChunk;
+pub use tree::{ChunkId, ChunkRecord, SkirtDepth};
+pub use validate::ChunkedError;
+
+use super::block_lod::budget::finest_tau_within;
+use super::block_lod::threshold::DetailThreshold;
+use super::block_lod::{BlockGoal, Projection};
+use super::columns::chunked as columns;
+use super::{FrameInput, LodAlgorithm};
+use crate::sim::hierarchy::Hierarchy;
+use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
+use crate::sim::stats::FrameStats;
+use crate::sim::view::{Camera, ViewSettings};
+use select::{Selection, SelectionSettings, select};
+use tree::{ChunkSource, ChunkTree};
+
+pub(super) const NAME: &str = "chunked";
+
+const EXTRA_COLUMNS: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+];
+
+/// Parameters of the chunked quadtree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChunkedConfig {
+    /// c: chunks of (2^c + 1)² vertices (1..=15; clamped to the terrain's level). The paper's
+    /// is 6 (65²).
+    pub chunk_level: u32,
+    pub goal: BlockGoal,
+    pub projection: Projection,
+    pub skirts: SkirtDepth,
+    /// Geomorphing by eq. 3.5.
+    pub morph: bool,
+    /// Box culling against the view volume.
+    pub culling: bool,
+    /// Children visited nearest first.
+    pub front_to_back: bool,
+}
+
+/// The chunked quadtree. Per frame: O(chunks visited + drawn triangles); buffers are reused.
+pub struct Chunked<'h> {
+    config: ChunkedConfig,
+    lambda: f64,
+    tree: ChunkTree<'h>,
+    list: TriangleList,
+    selection: Selection,
+    /// Scratch selection for the target search's counting passes.
+    counting: Selection,
+    /// τ of the current frame (the last one drawn), pixels.
+    tau_px: f64,
+    target_unreachable: bool,
+    /// Last frame's drawn chunks (sorted by id) with their morph factors' bits, and refined
+    /// chunks (sorted).
+    previous_drawn: Vec<(ChunkId, u64)>,
+    previous_refined: Vec<ChunkId>,
+    drawn_sorted: Vec<(ChunkId, u64)>,
+    refined_sorted: Vec<ChunkId>,
+    indices: Vec<u32>,
+}
+
+impl<'h> Chunked<'h> {
+    /// Builds the chunk tree (O(samples)). The goal's τ must be finite and ≥ 0 (the experiment
+    /// validation guarantees it).
+    pub fn new(
+        hierarchy: &'h Hierarchy,
+        config: ChunkedConfig,
+        view: &ViewSettings,
+    ) -> Chunked<'h> {
+        let tau_px = match config.goal {
+            BlockGoal::TolerancePx(tau) => {
+                assert!(
+                    tau.is_finite() && tau >= 0.0,
+                    "chunked's τ must be finite and at least 0, not {tau}"
+                );
+                tau
+            }
+            BlockGoal::TargetTriangles(_) => 1.0,
+        };
+        Chunked {
+            config,
+            lambda: view.pixels_per_unit(),
+            tree: ChunkTree::new(hierarchy, config.chunk_level, config.skirts, config.morph),
+            list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted),
+            selection: Selection::default(),
+            counting: Selection::default(),
+            tau_px,
+            target_unreachable: false,
+            previous_drawn: Vec::new(),
+            previous_refined: Vec::new(),
+            drawn_sorted: Vec::new(),
+            refined_sorted: Vec::new(),
+            indices: Vec::new(),
+        }
+    }
+
+    /// This frame's drawn chunks, in draw order.
+    pub fn drawn(&self) -> &[DrawnChunk] {
+        &self.selection.drawn
+    }
+
+    /// This frame's culled chunks.
+    pub fn culled(&self) -> &[ChunkId] {
+        &self.selection.culled
+    }
+
+    /// The τ this frame was drawn with (the fixed one, or the one the target search chose).
+    pub fn tau_px(&self) -> f64 {
+        self.tau_px
+    }
+
+    /// The tree's record of chunk `id`; `None` outside the tree.
+    pub fn chunk(&self, id: ChunkId) -> Option<&ChunkRecord> {
+        self.tree.chunk(id)
+    }
+
+    /// The level of the full-resolution leaves.
+    pub fn leaf_level(&self) -> u32 {
+        self.tree.leaf_level()
+    }
+
+    /// Chunks in the tree.
+    pub fn n_chunks(&self) -> usize {
+        self.tree.n_chunks()
+    }
+
+    /// Checks the chunk tree against the height field: errors (eq. 3.1 recomputed), boxes,
+    /// skirt depths. O(samples · levels + chunks²); the tree does not change between frames.
+    pub fn validate_tree(&self) -> Result<(), ChunkedError> {
+        validate::validate_tree(&self.tree, self.config)
+    }
+
+    /// Checks this frame's selection, seen from `camera`: drawn and culled chunks tile the
+    /// terrain, every decision is the criterion's, morph factors are eq. 3.5's, the order is
+    /// front-to-back when asked, the mesh has the counts the selection implies.
+    pub fn validate_frame(&self, camera: &Camera) -> Result<(), ChunkedError> {
+        let settings = self.settings(self.tau_px);
+        validate::validate_frame(&validate::FrameView {
+            tree: &self.tree,
+            config: self.config,
+            settings: &settings,
+            selection: &self.selection,
+            list: &self.list,
+            camera,
+        })
+    }
+
+    fn settings(&self, tau_px: f64) -> SelectionSettings {
+        SelectionSettings {
+            threshold: DetailThreshold::new(self.lambda, tau_px),
+            projection: self.config.projection,
+            culling: self.config.culling,
+            front_to_back: self.config.front_to_back,
+            morph: self.config.morph,
+        }
+    }
+
+    /// This frame's τ, and the chunks visited choosing it.
+    fn choose_tau(&mut self, camera: &Camera) -> u64 {
+        let BlockGoal::TargetTriangles(target) = self.config.goal else {
+            return 0;
+        };
+        let per_chunk = mesh::triangles_per_chunk(self.tree.geometry().cells);
+        let mut visited = 0;
+        let (tree, counting) = (&self.tree, &mut self.counting);
+        let (lambda, config) = (self.lambda, self.config);
+        let choice = finest_tau_within(target, self.tau_px, |tau_px| {
+            let settings = SelectionSettings {
+                threshold: DetailThreshold::new(lambda, tau_px),
+                projection: config.projection,
+                culling: config.culling,
+                front_to_back: false,
+                morph: false,
+            };
+            select(tree, tree.geometry(), camera, &settings, counting);
+            visited += counting.visited;
+            counting.drawn.len() as u64 * per_chunk
+        });
+        self.tau_px = choice.tau_px;
+        self.target_unreachable = choice.unreachable;
+        visited
+    }
+
+    /// Fills the triangle list from the selection.
+    fn build_mesh(&mut self) {
+        self.list.clear();
+        let geometry = *self.tree.geometry();
+        for &id in &self.selection.culled {
+            let (low, high) = geometry.square(id);
+            self.list.add_culled_region(low, high);
+        }
+        for chunk in &self.selection.drawn {
+            let record = *self.tree.record(chunk.id);
+            mesh::add_chunk(
+                &mut self.list,
+                &self.tree,
+                &geometry,
+                chunk,
+                &record,
+                &mut self.indices,
+            );
+        }
+    }
+
+    /// Consecutive drawn chunks whose second is nearer (Euclidean distance to the box).
+    fn order_inversions(&self, camera: &Camera) -> u64 {
+        let geometry = self.tree.geometry();
+        let distances: Vec<f64> = self
+            .selection
+            .drawn
+            .iter()
+            .map(|c| {
+                geometry
+                    .block_box(c.id, self.tree.record(c.id))
+                    .distance(camera.eye)
+            })
+            .collect();
+        distances.windows(2).filter(|w| w[1] < w[0]).count() as u64
+    }
+}
+
+impl LodAlgorithm for Chunked<'_> {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn extra_columns(&self) -> &'static [&'static str] {
+        EXTRA_COLUMNS
+    }
+
+    fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
+        let camera = input.camera;
+        let search_visits = self.choose_tau(camera);
+        let settings = self.settings(self.tau_px);
+        select(
+            &self.tree,
+            self.tree.geometry(),
+            camera,
+            &settings,
+            &mut self.selection,
+        );
+        self.build_mesh();
+
+        // What changed since the previous frame.
+        let cells = self.tree.geometry().cells;
+        self.drawn_sorted.clear();
+        self.drawn_sorted.extend(
+            self.selection
+                .drawn
+                .iter()
+                .map(|c| (c.id, c.morph.to_bits())),
+        );
+        self.drawn_sorted.sort_unstable();
+        self.refined_sorted.clear();
+        self.refined_sorted
+            .extend_from_slice(&self.selection.refined);
+        self.refined_sorted.sort_unstable();
+        let was_drawn = |id: ChunkId, list: &[(ChunkId, u64)]| {
+            list.binary_search_by(|(other, _)| other.cmp(&id)).ok()
+        };
+        let (mut entered, mut left, mut morph_moved, mut splits, mut merges) = (0, 0, 0, 0, 0);
+        for &(id, morph) in &self.drawn_sorted {
+            match was_drawn(id, &self.previous_drawn) {
+                Some(k) => morph_moved += u64::from(self.previous_drawn[k].1 != morph),
+                None => {
+                    entered += 1;
+                    merges += u64::from(self.previous_refined.binary_search(&id).is_ok());
+                }
+            }
+        }
+        for &(id, _) in &self.previous_drawn {
+            if was_drawn(id, &self.drawn_sorted).is_none() {
+                left += 1;
+                splits += u64::from(self.refined_sorted.binary_search(&id).is_ok());
+            }
+        }
+        std::mem::swap(&mut self.previous_drawn, &mut self.drawn_sorted);
+        std::mem::swap(&mut self.previous_refined, &mut self.refined_sorted);
+
+        let per_chunk = mesh::vertices_per_chunk(cells);
+        stats.triangles = self.list.n_triangles();
+        stats.splits = splits;
+        stats.merges = merges;
+        stats.vertices_inserted = entered * per_chunk;
+        stats.vertices_deleted = left * per_chunk;
+        stats.vertices_changed =
+            Some(entered * per_chunk + morph_moved * mesh::morph_dependent_vertices(cells));
+        stats.metric_evaluations = search_visits + self.selection.visited;
+        let skirt_depth_max = self
+            .selection
+            .drawn
+            .iter()
+            .map(|c| f64::from(self.tree.record(c.id).skirt_depth))
+            .fold(0.0, f64::max);
+        stats.extra = vec![
+            self.selection.drawn.len() as f64,
+            self.selection.culled.len() as f64,
+            skirt_depth_max,
+            self.order_inversions(camera) as f64,
+            self.tau_px,
+            f64::from(u8::from(self.target_unreachable)),
+        ];
+    }
+
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::triangles(&self.list)
+    }
+
+    fn triangle_count(&self) -> u64 {
+        self.list.n_triangles()
+    }
+
+    fn memory_bytes(&self) -> usize {
+        self.tree.memory_bytes()
+            + self.list.memory_bytes()
+            + self.selection.memory_bytes()
+            + self.counting.memory_bytes()
+            + (self.previous_drawn.capacity() + self.drawn_sorted.capacity())
+                * std::mem::size_of::<(ChunkId, u64)>()
+            + (self.previous_refined.capacity() + self.refined_sorted.capacity())
+                * std::mem::size_of::<ChunkId>()
+            + self.indices.capacity() * std::mem::size_of::<u32>()
+    }
+
+    fn run_facts(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("chunks", self.tree.n_chunks() as f64),
+            ("leaf_level", f64::from(self.tree.leaf_level())),
+            (
+                "triangles_per_chunk",
+                mesh::triangles_per_chunk(self.tree.geometry().cells) as f64,
+            ),
+        ]
+    }
+}

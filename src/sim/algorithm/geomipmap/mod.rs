@@ -1,0 +1,362 @@
+//! `geomipmap`: de Boer's geometrical mipmapping (2000), as Lauritsen and Nielsen survey it
+//! (§2.5, eq. 3.3): fixed patches of (2^k + 1)² samples, each drawn every frame at the level
+//! its distance allows, borders between levels stitched, optional geomorphing.
+//!
+//! # The algorithm
+//!
+//! - **Patches and levels** (`patches.rs`): patch level ℓ keeps every 2^ℓ-th sample; its error
+//!   D_ℓ is the largest vertical distance of a left-out sample from the level's surface.
+//! - **Selection** (`levels.rs`): the coarsest level whose d_ℓ = D_ℓ·C (eq. 3.3, C =
+//!   S/(2τ·tan(fov/2))) is not above the patch's distance d; neighbouring patches at most one
+//!   level apart by default.
+//! - **Stitching** (`stitch.rs`): a patch whose neighbour is coarser leaves out the border
+//!   vertices the neighbour lacks and fans its border strip to the ones it keeps (role stitch);
+//!   the surface is closed (crack policy `stitched`).
+//! - **Geomorphing**, an effect: odd vertices move towards the coarser level by de Boer's
+//!   factor (eq. 3.5), patch borders by the coarser-looking side's factor, so the surface stays
+//!   closed while it morphs.
+//!
+//! # Decisions where the paper is open (ARCHITECTURE.md "Decisions")
+//!
+//! - **Level errors nest** (D_ℓ = max over levels 0..=ℓ), so the level is a function of the
+//!   distance; with de Boer's usual increasing errors this changes nothing.
+//! - **Distance** from the eye to the patch's box (square × sample height range); the
+//!   projection is the horizontal-view one by default ([`Projection::Exact`] as an option,
+//!   shared with `chunked`).
+//! - **Neighbour levels.** The survey's figure skips every other border vertex: one level of
+//!   difference, [`LevelDifference::AtMostOne`], kept by refining coarser patches (never
+//!   coarsening finer ones); [`LevelDifference::Any`] stitches across any difference.
+//! - **Morphing at borders**: a border is drawn at the level and factor of the patch that
+//!   looks coarser (higher level; equal levels: smaller factor), by both patches alike.
+//! - **Triangle target**: as `chunked` (`block_lod/budget.rs`): the finest τ whose mesh,
+//!   stitches included, fits.
+//! - **Counters.** `splits` / `merges`: patches drawn finer / coarser than last frame;
+//!   `vertices_inserted` / `vertices_deleted`: the vertices of patches whose level or stitching
+//!   changed (all of the new and of the old triangulation); `vertices_changed`: those inserted
+//!   plus the morphing vertices of patches whose factors moved; `metric_evaluations`: level
+//!   tests (δ·C against d), over every pass of the frame. Columns:
+//!   `patches_refined_for_neighbours` (patches drawn finer than their criterion for the level
+//!   limit), `stitched_sides`, `patch_level_mean` (0 = full resolution), `tau_px`,
+//!   `target_unreachable`. Every patch is drawn every frame, one draw batch each.
+//!
+//! Memory: the patch grid (about 0.1 B per sample for 17² patches), per patch a few words of
+//! frame state, the triangle list. Per frame: O(patches · levels + drawn triangles).
+
+mod brute_force;
+mod levels;
+mod patches;
+mod stitch;
+mod validate;
+
+pub use brute_force::levels_from_scratch;
+pub use levels::LevelDifference;
+pub use validate::GeomipmapError;
+
+use super::block_lod::budget::finest_tau_within;
+use super::block_lod::threshold::DetailThreshold;
+use super::block_lod::{BlockGoal, Projection};
+use super::columns::geomipmap as columns;
+use super::{FrameInput, LodAlgorithm};
+use crate::sim::hierarchy::Hierarchy;
+use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
+use crate::sim::stats::FrameStats;
+use crate::sim::view::{Camera, ViewSettings};
+use levels::{PatchLevels, choose_levels, measure, set_morph_factors};
+use patches::PatchGrid;
+use stitch::{PatchDraw, PatchScratch, add_patch, patch_triangles};
+
+pub(super) const NAME: &str = "geomipmap";
+
+const EXTRA_COLUMNS: &[&str] = &[
+    columns::PATCHES_REFINED_FOR_NEIGHBOURS,
+    columns::STITCHED_SIDES,
+    columns::PATCH_LEVEL_MEAN,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+];
+
+/// Parameters of geometrical mipmapping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeomipmapConfig {
+    /// k: patches of (2^k + 1)² samples (1..=15; clamped to the terrain's level).
+    pub patch_level: u32,
+    pub goal: BlockGoal,
+    pub level_difference: LevelDifference,
+    /// Geomorphing by de Boer's factor.
+    pub morph: bool,
+    pub projection: Projection,
+}
+
+/// What a patch drew last frame: its triangulation, its morph state, its vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PatchState {
+    /// The patch's level and its sides' levels.
+    shape: [u32; 5],
+    /// The bits of its factor and its sides' factors.
+    morph: [u64; 5],
+    vertices: u64,
+    morphing_vertices: u64,
+}
+
+/// The stitch step of each side (WEST, EAST, SOUTH, NORTH) of `patch` at the current levels:
+/// `None` where the neighbour is not coarser (or there is none).
+fn stitch_steps(grid: &PatchGrid, levels: &PatchLevels, patch: usize) -> [Option<u32>; 4] {
+    let per_side = grid.per_side() as usize;
+    let (px, py) = (patch % per_side, patch / per_side);
+    let own = levels.level[patch];
+    [
+        (px > 0).then(|| patch - 1),
+        (px + 1 < per_side).then(|| patch + 1),
+        (py > 0).then(|| patch - per_side),
+        (py + 1 < per_side).then(|| patch + per_side),
+    ]
+    .map(|neighbour| {
+        neighbour
+            .map(|q| levels.level[q])
+            .filter(|&side| side > own)
+            .map(|side| 1 << (side - own))
+    })
+}
+
+/// Geometrical mipmapping. Per frame: O(patches · levels + drawn triangles); buffers reused.
+pub struct Geomipmap<'h> {
+    hierarchy: &'h Hierarchy,
+    config: GeomipmapConfig,
+    lambda: f64,
+    grid: PatchGrid,
+    levels: PatchLevels,
+    list: TriangleList,
+    scratch: PatchScratch,
+    tau_px: f64,
+    target_unreachable: bool,
+    previous: Vec<Option<PatchState>>,
+    current: Vec<Option<PatchState>>,
+}
+
+impl<'h> Geomipmap<'h> {
+    /// Cuts the terrain into patches and computes their level errors (O(samples · k)). The
+    /// goal's τ must be finite and ≥ 0 (the experiment validation guarantees it).
+    pub fn new(
+        hierarchy: &'h Hierarchy,
+        config: GeomipmapConfig,
+        view: &ViewSettings,
+    ) -> Geomipmap<'h> {
+        let tau_px = match config.goal {
+            BlockGoal::TolerancePx(tau) => {
+                assert!(
+                    tau.is_finite() && tau >= 0.0,
+                    "geomipmap's τ must be finite and at least 0, not {tau}"
+                );
+                tau
+            }
+            BlockGoal::TargetTriangles(_) => 1.0,
+        };
+        let grid = PatchGrid::new(hierarchy, config.patch_level);
+        let n = grid.n_patches();
+        Geomipmap {
+            hierarchy,
+            config,
+            lambda: view.pixels_per_unit(),
+            grid,
+            levels: PatchLevels::default(),
+            list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Stitched),
+            scratch: PatchScratch::default(),
+            tau_px,
+            target_unreachable: false,
+            previous: vec![None; n],
+            current: vec![None; n],
+        }
+    }
+
+    /// The effective k (patches of (2^k + 1)² samples).
+    pub fn patch_level(&self) -> u32 {
+        self.grid.patch_level()
+    }
+
+    /// Patches per side.
+    pub fn patches_per_side(&self) -> u32 {
+        self.grid.per_side()
+    }
+
+    /// This frame's level of every patch, row by row from the south-west (0 = full
+    /// resolution, k = the corners only).
+    pub fn levels(&self) -> &[u32] {
+        &self.levels.level
+    }
+
+    /// This frame's morph factor of every patch, row by row.
+    pub fn morph_factors(&self) -> &[f64] {
+        &self.levels.morph
+    }
+
+    /// The τ this frame was drawn with.
+    pub fn tau_px(&self) -> f64 {
+        self.tau_px
+    }
+
+    /// Checks the patch grid against the height field and this frame's levels, factors and
+    /// triangles against the rules (see `validate.rs`). O(samples · k).
+    pub fn validate(&self, camera: &Camera) -> Result<(), GeomipmapError> {
+        validate::validate(&validate::FrameView {
+            hierarchy: self.hierarchy,
+            config: self.config,
+            grid: &self.grid,
+            levels: &self.levels,
+            threshold: &DetailThreshold::new(self.lambda, self.tau_px),
+            list: &self.list,
+            camera,
+        })
+    }
+
+    /// Triangles the current levels draw (without building them).
+    fn count_triangles(grid: &PatchGrid, levels: &PatchLevels) -> u64 {
+        (0..grid.n_patches())
+            .map(|patch| {
+                let level = levels.level[patch];
+                patch_triangles(grid.cells() >> level, stitch_steps(grid, levels, patch))
+            })
+            .sum()
+    }
+
+    /// This frame's τ; returns the level tests made choosing it.
+    fn choose_tau(&mut self) -> u64 {
+        let BlockGoal::TargetTriangles(target) = self.config.goal else {
+            return 0;
+        };
+        let mut tests = 0;
+        let (grid, levels) = (&self.grid, &mut self.levels);
+        let (lambda, difference) = (self.lambda, self.config.level_difference);
+        let choice = finest_tau_within(target, self.tau_px, |tau_px| {
+            let threshold = DetailThreshold::new(lambda, tau_px);
+            tests += choose_levels(grid, &threshold, difference, levels);
+            Geomipmap::count_triangles(grid, levels)
+        });
+        self.tau_px = choice.tau_px;
+        self.target_unreachable = choice.unreachable;
+        tests
+    }
+}
+
+impl LodAlgorithm for Geomipmap<'_> {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn extra_columns(&self) -> &'static [&'static str] {
+        EXTRA_COLUMNS
+    }
+
+    fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
+        let eye = input.camera.eye;
+        let (grid, projection) = (&self.grid, self.config.projection);
+        measure(
+            grid,
+            |patch| grid.block_box(patch).lod_distance(eye, projection),
+            &mut self.levels,
+        );
+        let search_tests = self.choose_tau();
+        let threshold = DetailThreshold::new(self.lambda, self.tau_px);
+        let tests = choose_levels(
+            &self.grid,
+            &threshold,
+            self.config.level_difference,
+            &mut self.levels,
+        );
+        set_morph_factors(&self.grid, &threshold, self.config.morph, &mut self.levels);
+
+        self.list.clear();
+        let k = self.grid.patch_level();
+        let per_side = self.grid.per_side();
+        let mut stitched_sides = 0;
+        for patch in 0..self.grid.n_patches() {
+            let (px, py) = (patch as u32 % per_side, patch as u32 / per_side);
+            let level = self.levels.level[patch];
+            let sides = [0, 1, 2, 3].map(|side| self.levels.side(&self.grid, patch, side));
+            stitched_sides += sides.iter().filter(|s| s.0 > level).count() as u64;
+            let draw = PatchDraw {
+                origin: self.grid.origin(px, py),
+                patch_cells: self.grid.cells(),
+                level,
+                morph: self.levels.morph[patch],
+                sides,
+                group: patch as u32,
+                list_level: k - level,
+            };
+            let added = add_patch(&mut self.list, self.hierarchy, &draw, &mut self.scratch);
+            self.current[patch] = Some(PatchState {
+                shape: [level, sides[0].0, sides[1].0, sides[2].0, sides[3].0],
+                morph: [
+                    draw.morph.to_bits(),
+                    sides[0].1.to_bits(),
+                    sides[1].1.to_bits(),
+                    sides[2].1.to_bits(),
+                    sides[3].1.to_bits(),
+                ],
+                vertices: added.vertices,
+                morphing_vertices: added.morphing_vertices,
+            });
+        }
+
+        let (mut finer, mut coarser, mut inserted, mut deleted, mut moved) = (0, 0, 0, 0, 0);
+        for (now, before) in self.current.iter().zip(&self.previous) {
+            let Some(now) = now else { continue };
+            match before {
+                None => inserted += now.vertices,
+                Some(before) if before.shape != now.shape => {
+                    inserted += now.vertices;
+                    deleted += before.vertices;
+                    finer += u64::from(now.shape[0] < before.shape[0]);
+                    coarser += u64::from(now.shape[0] > before.shape[0]);
+                }
+                Some(before) if before.morph != now.morph => moved += now.morphing_vertices,
+                Some(_) => {}
+            }
+        }
+        std::mem::swap(&mut self.previous, &mut self.current);
+
+        let n_patches = self.grid.n_patches();
+        let refined_for_neighbours = (0..n_patches)
+            .filter(|&p| self.levels.level[p] < self.levels.own[p])
+            .count();
+        let level_mean =
+            self.levels.level.iter().map(|&l| f64::from(l)).sum::<f64>() / n_patches as f64;
+        stats.triangles = self.list.n_triangles();
+        stats.splits = finer;
+        stats.merges = coarser;
+        stats.vertices_inserted = inserted;
+        stats.vertices_deleted = deleted;
+        stats.vertices_changed = Some(inserted + moved);
+        stats.metric_evaluations = search_tests + tests;
+        stats.extra = vec![
+            refined_for_neighbours as f64,
+            stitched_sides as f64,
+            level_mean,
+            self.tau_px,
+            f64::from(u8::from(self.target_unreachable)),
+        ];
+    }
+
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::triangles(&self.list)
+    }
+
+    fn triangle_count(&self) -> u64 {
+        self.list.n_triangles()
+    }
+
+    fn memory_bytes(&self) -> usize {
+        self.grid.memory_bytes()
+            + self.levels.memory_bytes()
+            + self.list.memory_bytes()
+            + self.scratch.memory_bytes()
+            + (self.previous.capacity() + self.current.capacity())
+                * std::mem::size_of::<Option<PatchState>>()
+    }
+
+    fn run_facts(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("patches", self.grid.n_patches() as f64),
+            ("patch_level", f64::from(self.grid.patch_level())),
+        ]
+    }
+}
