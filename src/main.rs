@@ -132,7 +132,7 @@ fn main() -> ExitCode {
             check,
             threads,
         } => run(&experiment, out, check, threads),
-        Command::Validate { experiment } => validate(&experiment),
+        Command::Validate { experiment } => check_experiment(&experiment),
         Command::Info { path } => info(&path),
         #[cfg(feature = "preview")]
         Command::Preview {
@@ -215,7 +215,7 @@ fn run(
     Ok(())
 }
 
-fn validate(path: &Path) -> Result<(), String> {
+fn check_experiment(path: &Path) -> Result<(), String> {
     let plan = experiment::plan(path).map_err(|e| e.to_string())?;
     for k in 0..plan.n_points() {
         let experiment = plan.load_point(k).map_err(|e| e.to_string())?;

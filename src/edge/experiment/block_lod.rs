@@ -1,7 +1,7 @@
 //! The experiment entries of the block-based algorithms, `geomipmap` and `chunked`: their
 //! parameters as the file writes them (format version 1, documented in
 //! `docs/experiment-format.md`) and their check into an [`AlgorithmConfig`]. Kept apart from
-//! `validate.rs`, which only dispatches to it by name.
+//! `check.rs`, which only dispatches to it by name.
 
 use super::FieldProblem;
 use crate::sim::algorithm::{

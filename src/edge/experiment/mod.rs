@@ -1,21 +1,24 @@
-//! Experiment files: parse (what the file says), validate (is it meaningful?), load (terrain read
-//! and preprocessed inputs, flight built and checked against the speed bounds).
+//! Experiment files: parse (what the file says), check (is it meaningful? `check.rs`), load
+//! (terrain read and preprocessed inputs, flight built and checked against the speed bounds:
+//! `load.rs`), and the plan of a swept experiment's points (`plan.rs`).
 //!
 //! Every error names the file, the field path (`flight.path.circle.radius_m`,
-//! `algorithms[1].tau_px`) and what was expected. Validation reports every semantic problem at
+//! `algorithms[1].tau_px`) and what was expected. Checking reports every semantic problem at
 //! once; reading the terrain or a flight log stops at the first. Nothing runs before all of this
 //! has passed. The format is documented in `docs/experiment-format.md`.
 
 mod block_lod;
+mod check;
 mod format;
+mod load;
+mod plan;
 mod sweep;
-mod validate;
 
+pub use check::KNOWN_ALGORITHMS;
 pub use format::FORMAT_VERSION;
+pub use load::{AlgorithmSpec, Experiment, MeshExports, TerrainReport};
+pub use plan::{Plan, check_bytes, load, plan};
 pub use sweep::{SweepChoice, choice_label};
-pub use validate::{
-    AlgorithmSpec, Experiment, MeshExports, Plan, TerrainReport, check_bytes, load, plan,
-};
 
 use std::fmt;
 use std::path::PathBuf;

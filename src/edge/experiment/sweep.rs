@@ -3,7 +3,7 @@
 //! Two kinds share one expansion rule (the cartesian product of the listed values, parameters in
 //! alphabetical order, the first one varying slowest):
 //! - an algorithm entry's `"sweep": {"tau_px": [1, 2]}` sets the entry's own parameters
-//!   (expanded in `validate.rs`, where the entries are checked);
+//!   (expanded in `check.rs`, where the entries are checked);
 //! - the experiment's top-level `"sweep": {"terrain.synthetic.level": [10, 12]}` sets any field
 //!   of the experiment by its path (`.`-separated keys, `[k]` for an array element): each point
 //!   is a whole experiment, with its own terrain, run one after another.

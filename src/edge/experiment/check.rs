@@ -1,45 +1,31 @@
-//! From the experiment file's text to a runnable [`Experiment`].
+//! Checking an experiment's meaning (stage 2): every semantic problem of the parsed file, each
+//! with its field path, collected at once; the checked view, speed bounds, algorithm
+//! configurations, effects and mesh exports. No IO: nothing is read, generated or built here.
 //!
-//! Stage 1 parses JSON into the format types (serde reports the field path of a type error).
-//! Stage 2 checks meaning, collecting every problem with its field path. Stage 3 does the IO:
-//! reads the terrain (or generates it), fills voids, embeds it, reads a recorded flight, builds
-//! the flight and checks it against the speed bounds.
+//! "Checking" is what this module does to an experiment file; "validating" in this crate means
+//! the mesh validators of `sim::mesh::validate` and `sim::mesh::list_validate` (and the
+//! algorithms' own), run by `--check`.
 
 use super::format::{
-    AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, InterpolationEntry,
-    LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry, RawSampleEntry,
-    ReferenceParameters, RefineEntry, RoamParameters, TerrainEntry, TerrainFormatEntry,
-    WuParameters, ZoneEntry,
+    AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, LindstromParameters,
+    LookEntry, MeshesEntry, NestingEntry, PathEntry, ReferenceParameters, RefineEntry,
+    RoamParameters, TerrainEntry, TerrainFormatEntry, WuParameters, ZoneEntry,
 };
-use super::sweep::{
-    ExperimentPoint, MAX_SWEEP_POINTS, SweepChoice, cartesian, choice_label, expand_experiment,
-};
+use super::load::{AlgorithmSpec, MeshExports};
+use super::sweep::{MAX_SWEEP_POINTS, cartesian, choice_label};
 use super::{ExperimentError, FieldProblem};
-use crate::edge::flight_log::read_flight_log;
-use crate::edge::terrain_readers::{
-    RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
-};
 use crate::sim::algorithm::{
     AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, Refinement, RoamConfig,
     RoamGoal, SplitThreshold, TauRecentring, ViewThreshold, WuConfig,
 };
 use crate::sim::audit::AuditSettings;
-use crate::sim::flight::{
-    Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, speed_violations,
-};
 use crate::sim::hierarchy::NestingRule;
 use crate::sim::run::Effects;
-use crate::sim::terrain::embed::{Fit, embed};
-use crate::sim::terrain::fill::fill_voids;
-use crate::sim::terrain::synthetic::{SyntheticTerrain, generate};
-use crate::sim::terrain::{Heightfield, Spacing};
 use crate::sim::view::ViewSettings;
 use crate::sim::zone::{SpeedBound, ZoneVariant};
-use glam::{DVec2, DVec3};
 use serde_json::Value;
-use sha2::{Digest, Sha256};
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Algorithms this build knows, as the experiment file names them.
 pub const KNOWN_ALGORITHMS: &[&str] = &[
@@ -52,269 +38,17 @@ pub const KNOWN_ALGORITHMS: &[&str] = &[
     "chunked",
 ];
 
-/// A validated, loaded experiment: everything a run needs.
-pub struct Experiment {
-    pub name: String,
-    pub description: Option<String>,
-    pub file: PathBuf,
-    /// SHA-256 of the experiment file's bytes, hex.
-    pub content_sha256: String,
-    pub field: Heightfield,
-    pub terrain: TerrainReport,
-    pub view: ViewSettings,
-    pub speed: SpeedBound,
-    pub flight: Flight,
-    pub flight_kind: &'static str,
-    pub violations: Vec<SpeedViolation>,
-    pub algorithms: Vec<AlgorithmSpec>,
-    pub effects: Effects,
-    pub plots: bool,
-    /// Meshes to write as PLY files (`outputs.meshes`); `None`: none.
-    pub mesh_exports: Option<MeshExports>,
-    /// The point of the experiment's top-level sweep this is (`None` without a sweep).
-    pub sweep_point: Option<SweepChoice>,
-}
-
-/// Which entries' meshes to export at which frames, checked: every frame inside the flight,
-/// every entry an index into [`Experiment::algorithms`]; both sorted, without repeats.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct MeshExports {
-    pub frames: Vec<u64>,
-    pub entries: Vec<usize>,
-}
-
-/// One algorithm entry: its label, configuration and the parameters as written.
-#[derive(Clone)]
-pub struct AlgorithmSpec {
-    pub label: String,
-    pub config: AlgorithmConfig,
-    pub parameters: Value,
-}
-
-/// Where the terrain came from and what was done to it, for the run metadata.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TerrainReport {
-    /// The file (as written in the experiment) or `synthetic`.
-    pub source: String,
-    pub format: String,
-    pub source_columns: usize,
-    pub source_rows: usize,
-    pub side: usize,
-    pub padded_columns: usize,
-    pub padded_rows: usize,
-    pub crop_origin: Option<(usize, usize)>,
-    pub voids_filled: usize,
-    pub spacing: Spacing,
-    /// `file`, `experiment` or `synthetic`.
-    pub spacing_from: &'static str,
-    pub height_min_m: f32,
-    pub height_max_m: f32,
-}
-
-/// Reads, validates and loads an experiment file without a top-level sweep (an experiment with
-/// one is run point by point: see [`plan`]).
-pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
-    let plan = plan(path)?;
-    if plan.is_sweep() {
-        return Err(ExperimentError::single(
-            path,
-            "sweep",
-            format!(
-                "a top-level sweep of {} points: expected an experiment without one here (`roamsim run` runs each point)",
-                plan.points.len()
-            ),
-        ));
-    }
-    plan.load_point(0)
-}
-
-/// An experiment file read and checked, every sweep point of it, with nothing loaded yet.
-pub struct Plan {
-    file: PathBuf,
-    content_sha256: String,
-    points: Vec<PlannedPoint>,
-}
-
-struct PlannedPoint {
-    choice: Option<SweepChoice>,
-    parsed: ExperimentFile,
-    checked: Checked,
-}
-
-/// Stages 1 and 2 for every point of the experiment's top-level sweep (one point without a
-/// sweep): every problem of every point is reported at once, before any terrain is read.
-pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
-    let bytes = std::fs::read(path).map_err(|error| {
-        ExperimentError::single(path, "", format!("cannot read the file: {error}"))
-    })?;
-    plan_bytes(path, &bytes)
-}
-
-/// Stages 1 and 2 only: parses an experiment's bytes and checks their meaning, every sweep point
-/// of it, with no IO (the terrain and a recorded flight log are not read, the flight is not
-/// built). `path` only names the file in errors. Returns the number of algorithm entries over all
-/// points, sweeps expanded. This is the entry point of the fuzz target and the parser property
-/// tests.
-pub fn check_bytes(path: &Path, bytes: &[u8]) -> Result<usize, ExperimentError> {
-    let plan = plan_bytes(path, bytes)?;
-    Ok(plan.points.iter().map(|p| p.checked.algorithms.len()).sum())
-}
-
-fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
-    let document = parse_document(path, bytes)?;
-    let points = expand_experiment(document).map_err(|problem| ExperimentError {
-        file: path.to_path_buf(),
-        problems: vec![problem],
-    })?;
-    let mut problems = Vec::new();
-    let mut planned = Vec::new();
-    for ExperimentPoint { choice, document } in points {
-        let prefix = choice
-            .as_ref()
-            .map(|c| format!("({}) ", choice_label(c)))
-            .unwrap_or_default();
-        let checked = parse(path, document).and_then(|parsed| {
-            let checked = check(path, &parsed)?;
-            Ok((parsed, checked))
-        });
-        match checked {
-            Ok((parsed, checked)) => planned.push(PlannedPoint {
-                choice,
-                parsed,
-                checked,
-            }),
-            Err(error) => problems.extend(error.problems.into_iter().map(|p| FieldProblem {
-                field: format!("{prefix}{}", p.field),
-                problem: p.problem,
-            })),
-        }
-    }
-    if !problems.is_empty() {
-        return Err(ExperimentError {
-            file: path.to_path_buf(),
-            problems,
-        });
-    }
-    Ok(Plan {
-        file: path.to_path_buf(),
-        content_sha256: hex(&Sha256::digest(bytes)),
-        points: planned,
-    })
-}
-
-impl Plan {
-    /// Whether the file declares a top-level sweep (its points then carry their choices).
-    pub fn is_sweep(&self) -> bool {
-        self.points.iter().any(|p| p.choice.is_some())
-    }
-
-    pub fn n_points(&self) -> usize {
-        self.points.len()
-    }
-
-    /// The experiment's name (the same for every point).
-    pub fn name(&self) -> &str {
-        &self.points[0].parsed.name
-    }
-
-    /// The experiment's description (the same for every point unless swept).
-    pub fn description(&self) -> Option<&str> {
-        self.points[0].parsed.description.as_deref()
-    }
-
-    /// SHA-256 of the experiment file's bytes, hex.
-    pub fn content_sha256(&self) -> &str {
-        &self.content_sha256
-    }
-
-    /// The swept values of point `k` (`None` without a sweep).
-    pub fn choice(&self, k: usize) -> Option<&SweepChoice> {
-        self.points[k].choice.as_ref()
-    }
-
-    /// Stage 3 for point `k`: reads or generates its terrain, builds its flight.
-    pub fn load_point(&self, k: usize) -> Result<Experiment, ExperimentError> {
-        let path = self.file.as_path();
-        let point = &self.points[k];
-        let prefix_errors = |error: ExperimentError| match &point.choice {
-            None => error,
-            Some(choice) => ExperimentError {
-                problems: error
-                    .problems
-                    .into_iter()
-                    .map(|p| FieldProblem {
-                        field: format!("({}) {}", choice_label(choice), p.field),
-                        problem: p.problem,
-                    })
-                    .collect(),
-                ..error
-            },
-        };
-        let parsed = &point.parsed;
-        let checked = &point.checked;
-        let folder = path.parent().unwrap_or(Path::new("."));
-        let (field, terrain) =
-            load_terrain(path, folder, &parsed.terrain).map_err(prefix_errors)?;
-        let flight = build_flight(path, folder, &parsed.flight).map_err(prefix_errors)?;
-        if let Some(exports) = &checked.mesh_exports
-            && let Some(&frame) = exports.frames.iter().find(|&&f| f >= flight.n_frames())
-        {
-            return Err(prefix_errors(ExperimentError::single(
-                path,
-                "outputs.meshes.frames",
-                format!(
-                    "{frame} is past the flight's last frame {}",
-                    flight.n_frames() - 1
-                ),
-            )));
-        }
-        let violations = speed_violations(&flight, checked.speed);
-        Ok(Experiment {
-            name: parsed.name.clone(),
-            description: parsed.description.clone(),
-            file: path.to_path_buf(),
-            content_sha256: self.content_sha256.clone(),
-            field,
-            terrain,
-            view: checked.view,
-            speed: checked.speed,
-            flight,
-            flight_kind: path_kind(&parsed.flight.path),
-            violations,
-            algorithms: checked.algorithms.clone(),
-            effects: checked.effects,
-            plots: parsed.outputs.plots,
-            mesh_exports: checked.mesh_exports.clone(),
-            sweep_point: point.choice.clone(),
-        })
-    }
-}
-
-/// Stage 1a: the file's text as JSON (syntax errors carry line and column).
-fn parse_document(path: &Path, bytes: &[u8]) -> Result<Value, ExperimentError> {
-    serde_json::from_slice(bytes)
-        .map_err(|error| ExperimentError::single(path, "", error.to_string()))
-}
-
-/// Stage 1b: a point's JSON into the format types (serde reports the path of a type error).
-fn parse(path: &Path, document: Value) -> Result<ExperimentFile, ExperimentError> {
-    serde_path_to_error::deserialize(document).map_err(|error| {
-        let field = error.path().to_string();
-        let field = if field == "." { String::new() } else { field };
-        ExperimentError::single(path, field, error.into_inner().to_string())
-    })
-}
-
-struct Checked {
-    view: ViewSettings,
-    speed: SpeedBound,
-    algorithms: Vec<AlgorithmSpec>,
-    effects: Effects,
-    mesh_exports: Option<MeshExports>,
+/// What stage 2 makes of a parsed file: the checked settings and entries.
+pub(super) struct Checked {
+    pub(super) view: ViewSettings,
+    pub(super) speed: SpeedBound,
+    pub(super) algorithms: Vec<AlgorithmSpec>,
+    pub(super) effects: Effects,
+    pub(super) mesh_exports: Option<MeshExports>,
 }
 
 /// Stage 2: every semantic problem, with its field path.
-fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, ExperimentError> {
+pub(super) fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, ExperimentError> {
     let mut problems = Problems::default();
     if file.format_version != FORMAT_VERSION {
         problems.add(
@@ -1098,7 +832,7 @@ fn zone_variant(zone: Option<ZoneEntry>) -> ZoneVariant {
     }
 }
 
-fn path_kind(path: &PathEntry) -> &'static str {
+pub(super) fn path_kind(path: &PathEntry) -> &'static str {
     match path {
         PathEntry::Circle { .. } => "circle",
         PathEntry::Orbit { .. } => "orbit",
@@ -1107,252 +841,4 @@ fn path_kind(path: &PathEntry) -> &'static str {
         PathEntry::Waypoints { .. } => "waypoints",
         PathEntry::Recorded { .. } => "recorded",
     }
-}
-
-/// Stage 3a: the terrain, read or generated, filled and embedded.
-fn load_terrain(
-    experiment: &Path,
-    folder: &Path,
-    entry: &TerrainEntry,
-) -> Result<(Heightfield, TerrainReport), ExperimentError> {
-    match entry {
-        TerrainEntry::Synthetic(s) => {
-            let spacing = Spacing {
-                dx: s.spacing_m.dx,
-                dy: s.spacing_m.dy,
-            };
-            // Diamond-square's displacement at a cell of length L is amplitude · (L / extent)^H;
-            // anchoring it at `amplitude_scale_m` instead scales the top amplitude.
-            let extent_m = (1u64 << s.level) as f64 * spacing.dx;
-            let amplitude = match s.amplitude_scale_m {
-                Some(scale) => s.amplitude_m * (extent_m / scale).powf(s.roughness),
-                None => s.amplitude_m,
-            };
-            let field = generate(&SyntheticTerrain {
-                level: s.level,
-                seed: s.seed,
-                amplitude,
-                roughness: s.roughness,
-                spacing,
-            })
-            .map_err(|e| ExperimentError::single(experiment, "terrain.synthetic", e.to_string()))?
-            .with_origin(origin(s.origin_m));
-            let (lo, hi) = field.height_range();
-            let side = field.side();
-            let report = TerrainReport {
-                source: format!("synthetic (diamond-square, seed {})", s.seed),
-                format: "synthetic".to_string(),
-                source_columns: side,
-                source_rows: side,
-                side,
-                padded_columns: 0,
-                padded_rows: 0,
-                crop_origin: None,
-                voids_filled: 0,
-                spacing,
-                spacing_from: "synthetic",
-                height_min_m: lo,
-                height_max_m: hi,
-            };
-            Ok((field, report))
-        }
-        TerrainEntry::File(file) => {
-            let path = folder.join(&file.path);
-            let field_error =
-                |problem: String| ExperimentError::single(experiment, "terrain.file", problem);
-            let format = match &file.format {
-                None => format_from_extension(&path).map_err(|e| field_error(e.to_string()))?,
-                Some(TerrainFormatEntry::Hgt) => TerrainFormat::Hgt,
-                Some(TerrainFormatEntry::Png) => TerrainFormat::Png,
-                Some(TerrainFormatEntry::Geotiff) => TerrainFormat::GeoTiff,
-                Some(TerrainFormatEntry::AsciiGrid) => TerrainFormat::AsciiGrid,
-                Some(TerrainFormatEntry::Raw(raw)) => TerrainFormat::Raw(RawLayout {
-                    columns: raw.columns,
-                    rows: raw.rows,
-                    sample: raw_sample(raw.sample),
-                    north_first: raw.north_first,
-                }),
-            };
-            let options = ReadOptions {
-                height_scale: file.height_scale.unwrap_or(1.0),
-                height_offset: file.height_offset_m.unwrap_or(0.0),
-                nodata: file.nodata,
-            };
-            let loaded =
-                read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
-            let (spacing, spacing_from) = match (file.spacing_m, loaded.spacing) {
-                (Some(s), _) => (Spacing { dx: s.dx, dy: s.dy }, "experiment"),
-                (None, Some(s)) => (s, "file"),
-                (None, None) => {
-                    return Err(ExperimentError::single(
-                        experiment,
-                        "terrain.file.spacing_m",
-                        format!(
-                            "{} does not declare its grid spacing: expected spacing_m {{dx, dy}} in metres",
-                            path.display()
-                        ),
-                    ));
-                }
-            };
-            let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
-            let (filled, fill) = fill_voids(loaded.grid)
-                .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
-            let fit = match file.fit {
-                FitEntry::Pad => Fit::Pad,
-                FitEntry::Crop => Fit::Crop {
-                    origin: file.crop_origin.map(|[i, j]| (i, j)),
-                },
-            };
-            let (field, embedded) = embed(&filled, fit, spacing)
-                .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
-            let field = field.with_origin(origin(file.origin_m));
-            let (lo, hi) = field.height_range();
-            let report = TerrainReport {
-                source: file.path.clone(),
-                format: format_name(format).to_string(),
-                source_columns,
-                source_rows,
-                side: field.side(),
-                padded_columns: embedded.padded_columns,
-                padded_rows: embedded.padded_rows,
-                crop_origin: embedded.crop_origin,
-                voids_filled: fill.voids_filled,
-                spacing,
-                spacing_from,
-                height_min_m: lo,
-                height_max_m: hi,
-            };
-            Ok((field, report))
-        }
-    }
-}
-
-fn origin(origin_m: Option<[f64; 3]>) -> DVec3 {
-    origin_m.map_or(DVec3::ZERO, |[x, y, z]| DVec3::new(x, y, z))
-}
-
-fn raw_sample(sample: RawSampleEntry) -> RawSample {
-    match sample {
-        RawSampleEntry::I16le => RawSample::I16Le,
-        RawSampleEntry::I16be => RawSample::I16Be,
-        RawSampleEntry::U16le => RawSample::U16Le,
-        RawSampleEntry::U16be => RawSample::U16Be,
-        RawSampleEntry::F32le => RawSample::F32Le,
-        RawSampleEntry::F32be => RawSample::F32Be,
-    }
-}
-
-fn format_name(format: TerrainFormat) -> &'static str {
-    match format {
-        TerrainFormat::Hgt => "hgt",
-        TerrainFormat::Png => "png",
-        TerrainFormat::GeoTiff => "geotiff",
-        TerrainFormat::AsciiGrid => "ascii_grid",
-        TerrainFormat::Raw(_) => "raw",
-    }
-}
-
-/// Stage 3b: the flight, with a recorded log read from its file.
-fn build_flight(
-    experiment: &Path,
-    folder: &Path,
-    entry: &FlightEntry,
-) -> Result<Flight, ExperimentError> {
-    let v2 = |a: [f64; 2]| DVec2::new(a[0], a[1]);
-    let v3 = |a: [f64; 3]| DVec3::new(a[0], a[1], a[2]);
-    let mut look = match entry.look {
-        Some(LookEntry::AlongPath { pitch_deg }) => Look::AlongPath {
-            pitch: pitch_deg.to_radians(),
-        },
-        Some(LookEntry::At { target_m }) => Look::At {
-            target: v3(target_m),
-        },
-        Some(LookEntry::Fixed { yaw_deg, pitch_deg }) => Look::Fixed {
-            yaw: yaw_deg.to_radians(),
-            pitch: pitch_deg.to_radians(),
-        },
-        None => Look::Fixed {
-            yaw: 0.0,
-            pitch: 0.0,
-        },
-    };
-    let path = match &entry.path {
-        PathEntry::Circle {
-            centre_m,
-            radius_m,
-            altitude_m,
-            frames_per_lap,
-            phase_deg,
-        }
-        | PathEntry::Orbit {
-            centre_m,
-            radius_m,
-            altitude_m,
-            frames_per_lap,
-            phase_deg,
-            ..
-        } => {
-            if let PathEntry::Orbit { target_m, .. } = &entry.path {
-                look = Look::At {
-                    target: v3(*target_m),
-                };
-            }
-            FlightPath::Circle {
-                centre: v2(*centre_m),
-                radius: *radius_m,
-                altitude: *altitude_m,
-                frames_per_lap: *frames_per_lap,
-                phase: phase_deg.to_radians(),
-            }
-        }
-        PathEntry::Line { from_m, to_m } => FlightPath::Line {
-            from: v3(*from_m),
-            to: v3(*to_m),
-        },
-        PathEntry::Spiral {
-            centre_m,
-            radius_start_m,
-            radius_end_m,
-            altitude_start_m,
-            altitude_end_m,
-            turns,
-            phase_deg,
-        } => FlightPath::Spiral {
-            centre: v2(*centre_m),
-            radius_start: *radius_start_m,
-            radius_end: *radius_end_m,
-            altitude_start: *altitude_start_m,
-            altitude_end: *altitude_end_m,
-            turns: *turns,
-            phase: phase_deg.to_radians(),
-        },
-        PathEntry::Waypoints {
-            points,
-            interpolation,
-        } => FlightPath::Waypoints {
-            points: points
-                .iter()
-                .map(|w| Waypoint {
-                    frame: w.frame,
-                    position: v3(w.position_m),
-                })
-                .collect(),
-            interpolation: match interpolation {
-                InterpolationEntry::Linear => Interpolation::Linear,
-                InterpolationEntry::CatmullRom => Interpolation::CatmullRom,
-            },
-        },
-        PathEntry::Recorded { path } => {
-            let poses = read_flight_log(&folder.join(path)).map_err(|e| {
-                ExperimentError::single(experiment, "flight.path.recorded.path", e.to_string())
-            })?;
-            FlightPath::Recorded { poses }
-        }
-    };
-    Flight::new(&path, &look, entry.frames.unwrap_or(0))
-        .map_err(|e| ExperimentError::single(experiment, "flight", e.to_string()))
-}
-
-fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }

@@ -1,0 +1,329 @@
+//! Loading a checked experiment (stage 3, the IO): reading or generating the terrain, filling
+//! its voids and embedding it, reading a recorded flight log and building the flight. Also the
+//! runnable [`Experiment`] this produces.
+
+use super::ExperimentError;
+use super::format::{
+    FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry, TerrainEntry,
+    TerrainFormatEntry,
+};
+use super::sweep::SweepChoice;
+use crate::edge::flight_log::read_flight_log;
+use crate::edge::terrain_readers::{
+    RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
+};
+use crate::sim::algorithm::AlgorithmConfig;
+use crate::sim::flight::{Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint};
+use crate::sim::run::Effects;
+use crate::sim::terrain::embed::{Fit, embed};
+use crate::sim::terrain::fill::fill_voids;
+use crate::sim::terrain::synthetic::{SyntheticTerrain, generate};
+use crate::sim::terrain::{Heightfield, Spacing};
+use crate::sim::view::ViewSettings;
+use crate::sim::zone::SpeedBound;
+use glam::{DVec2, DVec3};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+/// A checked, loaded experiment: everything a run needs.
+pub struct Experiment {
+    pub name: String,
+    pub description: Option<String>,
+    pub file: PathBuf,
+    /// SHA-256 of the experiment file's bytes, hex.
+    pub content_sha256: String,
+    pub field: Heightfield,
+    pub terrain: TerrainReport,
+    pub view: ViewSettings,
+    pub speed: SpeedBound,
+    pub flight: Flight,
+    pub flight_kind: &'static str,
+    pub violations: Vec<SpeedViolation>,
+    pub algorithms: Vec<AlgorithmSpec>,
+    pub effects: Effects,
+    pub plots: bool,
+    /// Meshes to write as PLY files (`outputs.meshes`); `None`: none.
+    pub mesh_exports: Option<MeshExports>,
+    /// The point of the experiment's top-level sweep this is (`None` without a sweep).
+    pub sweep_point: Option<SweepChoice>,
+}
+
+/// Which entries' meshes to export at which frames, checked: every frame inside the flight,
+/// every entry an index into [`Experiment::algorithms`]; both sorted, without repeats.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MeshExports {
+    pub frames: Vec<u64>,
+    pub entries: Vec<usize>,
+}
+
+/// One algorithm entry: its label, configuration and the parameters as written.
+#[derive(Clone)]
+pub struct AlgorithmSpec {
+    pub label: String,
+    pub config: AlgorithmConfig,
+    pub parameters: Value,
+}
+
+/// Where the terrain came from and what was done to it, for the run metadata.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TerrainReport {
+    /// The file (as written in the experiment) or `synthetic`.
+    pub source: String,
+    pub format: String,
+    pub source_columns: usize,
+    pub source_rows: usize,
+    pub side: usize,
+    pub padded_columns: usize,
+    pub padded_rows: usize,
+    pub crop_origin: Option<(usize, usize)>,
+    pub voids_filled: usize,
+    pub spacing: Spacing,
+    /// `file`, `experiment` or `synthetic`.
+    pub spacing_from: &'static str,
+    pub height_min_m: f32,
+    pub height_max_m: f32,
+}
+
+/// Stage 3a: the terrain, read or generated, filled and embedded.
+pub(super) fn load_terrain(
+    experiment: &Path,
+    folder: &Path,
+    entry: &TerrainEntry,
+) -> Result<(Heightfield, TerrainReport), ExperimentError> {
+    match entry {
+        TerrainEntry::Synthetic(s) => {
+            let spacing = Spacing {
+                dx: s.spacing_m.dx,
+                dy: s.spacing_m.dy,
+            };
+            // Diamond-square's displacement at a cell of length L is amplitude · (L / extent)^H;
+            // anchoring it at `amplitude_scale_m` instead scales the top amplitude.
+            let extent_m = (1u64 << s.level) as f64 * spacing.dx;
+            let amplitude = match s.amplitude_scale_m {
+                Some(scale) => s.amplitude_m * (extent_m / scale).powf(s.roughness),
+                None => s.amplitude_m,
+            };
+            let field = generate(&SyntheticTerrain {
+                level: s.level,
+                seed: s.seed,
+                amplitude,
+                roughness: s.roughness,
+                spacing,
+            })
+            .map_err(|e| ExperimentError::single(experiment, "terrain.synthetic", e.to_string()))?
+            .with_origin(origin(s.origin_m));
+            let (lo, hi) = field.height_range();
+            let side = field.side();
+            let report = TerrainReport {
+                source: format!("synthetic (diamond-square, seed {})", s.seed),
+                format: "synthetic".to_string(),
+                source_columns: side,
+                source_rows: side,
+                side,
+                padded_columns: 0,
+                padded_rows: 0,
+                crop_origin: None,
+                voids_filled: 0,
+                spacing,
+                spacing_from: "synthetic",
+                height_min_m: lo,
+                height_max_m: hi,
+            };
+            Ok((field, report))
+        }
+        TerrainEntry::File(file) => {
+            let path = folder.join(&file.path);
+            let field_error =
+                |problem: String| ExperimentError::single(experiment, "terrain.file", problem);
+            let format = match &file.format {
+                None => format_from_extension(&path).map_err(|e| field_error(e.to_string()))?,
+                Some(TerrainFormatEntry::Hgt) => TerrainFormat::Hgt,
+                Some(TerrainFormatEntry::Png) => TerrainFormat::Png,
+                Some(TerrainFormatEntry::Geotiff) => TerrainFormat::GeoTiff,
+                Some(TerrainFormatEntry::AsciiGrid) => TerrainFormat::AsciiGrid,
+                Some(TerrainFormatEntry::Raw(raw)) => TerrainFormat::Raw(RawLayout {
+                    columns: raw.columns,
+                    rows: raw.rows,
+                    sample: raw_sample(raw.sample),
+                    north_first: raw.north_first,
+                }),
+            };
+            let options = ReadOptions {
+                height_scale: file.height_scale.unwrap_or(1.0),
+                height_offset: file.height_offset_m.unwrap_or(0.0),
+                nodata: file.nodata,
+            };
+            let loaded =
+                read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
+            let (spacing, spacing_from) = match (file.spacing_m, loaded.spacing) {
+                (Some(s), _) => (Spacing { dx: s.dx, dy: s.dy }, "experiment"),
+                (None, Some(s)) => (s, "file"),
+                (None, None) => {
+                    return Err(ExperimentError::single(
+                        experiment,
+                        "terrain.file.spacing_m",
+                        format!(
+                            "{} does not declare its grid spacing: expected spacing_m {{dx, dy}} in metres",
+                            path.display()
+                        ),
+                    ));
+                }
+            };
+            let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
+            let (filled, fill) = fill_voids(loaded.grid)
+                .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
+            let fit = match file.fit {
+                FitEntry::Pad => Fit::Pad,
+                FitEntry::Crop => Fit::Crop {
+                    origin: file.crop_origin.map(|[i, j]| (i, j)),
+                },
+            };
+            let (field, embedded) = embed(&filled, fit, spacing)
+                .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
+            let field = field.with_origin(origin(file.origin_m));
+            let (lo, hi) = field.height_range();
+            let report = TerrainReport {
+                source: file.path.clone(),
+                format: format_name(format).to_string(),
+                source_columns,
+                source_rows,
+                side: field.side(),
+                padded_columns: embedded.padded_columns,
+                padded_rows: embedded.padded_rows,
+                crop_origin: embedded.crop_origin,
+                voids_filled: fill.voids_filled,
+                spacing,
+                spacing_from,
+                height_min_m: lo,
+                height_max_m: hi,
+            };
+            Ok((field, report))
+        }
+    }
+}
+
+fn origin(origin_m: Option<[f64; 3]>) -> DVec3 {
+    origin_m.map_or(DVec3::ZERO, |[x, y, z]| DVec3::new(x, y, z))
+}
+
+fn raw_sample(sample: RawSampleEntry) -> RawSample {
+    match sample {
+        RawSampleEntry::I16le => RawSample::I16Le,
+        RawSampleEntry::I16be => RawSample::I16Be,
+        RawSampleEntry::U16le => RawSample::U16Le,
+        RawSampleEntry::U16be => RawSample::U16Be,
+        RawSampleEntry::F32le => RawSample::F32Le,
+        RawSampleEntry::F32be => RawSample::F32Be,
+    }
+}
+
+fn format_name(format: TerrainFormat) -> &'static str {
+    match format {
+        TerrainFormat::Hgt => "hgt",
+        TerrainFormat::Png => "png",
+        TerrainFormat::GeoTiff => "geotiff",
+        TerrainFormat::AsciiGrid => "ascii_grid",
+        TerrainFormat::Raw(_) => "raw",
+    }
+}
+
+/// Stage 3b: the flight, with a recorded log read from its file.
+pub(super) fn build_flight(
+    experiment: &Path,
+    folder: &Path,
+    entry: &FlightEntry,
+) -> Result<Flight, ExperimentError> {
+    let v2 = |a: [f64; 2]| DVec2::new(a[0], a[1]);
+    let v3 = |a: [f64; 3]| DVec3::new(a[0], a[1], a[2]);
+    let mut look = match entry.look {
+        Some(LookEntry::AlongPath { pitch_deg }) => Look::AlongPath {
+            pitch: pitch_deg.to_radians(),
+        },
+        Some(LookEntry::At { target_m }) => Look::At {
+            target: v3(target_m),
+        },
+        Some(LookEntry::Fixed { yaw_deg, pitch_deg }) => Look::Fixed {
+            yaw: yaw_deg.to_radians(),
+            pitch: pitch_deg.to_radians(),
+        },
+        None => Look::Fixed {
+            yaw: 0.0,
+            pitch: 0.0,
+        },
+    };
+    let path = match &entry.path {
+        PathEntry::Circle {
+            centre_m,
+            radius_m,
+            altitude_m,
+            frames_per_lap,
+            phase_deg,
+        }
+        | PathEntry::Orbit {
+            centre_m,
+            radius_m,
+            altitude_m,
+            frames_per_lap,
+            phase_deg,
+            ..
+        } => {
+            if let PathEntry::Orbit { target_m, .. } = &entry.path {
+                look = Look::At {
+                    target: v3(*target_m),
+                };
+            }
+            FlightPath::Circle {
+                centre: v2(*centre_m),
+                radius: *radius_m,
+                altitude: *altitude_m,
+                frames_per_lap: *frames_per_lap,
+                phase: phase_deg.to_radians(),
+            }
+        }
+        PathEntry::Line { from_m, to_m } => FlightPath::Line {
+            from: v3(*from_m),
+            to: v3(*to_m),
+        },
+        PathEntry::Spiral {
+            centre_m,
+            radius_start_m,
+            radius_end_m,
+            altitude_start_m,
+            altitude_end_m,
+            turns,
+            phase_deg,
+        } => FlightPath::Spiral {
+            centre: v2(*centre_m),
+            radius_start: *radius_start_m,
+            radius_end: *radius_end_m,
+            altitude_start: *altitude_start_m,
+            altitude_end: *altitude_end_m,
+            turns: *turns,
+            phase: phase_deg.to_radians(),
+        },
+        PathEntry::Waypoints {
+            points,
+            interpolation,
+        } => FlightPath::Waypoints {
+            points: points
+                .iter()
+                .map(|w| Waypoint {
+                    frame: w.frame,
+                    position: v3(w.position_m),
+                })
+                .collect(),
+            interpolation: match interpolation {
+                InterpolationEntry::Linear => Interpolation::Linear,
+                InterpolationEntry::CatmullRom => Interpolation::CatmullRom,
+            },
+        },
+        PathEntry::Recorded { path } => {
+            let poses = read_flight_log(&folder.join(path)).map_err(|e| {
+                ExperimentError::single(experiment, "flight.path.recorded.path", e.to_string())
+            })?;
+            FlightPath::Recorded { poses }
+        }
+    };
+    Flight::new(&path, &look, entry.frames.unwrap_or(0))
+        .map_err(|e| ExperimentError::single(experiment, "flight", e.to_string()))
+}

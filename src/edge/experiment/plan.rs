@@ -1,0 +1,215 @@
+//! From the experiment file's text to a plan of checked points, and from a point to a runnable
+//! [`Experiment`].
+//!
+//! Stage 1 parses JSON into the format types (serde reports the field path of a type error).
+//! Stage 2 (`check.rs`) checks meaning, collecting every problem with its field path. Stage 3
+//! (`load.rs`) does the IO: reads the terrain (or generates it), fills voids, embeds it, reads a
+//! recorded flight, builds the flight and checks it against the speed bounds.
+
+use super::check::{Checked, check, path_kind};
+use super::format::ExperimentFile;
+use super::load::{Experiment, build_flight, load_terrain};
+use super::sweep::{ExperimentPoint, SweepChoice, choice_label, expand_experiment};
+use super::{ExperimentError, FieldProblem};
+use crate::sim::flight::speed_violations;
+use serde_json::Value;
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+
+/// Reads, checks and loads an experiment file without a top-level sweep (an experiment with
+/// one is run point by point: see [`plan`]).
+pub fn load(path: &Path) -> Result<Experiment, ExperimentError> {
+    let plan = plan(path)?;
+    if plan.is_sweep() {
+        return Err(ExperimentError::single(
+            path,
+            "sweep",
+            format!(
+                "a top-level sweep of {} points: expected an experiment without one here (`roamsim run` runs each point)",
+                plan.points.len()
+            ),
+        ));
+    }
+    plan.load_point(0)
+}
+
+/// An experiment file read and checked, every sweep point of it, with nothing loaded yet.
+pub struct Plan {
+    file: PathBuf,
+    content_sha256: String,
+    points: Vec<PlannedPoint>,
+}
+
+struct PlannedPoint {
+    choice: Option<SweepChoice>,
+    parsed: ExperimentFile,
+    checked: Checked,
+}
+
+/// Stages 1 and 2 for every point of the experiment's top-level sweep (one point without a
+/// sweep): every problem of every point is reported at once, before any terrain is read.
+pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
+    let bytes = std::fs::read(path).map_err(|error| {
+        ExperimentError::single(path, "", format!("cannot read the file: {error}"))
+    })?;
+    plan_bytes(path, &bytes)
+}
+
+/// Stages 1 and 2 only: parses an experiment's bytes and checks their meaning, every sweep point
+/// of it, with no IO (the terrain and a recorded flight log are not read, the flight is not
+/// built). `path` only names the file in errors. Returns the number of algorithm entries over all
+/// points, sweeps expanded. This is the entry point of the fuzz target and the parser property
+/// tests.
+pub fn check_bytes(path: &Path, bytes: &[u8]) -> Result<usize, ExperimentError> {
+    let plan = plan_bytes(path, bytes)?;
+    Ok(plan.points.iter().map(|p| p.checked.algorithms.len()).sum())
+}
+
+fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
+    let document = parse_document(path, bytes)?;
+    let points = expand_experiment(document).map_err(|problem| ExperimentError {
+        file: path.to_path_buf(),
+        problems: vec![problem],
+    })?;
+    let mut problems = Vec::new();
+    let mut planned = Vec::new();
+    for ExperimentPoint { choice, document } in points {
+        let prefix = choice
+            .as_ref()
+            .map(|c| format!("({}) ", choice_label(c)))
+            .unwrap_or_default();
+        let checked = parse(path, document).and_then(|parsed| {
+            let checked = check(path, &parsed)?;
+            Ok((parsed, checked))
+        });
+        match checked {
+            Ok((parsed, checked)) => planned.push(PlannedPoint {
+                choice,
+                parsed,
+                checked,
+            }),
+            Err(error) => problems.extend(error.problems.into_iter().map(|p| FieldProblem {
+                field: format!("{prefix}{}", p.field),
+                problem: p.problem,
+            })),
+        }
+    }
+    if !problems.is_empty() {
+        return Err(ExperimentError {
+            file: path.to_path_buf(),
+            problems,
+        });
+    }
+    Ok(Plan {
+        file: path.to_path_buf(),
+        content_sha256: hex(&Sha256::digest(bytes)),
+        points: planned,
+    })
+}
+
+impl Plan {
+    /// Whether the file declares a top-level sweep (its points then carry their choices).
+    pub fn is_sweep(&self) -> bool {
+        self.points.iter().any(|p| p.choice.is_some())
+    }
+
+    pub fn n_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// The experiment's name (the same for every point).
+    pub fn name(&self) -> &str {
+        &self.points[0].parsed.name
+    }
+
+    /// The experiment's description (the same for every point unless swept).
+    pub fn description(&self) -> Option<&str> {
+        self.points[0].parsed.description.as_deref()
+    }
+
+    /// SHA-256 of the experiment file's bytes, hex.
+    pub fn content_sha256(&self) -> &str {
+        &self.content_sha256
+    }
+
+    /// The swept values of point `k` (`None` without a sweep).
+    pub fn choice(&self, k: usize) -> Option<&SweepChoice> {
+        self.points[k].choice.as_ref()
+    }
+
+    /// Stage 3 for point `k`: reads or generates its terrain, builds its flight.
+    pub fn load_point(&self, k: usize) -> Result<Experiment, ExperimentError> {
+        let path = self.file.as_path();
+        let point = &self.points[k];
+        let prefix_errors = |error: ExperimentError| match &point.choice {
+            None => error,
+            Some(choice) => ExperimentError {
+                problems: error
+                    .problems
+                    .into_iter()
+                    .map(|p| FieldProblem {
+                        field: format!("({}) {}", choice_label(choice), p.field),
+                        problem: p.problem,
+                    })
+                    .collect(),
+                ..error
+            },
+        };
+        let parsed = &point.parsed;
+        let checked = &point.checked;
+        let folder = path.parent().unwrap_or(Path::new("."));
+        let (field, terrain) =
+            load_terrain(path, folder, &parsed.terrain).map_err(prefix_errors)?;
+        let flight = build_flight(path, folder, &parsed.flight).map_err(prefix_errors)?;
+        if let Some(exports) = &checked.mesh_exports
+            && let Some(&frame) = exports.frames.iter().find(|&&f| f >= flight.n_frames())
+        {
+            return Err(prefix_errors(ExperimentError::single(
+                path,
+                "outputs.meshes.frames",
+                format!(
+                    "{frame} is past the flight's last frame {}",
+                    flight.n_frames() - 1
+                ),
+            )));
+        }
+        let violations = speed_violations(&flight, checked.speed);
+        Ok(Experiment {
+            name: parsed.name.clone(),
+            description: parsed.description.clone(),
+            file: path.to_path_buf(),
+            content_sha256: self.content_sha256.clone(),
+            field,
+            terrain,
+            view: checked.view,
+            speed: checked.speed,
+            flight,
+            flight_kind: path_kind(&parsed.flight.path),
+            violations,
+            algorithms: checked.algorithms.clone(),
+            effects: checked.effects,
+            plots: parsed.outputs.plots,
+            mesh_exports: checked.mesh_exports.clone(),
+            sweep_point: point.choice.clone(),
+        })
+    }
+}
+
+/// Stage 1a: the file's text as JSON (syntax errors carry line and column).
+fn parse_document(path: &Path, bytes: &[u8]) -> Result<Value, ExperimentError> {
+    serde_json::from_slice(bytes)
+        .map_err(|error| ExperimentError::single(path, "", error.to_string()))
+}
+
+/// Stage 1b: a point's JSON into the format types (serde reports the path of a type error).
+fn parse(path: &Path, document: Value) -> Result<ExperimentFile, ExperimentError> {
+    serde_path_to_error::deserialize(document).map_err(|error| {
+        let field = error.path().to_string();
+        let field = if field == "." { String::new() } else { field };
+        ExperimentError::single(path, field, error.into_inner().to_string())
+    })
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}

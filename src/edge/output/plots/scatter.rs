@@ -1,0 +1,238 @@
+//! Scatter charts: the plan (drawable points, the front, linear or logarithmic x) and its drawing
+//! with placed labels.
+
+use super::super::label_placement::{DOT_RADIUS, PixelBox, place_labels};
+use super::ticks::{
+    AxisTexts, Bounds, TickFormat, configure_axes, is_plottable, log_tick_label, padded_range,
+    y_label_area_width,
+};
+use super::{
+    Drawing, LEADER_COLOR, POINT_LABEL_FONT_SIZE, RenderTarget, SCATTER_FRONT_COLOR,
+    SCATTER_LABEL_ROOM_X, SCATTER_LABEL_ROOM_Y, SCATTER_POINT_COLOR, SCATTER_X_MARGIN,
+    ScatterChart, ScatterPoint, TEXT_COLOR, Y_MARGIN, draw_no_data_note, draw_title, text_style,
+};
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::ops::Range;
+
+/// A scatter chart with its ranges computed and its undrawable points removed.
+pub(super) struct ScatterPlan<'a> {
+    title: &'a str,
+    x_label: &'a str,
+    y_label: &'a str,
+    x_range: Range<f64>,
+    y_range: Range<f64>,
+    log_x: bool,
+    /// Only the drawable points.
+    points: Vec<PlannedPoint<'a>>,
+    /// The drawable front points, in front order.
+    front: Vec<(f64, f64)>,
+}
+
+pub(super) struct PlannedPoint<'a> {
+    label: &'a str,
+    position: (f64, f64),
+    on_front: bool,
+}
+
+impl<'a> ScatterPlan<'a> {
+    pub(super) fn new(chart: &ScatterChart<'a>) -> ScatterPlan<'a> {
+        let log_x = chart.log_x;
+        let drawable = |point: &ScatterPoint| -> bool {
+            is_plottable(point.x) && is_plottable(point.y) && (!log_x || point.x > 0.0)
+        };
+        let mut on_front = vec![false; chart.points.len()];
+        for &point_idx in chart.front {
+            if let Some(flag) = on_front.get_mut(point_idx) {
+                *flag = true;
+            }
+        }
+        let points: Vec<PlannedPoint> = chart
+            .points
+            .iter()
+            .zip(on_front)
+            .filter(|(point, _)| drawable(point))
+            .map(|(point, on_front)| PlannedPoint {
+                label: &point.label,
+                position: (point.x, point.y),
+                on_front,
+            })
+            .collect();
+        let front = chart
+            .front
+            .iter()
+            .filter_map(|&point_idx| chart.points.get(point_idx))
+            .filter(|point| drawable(point))
+            .map(|point| (point.x, point.y))
+            .collect();
+
+        let mut x_bounds = Bounds::default();
+        let mut y_bounds = Bounds::default();
+        for point in &points {
+            let (x, y) = point.position;
+            x_bounds.include(if log_x { x.log10() } else { x });
+            y_bounds.include(y);
+        }
+        // On a logarithmic axis the margins are fractions of the span in decades.
+        let x_range = padded_range(
+            x_bounds,
+            SCATTER_X_MARGIN,
+            SCATTER_X_MARGIN + SCATTER_LABEL_ROOM_X,
+        );
+        let x_range = if log_x {
+            let decades = with_a_whole_decade(x_range);
+            10f64.powf(decades.start)..10f64.powf(decades.end)
+        } else {
+            x_range
+        };
+        let y_range = padded_range(y_bounds, Y_MARGIN, Y_MARGIN + SCATTER_LABEL_ROOM_Y);
+        ScatterPlan {
+            title: chart.title,
+            x_label: chart.x_label,
+            y_label: chart.y_label,
+            x_range,
+            y_range,
+            log_x,
+            points,
+            front,
+        }
+    }
+
+    /// Everything after the coordinate system is chosen, for either kind of x axis.
+    pub(super) fn draw_on<DB, X>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        chart: &mut ChartContext<'_, DB, Cartesian2d<X, RangedCoordf64>>,
+        format_x: &dyn Fn(&f64) -> String,
+        target: RenderTarget,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
+    where
+        DB: DrawingBackend,
+        X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        let y_format = TickFormat::for_linear_range(&self.y_range);
+        let format_y = |y: &f64| y_format.label(*y);
+        let texts = AxisTexts {
+            x_label: self.x_label,
+            y_label: self.y_label,
+            format_x,
+            format_y: &format_y,
+        };
+        configure_axes(chart, texts, target)?;
+        if self.points.is_empty() {
+            draw_no_data_note(root, chart.plotting_area().get_pixel_range(), target)?;
+        }
+
+        if self.front.len() > 1 {
+            let pixels: Vec<(i32, i32)> = self
+                .front
+                .iter()
+                .map(|point| chart.backend_coord(point))
+                .collect();
+            target.draw_wide_line(root, &pixels, SCATTER_FRONT_COLOR)?;
+        }
+        let label_style = text_style(POINT_LABEL_FONT_SIZE)
+            .color(&TEXT_COLOR)
+            .pos(Pos::new(HPos::Left, VPos::Top));
+        // Front points first: their labels get the best spots.
+        let mut order: Vec<usize> = (0..self.points.len()).collect();
+        order.sort_by_key(|&k| !self.points[k].on_front);
+        let pixels: Vec<(i32, i32)> = order
+            .iter()
+            .map(|&k| chart.backend_coord(&self.points[k].position))
+            .collect();
+        let mut sizes = Vec::with_capacity(order.len());
+        for &k in &order {
+            let (width, height) = root.estimate_text_size(self.points[k].label, &label_style)?;
+            sizes.push((width as i32, height as i32));
+        }
+        let (x_pixels, y_pixels) = chart.plotting_area().get_pixel_range();
+        let area = PixelBox {
+            left: x_pixels.start,
+            top: y_pixels.start,
+            width: x_pixels.end - x_pixels.start,
+            height: y_pixels.end - y_pixels.start,
+        };
+        let placements = place_labels(&pixels, &sizes, area);
+        for (&pixel, placement) in pixels.iter().zip(&placements) {
+            if placement.needs_leader {
+                let end = placement.label.nearest_to(pixel);
+                root.draw(&PathElement::new(
+                    vec![pixel, end],
+                    LEADER_COLOR.stroke_width(1),
+                ))?;
+            }
+        }
+        for (&k, &pixel) in order.iter().zip(&pixels) {
+            let point = &self.points[k];
+            let color = if point.on_front {
+                SCATTER_FRONT_COLOR
+            } else {
+                SCATTER_POINT_COLOR
+            };
+            root.draw(&Circle::new(pixel, DOT_RADIUS as u32, color.filled()))?;
+            root.draw(&Circle::new(
+                pixel,
+                DOT_RADIUS as u32,
+                WHITE.stroke_width(1),
+            ))?;
+        }
+        for (&k, placement) in order.iter().zip(&placements) {
+            root.draw(&Text::new(
+                self.points[k].label.to_string(),
+                (placement.label.left, placement.label.top),
+                label_style.clone(),
+            ))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drawing for ScatterPlan<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        target: RenderTarget,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        root.fill(&WHITE)?;
+        let body = draw_title(root, self.title, target)?;
+        let y_format = TickFormat::for_linear_range(&self.y_range);
+        let y_label_area = y_label_area_width(root, &y_format, &self.y_range)?;
+        let mut builder = ChartBuilder::on(&body);
+        builder
+            .margin_top(10)
+            .margin_bottom(10)
+            .margin_left(14)
+            .margin_right(30)
+            .x_label_area_size(56)
+            .y_label_area_size(y_label_area);
+        if self.log_x {
+            let mut chart = builder
+                .build_cartesian_2d(self.x_range.clone().log_scale(), self.y_range.clone())?;
+            self.draw_on(root, &mut chart, &|x: &f64| log_tick_label(*x), target)
+        } else {
+            let x_format = TickFormat::for_linear_range(&self.x_range);
+            let mut chart =
+                builder.build_cartesian_2d(self.x_range.clone(), self.y_range.clone())?;
+            self.draw_on(root, &mut chart, &|x: &f64| x_format.label(*x), target)
+        }
+    }
+}
+
+/// Widens a range of base-10 exponents so that it contains a whole number, the position of a
+/// labelled tick on plotters' logarithmic axis (which places no tick inside a decade otherwise).
+pub(super) fn with_a_whole_decade(exponents: Range<f64>) -> Range<f64> {
+    if exponents.start.ceil() <= exponents.end {
+        return exponents;
+    }
+    let below = exponents.start - exponents.start.floor();
+    let above = exponents.end.ceil() - exponents.end;
+    if below <= above {
+        exponents.start.floor()..exponents.end
+    } else {
+        exponents.start..exponents.end.ceil()
+    }
+}

@@ -1,0 +1,428 @@
+//! Tests of the charts: files written, drawings of degenerate data, decimation, tick labels.
+
+use super::decimation::drawable_runs;
+use super::ticks::{TickFormat, log_tick_label};
+use super::*;
+
+fn series(label: &str, points: Vec<(f64, f64)>) -> Series {
+    Series {
+        label: label.to_string(),
+        points,
+    }
+}
+
+fn marker(label: &str, y: f64) -> Marker {
+    Marker {
+        label: label.to_string(),
+        y,
+    }
+}
+
+/// Writes a line chart titled "Test chart" and returns the PNG and SVG paths, or the error.
+fn write_line(
+    dir: &Path,
+    stem: &str,
+    series: &[Series],
+    markers: &[Marker],
+) -> Result<(PathBuf, PathBuf), PlotError> {
+    let chart = LineChart {
+        title: "Test chart",
+        x_label: "frame",
+        y_label: "triangles",
+        series,
+        markers,
+    };
+    write_line_chart(dir, stem, &chart)?;
+    Ok((
+        dir.join(format!("{stem}.png")),
+        dir.join(format!("{stem}.svg")),
+    ))
+}
+
+/// A decoded chart PNG: its size and its RGB pixels.
+struct DecodedPng {
+    size: (u32, u32),
+    pixels: Vec<[u8; 3]>,
+}
+
+impl DecodedPng {
+    fn read(path: &Path) -> DecodedPng {
+        let bytes = std::fs::read(path).expect("the PNG was written");
+        let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+        let mut reader = decoder.read_info().expect("the PNG header decodes");
+        let mut buffer = vec![0; reader.output_buffer_size().expect("the PNG fits in memory")];
+        let info = reader
+            .next_frame(&mut buffer)
+            .expect("the PNG pixels decode");
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        let pixels = buffer[..info.buffer_size()]
+            .chunks_exact(3)
+            .map(|rgb| [rgb[0], rgb[1], rgb[2]])
+            .collect();
+        DecodedPng {
+            size: (info.width, info.height),
+            pixels,
+        }
+    }
+
+    fn n_distinct_colours(&self) -> usize {
+        self.pixels
+            .iter()
+            .collect::<std::collections::HashSet<_>>()
+            .len()
+    }
+
+    fn n_pixels_of(&self, colour: RGBColor) -> usize {
+        let wanted = [colour.0, colour.1, colour.2];
+        self.pixels.iter().filter(|&&pixel| pixel == wanted).count()
+    }
+}
+
+/// Checks both files of a chart and returns the decoded PNG for further checks.
+fn check_written_chart(png_path: &Path, svg_path: &Path, expected_texts: &[&str]) -> DecodedPng {
+    let png = DecodedPng::read(png_path);
+    assert_eq!(png.size, (1200, 700));
+    assert!(
+        png.n_distinct_colours() > 1,
+        "the PNG is a single flat colour"
+    );
+    let svg = std::fs::read_to_string(svg_path).expect("the SVG was written");
+    assert!(
+        svg.starts_with("<svg"),
+        "not an SVG: {}",
+        &svg[..svg.len().min(80)]
+    );
+    for text in expected_texts {
+        assert!(svg.contains(text), "the SVG lacks the text {text:?}");
+    }
+    png
+}
+
+#[test]
+fn two_series_and_a_marker_write_a_png_and_an_svg_with_their_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let roam = series(
+        "ROAM",
+        (0..500)
+            .map(|f| (f as f64, 40.0 + (f as f64 / 30.0).sin() * 10.0))
+            .collect(),
+    );
+    let wu = series(
+        "Wu life-axis",
+        (0..500)
+            .map(|f| (f as f64, 30.0 + (f as f64 / 50.0).cos() * 8.0))
+            .collect(),
+    );
+    let (png_path, svg_path) = write_line(
+        dir.path(),
+        "triangles",
+        &[roam, wu],
+        &[marker("max 54", 54.0)],
+    )
+    .unwrap();
+    let png = check_written_chart(
+        &png_path,
+        &svg_path,
+        &[
+            "Test chart",
+            "ROAM",
+            "Wu life-axis",
+            "max 54",
+            "frame",
+            "triangles",
+        ],
+    );
+    // A legend swatch has well under 200 pixels; a line across the plot has thousands.
+    for colour in [PALETTE[0], PALETTE[1]] {
+        let n_pixels = png.n_pixels_of(colour);
+        assert!(n_pixels > 1000, "{colour:?} covers only {n_pixels} pixels");
+    }
+    assert!(
+        png.n_pixels_of(MARKER_COLOR) > 100,
+        "the marker line is missing"
+    );
+}
+
+#[test]
+fn a_series_of_one_repeated_point_is_drawn_as_a_dot() {
+    let dir = tempfile::tempdir().unwrap();
+    // No label, so no legend swatch: any pixel of the series colour is the dot.
+    let repeated = series("", vec![(2.0, 5.0); 50]);
+    let (png_path, svg_path) = write_line(dir.path(), "repeated", &[repeated], &[]).unwrap();
+    let png = check_written_chart(&png_path, &svg_path, &["Test chart"]);
+    assert!(
+        png.n_pixels_of(PALETTE[0]) > 10,
+        "the repeated point is invisible"
+    );
+}
+
+#[test]
+fn degenerate_line_charts_are_drawn_without_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: Vec<(&str, Vec<Series>, Vec<Marker>)> = vec![
+        ("no_series", vec![], vec![]),
+        ("no_series_one_marker", vec![], vec![marker("budget", 5.0)]),
+        ("empty_series", vec![series("empty", vec![])], vec![]),
+        (
+            "single_point",
+            vec![series("one", vec![(3.0, 7.0)])],
+            vec![],
+        ),
+        (
+            "all_equal",
+            vec![series("flat", vec![(2.0, 5.0); 50])],
+            vec![marker("same", 5.0)],
+        ),
+        (
+            "all_zero",
+            vec![series("zero", (0..10).map(|f| (f as f64, 0.0)).collect())],
+            vec![],
+        ),
+        (
+            "non_finite",
+            vec![series(
+                "gappy",
+                vec![
+                    (0.0, 1.0),
+                    (1.0, f64::NAN),
+                    (f64::INFINITY, 2.0),
+                    (3.0, 4.0),
+                    (4.0, 5.0),
+                    (5.0, f64::NEG_INFINITY),
+                    (6.0, 1.0),
+                ],
+            )],
+            vec![marker("nan", f64::NAN), marker("inf", f64::INFINITY)],
+        ),
+        (
+            "only_non_finite",
+            vec![series("nan", vec![(f64::NAN, f64::NAN); 3])],
+            vec![],
+        ),
+        (
+            "extreme_magnitudes",
+            vec![
+                series("huge", vec![(-1e300, 1e300), (1e300, -1e300), (0.0, 1e301)]),
+                series("tiny", vec![(1e-300, 1e-300), (2e-300, 3e-300)]),
+            ],
+            vec![],
+        ),
+        (
+            "tiny_span",
+            vec![series(
+                "near",
+                vec![(0.0, 1.0), (1.0, 1.0 + 1e-15), (2.0, 1.0)],
+            )],
+            vec![],
+        ),
+        (
+            "long_and_many_labels",
+            (0..40)
+                .map(|idx| {
+                    series(
+                        &format!(
+                            "series {idx} with a very long label that cannot fit into the legend"
+                        ),
+                        vec![(0.0, idx as f64), (1.0, idx as f64 + 1.0)],
+                    )
+                })
+                .collect(),
+            vec![
+                marker(
+                    "a marker label far too long to fit on the right of the plot",
+                    3.0,
+                ),
+                marker("close", 3.1),
+            ],
+        ),
+    ];
+    for (stem, series, markers) in cases {
+        let (png_path, svg_path) = write_line(dir.path(), stem, &series, &markers)
+            .unwrap_or_else(|error| panic!("{stem}: {error}"));
+        check_written_chart(&png_path, &svg_path, &["Test chart"]);
+    }
+}
+
+#[test]
+fn a_million_frame_series_is_decimated_to_a_small_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let n_frames = 1_000_000;
+    let points: Vec<(f64, f64)> = (0..n_frames)
+        .map(|frame| {
+            let spike = if frame == 777_777 { 500.0 } else { 0.0 };
+            (frame as f64, 100.0 + (frame % 1000) as f64 * 0.01 + spike)
+        })
+        .collect();
+    let (png_path, svg_path) =
+        write_line(dir.path(), "million", &[series("frames", points)], &[]).unwrap();
+    check_written_chart(&png_path, &svg_path, &["frames"]);
+    let svg_bytes = std::fs::metadata(&svg_path).unwrap().len();
+    assert!(
+        svg_bytes < 1_000_000,
+        "the SVG has {svg_bytes} bytes: not decimated"
+    );
+}
+
+#[test]
+fn decimation_keeps_every_column_extreme_in_order() {
+    let x_range = 0.0..1_000_000.0;
+    let points: Vec<(f64, f64)> = (0..1_000_000)
+        .map(|frame| {
+            (
+                frame as f64,
+                if frame == 500_123 {
+                    -7.0
+                } else {
+                    (frame % 97) as f64
+                },
+            )
+        })
+        .collect();
+    let runs = drawable_runs(&points, &x_range);
+    assert_eq!(runs.len(), 1);
+    let kept = &runs[0];
+    assert!(
+        kept.len() <= 4 * DECIMATION_COLUMNS,
+        "kept {} points",
+        kept.len()
+    );
+    assert!(
+        kept.contains(&(500_123.0, -7.0)),
+        "the global minimum was dropped"
+    );
+    assert_eq!(kept.first(), points.first());
+    assert_eq!(kept.last(), points.last());
+    assert!(
+        kept.windows(2).all(|pair| pair[0].0 < pair[1].0),
+        "order changed"
+    );
+}
+
+#[test]
+fn non_finite_points_break_a_short_line() {
+    let points = [
+        (0.0, 1.0),
+        (1.0, 2.0),
+        (2.0, f64::NAN),
+        (3.0, 3.0),
+        (4.0, 4.0),
+    ];
+    let runs = drawable_runs(&points, &(0.0..4.0));
+    assert_eq!(
+        runs,
+        vec![vec![(0.0, 1.0), (1.0, 2.0)], vec![(3.0, 3.0), (4.0, 4.0)]]
+    );
+}
+
+#[test]
+fn tick_labels_are_short_and_exact() {
+    let frames = TickFormat::for_linear_range(&(-100.0..10_100.0));
+    assert_eq!(frames.label(2000.0), "2000");
+    assert_eq!(frames.label(-0.0000001), "0");
+    let fractions = TickFormat::for_linear_range(&(0.0..1.0));
+    assert_eq!(fractions.label(0.25), "0.25");
+    assert_eq!(fractions.label(0.30000000000000004), "0.3");
+    let huge = TickFormat::for_linear_range(&(0.0..1e8));
+    assert_eq!(huge.label(3e7), "3e7");
+    assert_eq!(huge.label(2.5e7), "2.5e7");
+    assert_eq!(log_tick_label(1000.0), "1000");
+    assert_eq!(log_tick_label(0.01), "0.01");
+    assert_eq!(log_tick_label(1e9), "1e9");
+}
+
+fn scatter_point(label: &str, x: f64, y: f64) -> ScatterPoint {
+    ScatterPoint {
+        label: label.to_string(),
+        x,
+        y,
+    }
+}
+
+fn write_scatter(
+    dir: &Path,
+    stem: &str,
+    points: &[ScatterPoint],
+    front: &[usize],
+    log_x: bool,
+) -> Result<(PathBuf, PathBuf), PlotError> {
+    let chart = ScatterChart {
+        title: "Cost against error",
+        x_label: "microseconds per frame",
+        y_label: "max screen error (px)",
+        points,
+        front,
+        log_x,
+    };
+    write_scatter_chart(dir, stem, &chart)?;
+    Ok((
+        dir.join(format!("{stem}.png")),
+        dir.join(format!("{stem}.svg")),
+    ))
+}
+
+#[test]
+fn a_scatter_chart_with_a_front_writes_both_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let points = [
+        scatter_point("Wu τ=1", 120.0, 2.0),
+        scatter_point("Wu τ=4", 60.0, 4.5),
+        scatter_point("ROAM", 300.0, 1.5),
+        scatter_point("Lindstrom", 900.0, 1.2),
+        scatter_point("naive", 2500.0, 3.0),
+    ];
+    for (stem, log_x) in [("linear", false), ("log", true)] {
+        let (png_path, svg_path) =
+            write_scatter(dir.path(), stem, &points, &[1, 0, 2, 3], log_x).unwrap();
+        check_written_chart(
+            &png_path,
+            &svg_path,
+            &["Cost against error", "Wu τ=1", "Lindstrom"],
+        );
+    }
+}
+
+#[test]
+fn degenerate_scatter_charts_are_drawn_without_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: Vec<(&str, Vec<ScatterPoint>, Vec<usize>, bool)> = vec![
+        ("empty", vec![], vec![], false),
+        ("empty_log", vec![], vec![0, 3], true),
+        (
+            "one_point_log",
+            vec![scatter_point("one", 50.0, 1.0)],
+            vec![0],
+            true,
+        ),
+        (
+            "bad_points_and_indices",
+            vec![
+                scatter_point("nan", f64::NAN, 1.0),
+                scatter_point("zero x", 0.0, 1.0),
+                scatter_point("ok", 5.0, 2.0),
+                scatter_point("negative x", -3.0, 2.0),
+            ],
+            vec![0, 1, 2, 3, 99],
+            true,
+        ),
+        (
+            "same_place",
+            vec![scatter_point("a", 1.0, 1.0), scatter_point("b", 1.0, 1.0)],
+            vec![0, 1],
+            false,
+        ),
+    ];
+    for (stem, points, front, log_x) in cases {
+        let (png_path, svg_path) = write_scatter(dir.path(), stem, &points, &front, log_x)
+            .unwrap_or_else(|error| panic!("{stem}: {error}"));
+        check_written_chart(&png_path, &svg_path, &["Cost against error"]);
+    }
+}
+
+#[test]
+fn a_missing_directory_is_an_error_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("does_not_exist");
+    let error = write_line(&missing, "chart", &[], &[]).unwrap_err();
+    assert_eq!(error.path, missing.join("chart.png"));
+    assert!(error.to_string().contains("chart.png"), "{error}");
+}
