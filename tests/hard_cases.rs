@@ -754,6 +754,8 @@ fn budgets_below_the_base_mesh_hold_the_base_mesh_and_above_the_full_mesh_the_fu
         for deferral in [false, true] {
             let roam = RoamConfig {
                 nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
+                thickness: roamsim::sim::algorithm::ThicknessScope::PerTriangle,
+                queue: roamsim::sim::algorithm::QueueKind::Buckets,
                 goal: RoamGoal::TargetTriangles(budget),
                 deferral,
                 culling_flags: false,

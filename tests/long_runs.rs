@@ -156,6 +156,8 @@ fn a_million_lindstrom_frames_stay_exact() {
 fn a_million_roam_frames_with_every_effect_stay_exact() {
     check_million_frames(AlgorithmConfig::Roam(RoamConfig {
         nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
+        thickness: roamsim::sim::algorithm::ThicknessScope::PerTriangle,
+        queue: roamsim::sim::algorithm::QueueKind::Buckets,
         goal: RoamGoal::TolerancePx(4.0),
         deferral: true,
         culling_flags: true,
@@ -169,6 +171,8 @@ fn a_million_roam_rebuild_frames_stay_exact() {
     // grows with the mesh; the mesh still changes thousands of times.
     check_million_frames(AlgorithmConfig::RoamRebuild(RoamConfig {
         nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
+        thickness: roamsim::sim::algorithm::ThicknessScope::PerTriangle,
+        queue: roamsim::sim::algorithm::QueueKind::Buckets,
         goal: RoamGoal::TolerancePx(16.0),
         deferral: false,
         culling_flags: false,

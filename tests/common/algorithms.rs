@@ -38,6 +38,8 @@ pub fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
     }
     let roam = RoamConfig {
         nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
+        thickness: roamsim::sim::algorithm::ThicknessScope::PerTriangle,
+        queue: roamsim::sim::algorithm::QueueKind::Buckets,
         goal: RoamGoal::TolerancePx(tau_px),
         deferral: false,
         culling_flags: false,

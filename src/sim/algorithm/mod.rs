@@ -11,7 +11,10 @@ mod wu;
 
 pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold};
-pub use roam::{BintreeError, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild};
+pub use roam::{
+    BintreeError, MotionBound, PriorityCheck, QueueKind, Roam, RoamConfig, RoamGoal, RoamRebuild,
+    ThicknessScope,
+};
 pub use wu::{BudgetConfig, Wu, WuConfig, initial_tau_px};
 
 use crate::sim::hierarchy::Hierarchy;
