@@ -72,6 +72,8 @@ pub struct Geometry {
     pub thickness: f32,
     /// e_T for the culling flags (a nested bound).
     pub culling_thickness: f32,
+    /// The triangle's tie key in the split queue (`queues.rs`); 0 when it cannot split.
+    pub tie: u64,
 }
 
 impl Geometry {
@@ -80,6 +82,7 @@ impl Geometry {
         corners: [glam::DVec3::ZERO; 3],
         thickness: f32::NAN,
         culling_thickness: f32::NAN,
+        tie: 0,
     };
 }
 

@@ -167,35 +167,33 @@ impl BucketQueue {
         );
         self.heads.fill(None);
         self.occupied.fill(0);
-        self.zero.clear();
-        self.infinite.clear();
+        let mut zero = Vec::new();
+        let mut infinite = Vec::new();
         for &(key, priority) in priorities {
             let bucket = bucket_of(priority.value);
-            let mut entry = Entry {
-                key: priority,
-                bucket,
-                prev: None,
-                next: None,
-            };
+            let mut next = None;
             match bucket {
-                ZERO_BUCKET => {
-                    self.zero.insert(priority, key);
-                }
-                INFINITE_BUCKET => {
-                    self.infinite.insert(priority, key);
-                }
+                ZERO_BUCKET => zero.push((priority, key)),
+                INFINITE_BUCKET => infinite.push((priority, key)),
                 _ => {
-                    let head = self.heads[bucket as usize];
-                    if let Some(head) = head {
+                    next = self.heads[bucket as usize];
+                    if let Some(head) = next {
                         self.entries[head].prev = Some(key);
                     }
-                    entry.next = head;
                     self.heads[bucket as usize] = Some(key);
                 }
             }
-            self.entries[key] = entry;
+            self.entries[key] = Entry {
+                key: priority,
+                bucket,
+                prev: None,
+                next,
+            };
             self.occupied[bucket as usize / 64] |= 1 << (bucket % 64);
         }
+        // Built in bulk from sorted runs rather than one insertion at a time.
+        self.zero = zero.into_iter().collect();
+        self.infinite = infinite.into_iter().collect();
     }
 
     /// Removes `key`; returns its priority if it was queued. O(1), O(log n) in the 0 and +∞

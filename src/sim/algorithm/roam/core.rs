@@ -142,12 +142,13 @@ impl<'h> Core<'h> {
         let shape = self.bintree.get(key).shape;
         let position =
             |p: crate::sim::hierarchy::GridPoint| field.position(p.i as usize, p.j as usize);
-        let (thickness, culling_thickness) = match shape.split_vertex() {
+        let (thickness, culling_thickness, tie) = match shape.split_vertex() {
             Some(mid) => (
                 self.thicknesses.priority(mid, shape.apex),
                 self.thicknesses.culling(mid, shape.apex),
+                super::queues::QueueKey::triangle_tie(self.bintree.lattice(), mid, shape.apex),
             ),
-            None => (0.0, 0.0),
+            None => (0.0, 0.0, 0),
         };
         self.bintree.get_mut(key).geometry = Geometry {
             corners: [
@@ -157,6 +158,7 @@ impl<'h> Core<'h> {
             ],
             thickness,
             culling_thickness,
+            tie,
         };
     }
 
@@ -191,8 +193,10 @@ impl<'h> Core<'h> {
     /// The priority of the leaf `key` (scheduled under deferral); `None` when it cannot split.
     fn triangle_priority(&mut self, key: TriangleKey) -> Option<QueueKey> {
         let triangle = self.bintree.get(key);
-        let split = triangle.split_vertex()?;
-        let apex = triangle.shape.apex;
+        if triangle.geometry.tie == 0 {
+            return None; // finest level: cannot split
+        }
+        let tie = triangle.geometry.tie;
         self.counters.evaluations += 1;
         self.counters.elements += 1;
         let value = if self.schedules(0) {
@@ -202,12 +206,7 @@ impl<'h> Core<'h> {
         } else {
             self.context().priority(triangle)
         };
-        Some(QueueKey::triangle(
-            self.bintree.lattice(),
-            value,
-            split,
-            apex,
-        ))
+        Some(QueueKey::with_tie(value, tie))
     }
 
     /// Computes the priority of the diamond queued under `primary` and puts it in the merge
@@ -322,14 +321,9 @@ impl<'h> Core<'h> {
         keys.clear();
         priorities.clear();
         if queue == 0 {
-            // Every splittable leaf is queued (the validator checks it): walk the slot map in
-            // order, which reads the triangles' slots one after the other.
-            keys.extend(
-                self.bintree
-                    .iter()
-                    .filter(|(_, t)| t.is_leaf() && t.split_vertex().is_some())
-                    .map(|(k, _)| k),
-            );
+            // The bucketed queue lists its keys in slot order, so the triangles' slots are read
+            // one after the other.
+            self.queues.split.keys_into(&mut keys);
             for &key in &keys {
                 if let Some(priority) = self.triangle_priority(key) {
                     priorities.push((key, priority));

@@ -109,20 +109,26 @@ impl Frustum {
     /// `flags.in_mask`, starting from the parent's flags.
     pub fn classify(&self, corners: [DVec3; 3], e: f64, inherited: u8) -> CullFlags {
         let mut in_mask = inherited;
+        // Eye-relative corners once, then three dot products per plane.
+        let [p0, p1, p2] = corners.map(|p| p - self.eye);
         for (k, plane) in self.planes.iter().enumerate() {
             if in_mask & (1 << k) != 0 {
                 continue;
             }
-            let distance = |p: DVec3| plane.normal.dot(p - self.eye) + plane.offset;
-            let [a, b, c] = corners.map(distance);
+            let (a, b, c) = (
+                plane.normal.dot(p0) + plane.offset,
+                plane.normal.dot(p1) + plane.offset,
+                plane.normal.dot(p2) + plane.offset,
+            );
             let reach = e * plane.normal.z.abs();
-            if a.max(b).max(c) + reach < 0.0 {
+            let (low, high) = (a.min(b).min(c), a.max(b).max(c));
+            if high + reach < 0.0 {
                 return CullFlags {
                     label: CullLabel::Out,
                     in_mask,
                 };
             }
-            if a.min(b).min(c) - reach >= 0.0 {
+            if low - reach >= 0.0 {
                 in_mask |= 1 << k;
             }
         }

@@ -79,8 +79,18 @@ impl QueueKey {
     pub fn triangle(lattice: &Lattice, value: f64, split: GridPoint, apex: GridPoint) -> QueueKey {
         QueueKey {
             value,
-            tie: (u64::from(lattice.id(split)) << 32) | u64::from(lattice.id(apex)),
+            tie: Self::triangle_tie(lattice, split, apex),
         }
+    }
+
+    /// The tie key of the triangle with split vertex `split` and apex `apex`.
+    pub fn triangle_tie(lattice: &Lattice, split: GridPoint, apex: GridPoint) -> u64 {
+        (u64::from(lattice.id(split)) << 32) | u64::from(lattice.id(apex))
+    }
+
+    /// A key with a tie computed before (see [`Self::triangle_tie`]).
+    pub fn with_tie(value: f64, tie: u64) -> QueueKey {
+        QueueKey { value, tie }
     }
 
     /// The key of the diamond split at `split`.

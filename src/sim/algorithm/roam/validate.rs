@@ -156,12 +156,13 @@ fn validate_geometry(bintree: &Bintree, expected: &Expected) -> Result<(), Bintr
         let position = |p: crate::sim::hierarchy::GridPoint| {
             expected.field.position(p.i as usize, p.j as usize)
         };
-        let (thickness, culling_thickness) = match shape.split_vertex() {
+        let (thickness, culling_thickness, tie) = match shape.split_vertex() {
             Some(mid) => (
                 expected.thicknesses.priority(mid, shape.apex),
                 expected.thicknesses.culling(mid, shape.apex),
+                super::queues::QueueKey::triangle_tie(bintree.lattice(), mid, shape.apex),
             ),
-            None => (0.0, 0.0),
+            None => (0.0, 0.0, 0),
         };
         let fresh = Geometry {
             corners: [
@@ -171,6 +172,7 @@ fn validate_geometry(bintree: &Bintree, expected: &Expected) -> Result<(), Bintr
             ],
             thickness,
             culling_thickness,
+            tie,
         };
         if triangle.geometry != fresh {
             return fail(format!(
