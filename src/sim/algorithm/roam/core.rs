@@ -31,6 +31,7 @@ pub(super) struct FrameCounters {
     /// Full recomputations: of both queues at the start of a frame, or of one queue mid-frame.
     pub revalidations: u64,
     pub deferred: u64,
+    /// Wedgie classifications: the frame's flag traversal and new children of DONT-KNOW parents.
     pub flag_tests: u64,
     /// Queue elements (triangles and diamonds) whose priority was recomputed.
     pub elements: u64,
@@ -490,6 +491,9 @@ impl<'h> Core<'h> {
                     if self.config.culling_flags {
                         let child_flags =
                             cull::classify_child(&frustum, &self.bintree, child, flags);
+                        // A child of a DONT-KNOW parent is tested; others inherit.
+                        self.counters.flag_tests +=
+                            u64::from(flags.label == cull::CullLabel::DontKnow);
                         self.bintree.get_mut(child).flags = child_flags;
                     }
                 }

@@ -72,7 +72,7 @@
 //! too); `deferred` = queued elements whose priority the frame did not recompute before its
 //! loop; `revalidations` = full recomputations (of both queues at the start of a frame, or of one
 //! queue when a target's crossover left deferral's band mid-frame); `flag_tests` =
-//! wedgie classifications of the flag traversal.
+//! wedgie classifications (the frame's flag traversal, and new children of DONT-KNOW parents).
 
 mod bintree;
 mod buckets;
