@@ -84,6 +84,34 @@ impl Geometry {
         culling_thickness: f32::NAN,
         tie: 0,
     };
+
+    /// The geometry of the triangle `shape` from the terrain and the thickness tables.
+    pub fn of(
+        shape: &Triangle,
+        field: &crate::sim::terrain::Heightfield,
+        thicknesses: &super::thickness::Thicknesses,
+        lattice: &Lattice,
+    ) -> Geometry {
+        let position = |p: GridPoint| field.position(p.i as usize, p.j as usize);
+        let (thickness, culling_thickness, tie) = match shape.split_vertex() {
+            Some(mid) => (
+                thicknesses.priority(mid, shape.apex),
+                thicknesses.culling(mid, shape.apex),
+                super::queues::QueueKey::triangle_tie(lattice, mid, shape.apex),
+            ),
+            None => (0.0, 0.0, 0),
+        };
+        Geometry {
+            corners: [
+                position(shape.apex),
+                position(shape.left),
+                position(shape.right),
+            ],
+            thickness,
+            culling_thickness,
+            tie,
+        }
+    }
 }
 
 /// A leaf's place in a triangle strip: its neighbours in the strip and the order of its corners

@@ -139,28 +139,14 @@ impl<'h> Core<'h> {
 
     /// Copies a new triangle's corners and thicknesses into its slot.
     pub fn fill_geometry(&mut self, key: TriangleKey) {
-        let field = self.hierarchy.field();
         let shape = self.bintree.get(key).shape;
-        let position =
-            |p: crate::sim::hierarchy::GridPoint| field.position(p.i as usize, p.j as usize);
-        let (thickness, culling_thickness, tie) = match shape.split_vertex() {
-            Some(mid) => (
-                self.thicknesses.priority(mid, shape.apex),
-                self.thicknesses.culling(mid, shape.apex),
-                super::queues::QueueKey::triangle_tie(self.bintree.lattice(), mid, shape.apex),
-            ),
-            None => (0.0, 0.0, 0),
-        };
-        self.bintree.get_mut(key).geometry = Geometry {
-            corners: [
-                position(shape.apex),
-                position(shape.left),
-                position(shape.right),
-            ],
-            thickness,
-            culling_thickness,
-            tie,
-        };
+        let geometry = Geometry::of(
+            &shape,
+            self.hierarchy.field(),
+            &self.thicknesses,
+            self.bintree.lattice(),
+        );
+        self.bintree.get_mut(key).geometry = geometry;
     }
 
     /// Fills the geometry of the two roots (after construction or a reset).

@@ -171,8 +171,6 @@ pub fn wedgie(bintree: &Bintree, key: TriangleKey) -> ([DVec3; 3], f64) {
 pub struct FlagCounts {
     /// Wedgie classifications (one per triangle visited by the traversal).
     pub tests: u64,
-    /// Triangles whose label was rewritten because an ancestor's changed.
-    pub relabelled: u64,
 }
 
 /// §7.1's per-frame traversal. Appends to `changed` every triangle whose `Out`-ness changed
@@ -207,7 +205,7 @@ pub fn update_flags(
             label if label == old.label => {}
             _ => {
                 if let Some(children) = children {
-                    counts.relabelled += relabel_subtree(bintree, children, new, changed);
+                    relabel_subtree(bintree, children, new, changed);
                 }
             }
         }
@@ -216,15 +214,14 @@ pub fn update_flags(
 }
 
 /// Gives every triangle below `children` the flags `flags` (an `Out` or `AllIn` ancestor's),
-/// reporting those whose `Out`-ness changed. Returns how many were relabelled.
+/// reporting those whose `Out`-ness changed.
 fn relabel_subtree(
     bintree: &mut Bintree,
     children: [TriangleKey; 2],
     flags: CullFlags,
     changed: &mut Vec<TriangleKey>,
-) -> u64 {
+) {
     let mut pending = children.to_vec();
-    let mut relabelled = 0;
     while let Some(key) = pending.pop() {
         let triangle = &mut bintree.triangles[key];
         if triangle.flags.label == flags.label {
@@ -235,10 +232,8 @@ fn relabel_subtree(
             changed.push(key);
         }
         triangle.flags = flags;
-        relabelled += 1;
         if let Some(grandchildren) = triangle.children {
             pending.extend(grandchildren);
         }
     }
-    relabelled
 }

@@ -250,6 +250,24 @@ fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
     }
 }
 
+/// A camera for the core's frame before the first real one (every frame sets its own).
+fn placeholder_camera() -> Camera {
+    Camera::new(
+        &crate::sim::view::Pose {
+            position: DVec3::ZERO,
+            yaw: 0.0,
+            pitch: 0.0,
+        },
+        crate::sim::view::ViewSettings {
+            width_px: 1,
+            height_px: 1,
+            fovy: 1.0,
+            near: 1.0,
+            far: 2.0,
+        },
+    )
+}
+
 /// The camera's orientation: its right, up and forward vectors.
 type Orientation = (DVec3, DVec3, DVec3);
 
@@ -289,20 +307,7 @@ impl<'h> Roam<'h> {
         config: RoamConfig,
         motion: MotionBound,
     ) -> Roam<'h> {
-        let placeholder = Camera::new(
-            &crate::sim::view::Pose {
-                position: DVec3::ZERO,
-                yaw: 0.0,
-                pitch: 0.0,
-            },
-            crate::sim::view::ViewSettings {
-                width_px: 1,
-                height_px: 1,
-                fovy: 1.0,
-                near: 1.0,
-                far: 2.0,
-            },
-        );
+        let placeholder = placeholder_camera();
         let mut core = Core::new(hierarchy, config, motion, true, &placeholder);
         // The two roots, priorities placeholders: the first frame recomputes everything.
         for root in core.bintree.roots() {
@@ -466,20 +471,7 @@ impl<'h> RoamRebuild<'h> {
             metres_per_frame: speed.horizontal.hypot(speed.vertical),
             radians_per_frame: None,
         };
-        let placeholder = Camera::new(
-            &crate::sim::view::Pose {
-                position: DVec3::ZERO,
-                yaw: 0.0,
-                pitch: 0.0,
-            },
-            crate::sim::view::ViewSettings {
-                width_px: 1,
-                height_px: 1,
-                fovy: 1.0,
-                near: 1.0,
-                far: 2.0,
-            },
-        );
+        let placeholder = placeholder_camera();
         let core = Core::new(hierarchy, config, motion, false, &placeholder);
         let previous_mesh = core.bintree.mesh().clone();
         RoamRebuild {

@@ -357,26 +357,27 @@ fn link(bintree: &mut Bintree, tail: TriangleKey, head: TriangleKey) {
 
 /// Reverses the strip whose tail is `tail` (it becomes its head). O(strip length).
 fn reverse_strip_ending(bintree: &mut Bintree, tail: TriangleKey) {
-    let mut cursor = Some(tail);
-    while let Some(k) = cursor {
-        let Some(s) = bintree.get_mut(k).strip.as_mut() else {
-            break;
-        };
-        let previous = s.prev;
-        std::mem::swap(&mut s.prev, &mut s.next);
-        s.order.reverse();
-        cursor = previous;
-    }
+    reverse_strip(bintree, tail, |links| links.prev);
 }
 
 /// Reverses the strip whose head is `head` (it becomes its tail). O(strip length).
 fn reverse_strip_starting(bintree: &mut Bintree, head: TriangleKey) {
-    let mut cursor = Some(head);
+    reverse_strip(bintree, head, |links| links.next);
+}
+
+/// Reverses the strip at one of its ends, walking towards the other with `onwards`: every
+/// triangle's neighbours swap and its vertex order reverses.
+fn reverse_strip(
+    bintree: &mut Bintree,
+    end: TriangleKey,
+    onwards: impl Fn(&StripLinks) -> Option<TriangleKey>,
+) {
+    let mut cursor = Some(end);
     while let Some(k) = cursor {
         let Some(s) = bintree.get_mut(k).strip.as_mut() else {
             break;
         };
-        let following = s.next;
+        let following = onwards(s);
         std::mem::swap(&mut s.prev, &mut s.next);
         s.order.reverse();
         cursor = following;

@@ -20,7 +20,7 @@
 //! the per-triangle `max_plus_own` table, shared with the priority when that is the rule in use.
 //! Every value is rounded up to `f32`.
 
-use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, NestingRule, VertexClass};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, NestingRule, VertexClass, round_up};
 
 /// Where the nested thickness of a triangle comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -158,16 +158,6 @@ fn per_triangle(hierarchy: &Hierarchy, rule: NestingRule) -> Vec<[f32; 2]> {
         }
     }
     table
-}
-
-/// The smallest `f32` not below `value`.
-fn round_up(value: f64) -> f32 {
-    let rounded = value as f32;
-    if f64::from(rounded) < value {
-        rounded.next_up()
-    } else {
-        rounded
-    }
 }
 
 #[cfg(test)]

@@ -153,27 +153,12 @@ pub fn validate(
 fn validate_geometry(bintree: &Bintree, expected: &Expected) -> Result<(), BintreeError> {
     for (_, triangle) in bintree.iter() {
         let shape = triangle.shape;
-        let position = |p: crate::sim::hierarchy::GridPoint| {
-            expected.field.position(p.i as usize, p.j as usize)
-        };
-        let (thickness, culling_thickness, tie) = match shape.split_vertex() {
-            Some(mid) => (
-                expected.thicknesses.priority(mid, shape.apex),
-                expected.thicknesses.culling(mid, shape.apex),
-                super::queues::QueueKey::triangle_tie(bintree.lattice(), mid, shape.apex),
-            ),
-            None => (0.0, 0.0, 0),
-        };
-        let fresh = Geometry {
-            corners: [
-                position(shape.apex),
-                position(shape.left),
-                position(shape.right),
-            ],
-            thickness,
-            culling_thickness,
-            tie,
-        };
+        let fresh = Geometry::of(
+            &shape,
+            expected.field,
+            expected.thicknesses,
+            bintree.lattice(),
+        );
         if triangle.geometry != fresh {
             return fail(format!(
                 "{shape:?}: geometry {:?}, expected {fresh:?}",
