@@ -3,7 +3,8 @@
 //! Checks, in order: parent/child links; every leaf's neighbour links are symmetric, point at
 //! leaves and share the right edge; neighbours' depths differ by at most one; the leaf count;
 //! the mesh is exactly the corners plus every split vertex, and it passes the shared mesh
-//! validator (closure, T = 2 + Σ parents); every triangle's culling flags equal a fresh
+//! validator (closure, T = 2 + Σ parents); every triangle's copied corners, thicknesses and tie
+//! key equal the terrain's and the tables'; every triangle's culling flags equal a fresh
 //! classification with its parent's (with culling flags on; §7.1's labels are exact every
 //! frame); the strips are valid (`strips.rs`) and hold exactly the drawn leaves; the split queue
 //! holds exactly the splittable leaves and the merge queue exactly the mergeable diamonds, with
