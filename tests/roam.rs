@@ -457,7 +457,7 @@ mod experiment_entries {
 
 #[test]
 fn a_turning_camera_revalidates_every_frame_under_deferral() {
-    // Eq. 3 depends on the view direction and the experiment bounds only the eye's speed.
+    // Eq. 3 depends on the view direction, and this experiment declares no rotation bound.
     let hierarchy = bumpy_terrain(5);
     let config = RoamConfig {
         deferral: true,
@@ -470,6 +470,54 @@ fn a_turning_camera_revalidates_every_frame_under_deferral() {
         assert_eq!(extra(&roam, &stats, "deferred"), 0.0, "frame {frame}");
         roam.validate(camera, PriorityCheck::Exact).unwrap();
     }
+}
+
+#[test]
+fn the_experiments_rotation_bound_lets_a_turning_camera_defer_with_the_same_meshes() {
+    let hierarchy = bumpy_terrain(5);
+    let bounded = SpeedBound {
+        rotation: 0.02,
+        ..SPEED
+    };
+    let config = RoamConfig {
+        culling_flags: true,
+        ..tolerance(1.0)
+    };
+    let mut deferred = Roam::new(
+        &hierarchy,
+        RoamConfig {
+            deferral: true,
+            ..config
+        },
+        bounded,
+    );
+    let mut full = Roam::new(&hierarchy, config, bounded);
+    let (mut evaluations, mut full_evaluations) = (0, 0);
+    // 0.015 rad per frame: within the bound, and 1.4 m per frame along the circle.
+    for (frame, camera) in circle(40, 0.015).iter().enumerate() {
+        let frame = frame as u64;
+        let stats = step(&mut deferred, &hierarchy, frame, camera, false);
+        let reference = step(&mut full, &hierarchy, frame, camera, false);
+        deferred.validate(camera, PriorityCheck::Deferred).unwrap();
+        assert!(
+            vertex_set(&deferred) == vertex_set(&full),
+            "frame {frame}: the meshes differ"
+        );
+        let revalidated = extra(&deferred, &stats, "revalidations");
+        assert_eq!(
+            revalidated,
+            f64::from(u8::from(frame == 0)),
+            "frame {frame}"
+        );
+        if frame > 0 {
+            evaluations += stats.metric_evaluations;
+            full_evaluations += reference.metric_evaluations;
+        }
+    }
+    assert!(
+        2 * evaluations < full_evaluations,
+        "{evaluations} evaluations deferred against {full_evaluations}"
+    );
 }
 
 /// A circle around the terrain's centre at `radians_per_frame`, the camera looking along the
