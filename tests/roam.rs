@@ -4,16 +4,14 @@
 
 mod common;
 
-use common::algorithms::{roam_target as target, roam_tolerance as tolerance};
-use common::{bumpy_terrain, checked_step, extra, view_600};
+use common::{bumpy_terrain, vertex_set, view_600};
 use glam::DVec3;
-use roamsim::sim::algorithm::columns::roam::{
-    DEFERRED, OSCILLATION_GUARD_STOPS, REVALIDATIONS, TRIANGLES_PER_STRIP,
-};
 use roamsim::sim::algorithm::{
-    LodAlgorithm, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild,
+    FrameInput, LodAlgorithm, MotionBound, PriorityCheck, QueueKind, Roam, RoamConfig, RoamGoal,
+    RoamRebuild, ThicknessScope,
 };
 use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::validate::validate_reported;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::view::{Camera, Pose};
 use roamsim::sim::zone::SpeedBound;
@@ -23,6 +21,25 @@ const SPEED: SpeedBound = SpeedBound {
     vertical: 2.0,
     rotation: SpeedBound::NO_ROTATION_BOUND,
 };
+
+fn tolerance(tau_px: f64) -> RoamConfig {
+    RoamConfig {
+        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
+        thickness: ThicknessScope::PerTriangle,
+        queue: QueueKind::Buckets,
+        goal: RoamGoal::TolerancePx(tau_px),
+        deferral: false,
+        culling_flags: false,
+        strips: false,
+    }
+}
+
+fn target(triangles: u64) -> RoamConfig {
+    RoamConfig {
+        goal: RoamGoal::TargetTriangles(triangles),
+        ..tolerance(0.0)
+    }
+}
 
 /// A straight flight at 3 m per frame over a 33×33 (320 m) terrain, looking along +x, slightly
 /// down: the orientation never changes, so deferral can work.
@@ -62,7 +79,7 @@ fn turning_flight(frames: u64) -> Vec<Camera> {
         .collect()
 }
 
-/// One frame of any algorithm, checked as `--check` checks it.
+/// One frame of any algorithm, checked with the shared mesh validator.
 fn step(
     algorithm: &mut dyn LodAlgorithm,
     hierarchy: &Hierarchy,
@@ -70,17 +87,41 @@ fn step(
     camera: &Camera,
     speed_bound_broken: bool,
 ) -> FrameStats {
-    let name = algorithm.name();
-    let stats = checked_step(
-        hierarchy,
-        algorithm,
+    let mut stats = FrameStats {
         frame,
-        camera,
-        speed_bound_broken,
-        name,
+        ..FrameStats::default()
+    };
+    algorithm.update(
+        &FrameInput {
+            frame,
+            camera,
+            broken_bounds: if speed_bound_broken {
+                roamsim::sim::algorithm::BrokenBounds::ALL
+            } else {
+                roamsim::sim::algorithm::BrokenBounds::NONE
+            },
+        },
+        &mut stats,
     );
+    if let Err(error) = validate_reported(
+        hierarchy.lattice(),
+        vertex_set(algorithm),
+        algorithm.triangle_count(),
+    ) {
+        panic!("{} frame {frame}: {error}", algorithm.name());
+    }
+    assert_eq!(stats.triangles, algorithm.triangle_count());
     assert_eq!(stats.extra.len(), algorithm.extra_columns().len());
     stats
+}
+
+fn extra(algorithm: &dyn LodAlgorithm, stats: &FrameStats, column: &str) -> f64 {
+    let k = algorithm
+        .extra_columns()
+        .iter()
+        .position(|c| *c == column)
+        .unwrap_or_else(|| panic!("no column {column}"));
+    stats.extra[k]
 }
 
 /// Flies `roam`, checking the mesh and the whole bintree (exact priorities) every frame.
@@ -91,10 +132,7 @@ fn fly_checked(config: RoamConfig, cameras: &[Camera]) -> Vec<FrameStats> {
     for (frame, camera) in cameras.iter().enumerate() {
         frames.push(step(&mut roam, &hierarchy, frame as u64, camera, false));
         let check = if config.deferral {
-            match config.goal {
-                RoamGoal::TolerancePx(tau) => PriorityCheck::SameSideOf(tau),
-                RoamGoal::TargetTriangles(_) => PriorityCheck::Exact,
-            }
+            PriorityCheck::Deferred
         } else {
             PriorityCheck::Exact
         };
@@ -139,7 +177,7 @@ fn a_target_flight_with_every_effect_stays_valid_and_within_budget() {
     let hierarchy = bumpy_terrain(5);
     let roam = Roam::new(&hierarchy, config, SPEED);
     let strips = &frames[10];
-    let per_strip = extra(&roam, strips, TRIANGLES_PER_STRIP);
+    let per_strip = extra(&roam, strips, "triangles_per_strip");
     assert!((1.0..=10.0).contains(&per_strip), "{per_strip}");
 }
 
@@ -205,15 +243,15 @@ fn deferral_never_lets_a_priority_cross_tau_unseen_and_gives_the_same_meshes() {
             let frame = frame as u64;
             let stats = step(&mut deferred, &hierarchy, frame, camera, false);
             let reference = step(&mut full, &hierarchy, frame, camera, false);
-            if let Err(error) = deferred.validate(camera, PriorityCheck::SameSideOf(1.0)) {
+            if let Err(error) = deferred.validate(camera, PriorityCheck::Deferred) {
                 panic!("flags {culling_flags}, frame {frame}: {error}");
             }
             assert_eq!(
-                deferred.vertex_set(),
-                full.vertex_set(),
+                vertex_set(&deferred),
+                vertex_set(&full),
                 "flags {culling_flags}, frame {frame}"
             );
-            total_deferred += extra(&deferred, &stats, DEFERRED);
+            total_deferred += extra(&deferred, &stats, "deferred");
             recomputations.0 += stats.metric_evaluations;
             recomputations.1 += reference.metric_evaluations;
         }
@@ -249,12 +287,11 @@ fn a_speed_bound_violation_forces_a_revalidation() {
         step(&mut roam, &hierarchy, frame, &far, false);
     }
     let quiet = step(&mut roam, &hierarchy, 3, &far, false);
-    assert_eq!(extra(&roam, &quiet, REVALIDATIONS), 0.0);
+    assert_eq!(extra(&roam, &quiet, "revalidations"), 0.0);
     let jump = step(&mut roam, &hierarchy, 4, &near, true);
-    assert_eq!(extra(&roam, &jump, REVALIDATIONS), 1.0);
-    assert_eq!(extra(&roam, &jump, DEFERRED), 0.0);
-    roam.validate(&near, PriorityCheck::SameSideOf(1.0))
-        .unwrap();
+    assert_eq!(extra(&roam, &jump, "revalidations"), 1.0);
+    assert_eq!(extra(&roam, &jump, "deferred"), 0.0);
+    roam.validate(&near, PriorityCheck::Deferred).unwrap();
 
     // Without the report, deferred priorities go stale: that is what the revalidation prevents.
     let mut unaware = Roam::new(&hierarchy, config, SPEED);
@@ -262,11 +299,7 @@ fn a_speed_bound_violation_forces_a_revalidation() {
         step(&mut unaware, &hierarchy, frame, &far, false);
     }
     step(&mut unaware, &hierarchy, 4, &near, false);
-    assert!(
-        unaware
-            .validate(&near, PriorityCheck::SameSideOf(1.0))
-            .is_err()
-    );
+    assert!(unaware.validate(&near, PriorityCheck::Deferred).is_err());
 }
 
 #[test]
@@ -280,7 +313,7 @@ fn an_unreachable_budget_does_not_make_the_mesh_oscillate() {
         let mut roam = Roam::new(&hierarchy, target(budget), SPEED);
         let first = step(&mut roam, &hierarchy, 0, &camera, false);
         assert!(first.triangles <= budget && first.triangles + 8 >= budget.min(100));
-        let mesh = roam.vertex_set().clone();
+        let mesh = vertex_set(&roam).clone();
         for frame in 1..5 {
             let stats = step(&mut roam, &hierarchy, frame, &camera, false);
             assert_eq!(
@@ -288,7 +321,7 @@ fn an_unreachable_budget_does_not_make_the_mesh_oscillate() {
                 (0, 0),
                 "budget {budget}, frame {frame}: the mesh changed under a still camera"
             );
-            assert_eq!(roam.vertex_set(), &mesh);
+            assert_eq!(vertex_set(&roam), &mesh);
         }
         roam.validate(&camera, PriorityCheck::Exact).unwrap();
     }
@@ -299,8 +332,13 @@ fn the_guard_refuses_to_undo_a_frame_s_swaps_while_turning() {
     // A turning camera makes the dual queue swap (merge to make room, then split) every frame.
     // Each frame must end within budget with bounded work, and the guard is what refuses to
     // re-split a diamond merged in the same frame (or merge one just split).
+    // Culling flags on: the priorities are finite (no +∞ behind the eye to tie with).
     let hierarchy = bumpy_terrain(5);
-    let mut roam = Roam::new(&hierarchy, target(151), SPEED);
+    let config = RoamConfig {
+        culling_flags: true,
+        ..target(151)
+    };
+    let mut roam = Roam::new(&hierarchy, config, SPEED);
     let mut guard_stops = 0.0;
     for (frame, camera) in turning_flight(60).iter().enumerate() {
         let stats = step(&mut roam, &hierarchy, frame as u64, camera, false);
@@ -311,7 +349,7 @@ fn the_guard_refuses_to_undo_a_frame_s_swaps_while_turning() {
                 "frame {frame}: {stats:?}"
             );
         }
-        guard_stops += extra(&roam, &stats, OSCILLATION_GUARD_STOPS);
+        guard_stops += extra(&roam, &stats, "oscillation_guard_stops");
         roam.validate(camera, PriorityCheck::Exact).unwrap();
     }
     assert!(guard_stops > 0.0, "the guard never had to act");
@@ -328,7 +366,7 @@ fn the_rebuild_matches_the_incremental_mesh_at_a_fixed_tolerance() {
         step(&mut roam, &hierarchy, frame as u64, camera, false);
         step(&mut rebuild, &hierarchy, frame as u64, camera, false);
         assert!(
-            rebuild.vertex_set().is_subset(roam.vertex_set()),
+            vertex_set(&rebuild).is_subset(vertex_set(&roam)),
             "frame {frame}"
         );
         assert!(roam.max_split_priority() <= 1.5);
@@ -363,6 +401,8 @@ mod experiment_entries {
         let entries = [
             json!({"name": "roam", "target_triangles": 3000, "culling_flags": true, "strips": true}),
             json!({"name": "roam", "tau_px": 2, "deferral": true}),
+            json!({"name": "roam", "tau_px": 2, "thickness": "per_vertex", "queue": "heap"}),
+            json!({"name": "roam", "tau_px": 2, "thickness": "per_triangle", "queue": "buckets"}),
             json!({"name": "roam-rebuild", "target_triangles": 3000}),
         ];
         for entry in entries {
@@ -383,14 +423,25 @@ mod experiment_entries {
     }
 
     #[test]
-    fn deferral_is_refused_where_it_cannot_be_safe() {
+    fn deferral_works_with_a_target_and_is_refused_for_the_rebuild() {
         let problems =
             problems_of(json!({"name": "roam", "target_triangles": 100, "deferral": true}));
-        assert_eq!(problems.len(), 1, "{problems:?}");
-        assert!(problems[0].starts_with("algorithms[0].deferral: true with"));
+        assert_eq!(problems, Vec::<String>::new());
         let problems = problems_of(json!({"name": "roam-rebuild", "tau_px": 1, "deferral": true}));
         assert_eq!(problems.len(), 1, "{problems:?}");
         assert!(problems[0].contains("roam-rebuild starts from scratch"));
+    }
+
+    #[test]
+    fn an_unknown_thickness_or_queue_names_the_field() {
+        let problems = problems_of(json!({"name": "roam", "tau_px": 1, "thickness": "per_edge"}));
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(
+            problems[0].starts_with("algorithms[0].thickness: unknown variant `per_edge`"),
+            "{problems:?}"
+        );
+        let problems = problems_of(json!({"name": "roam", "tau_px": 1, "queue": "fibonacci"}));
+        assert!(problems[0].starts_with("algorithms[0].queue: unknown variant"));
     }
 
     #[test]
@@ -406,7 +457,7 @@ mod experiment_entries {
 
 #[test]
 fn a_turning_camera_revalidates_every_frame_under_deferral() {
-    // Eq. 3 depends on the view direction and the experiment bounds only the eye's speed.
+    // Eq. 3 depends on the view direction, and this experiment declares no rotation bound.
     let hierarchy = bumpy_terrain(5);
     let config = RoamConfig {
         deferral: true,
@@ -415,8 +466,311 @@ fn a_turning_camera_revalidates_every_frame_under_deferral() {
     let mut roam = Roam::new(&hierarchy, config, SPEED);
     for (frame, camera) in turning_flight(10).iter().enumerate() {
         let stats = step(&mut roam, &hierarchy, frame as u64, camera, false);
-        assert_eq!(extra(&roam, &stats, REVALIDATIONS), 1.0, "frame {frame}");
-        assert_eq!(extra(&roam, &stats, DEFERRED), 0.0, "frame {frame}");
+        assert_eq!(extra(&roam, &stats, "revalidations"), 1.0, "frame {frame}");
+        assert_eq!(extra(&roam, &stats, "deferred"), 0.0, "frame {frame}");
         roam.validate(camera, PriorityCheck::Exact).unwrap();
+    }
+}
+
+#[test]
+fn the_experiments_rotation_bound_lets_a_turning_camera_defer_with_the_same_meshes() {
+    let hierarchy = bumpy_terrain(5);
+    let bounded = SpeedBound {
+        rotation: 0.02,
+        ..SPEED
+    };
+    let config = RoamConfig {
+        culling_flags: true,
+        ..tolerance(1.0)
+    };
+    let mut deferred = Roam::new(
+        &hierarchy,
+        RoamConfig {
+            deferral: true,
+            ..config
+        },
+        bounded,
+    );
+    let mut full = Roam::new(&hierarchy, config, bounded);
+    let (mut evaluations, mut full_evaluations) = (0, 0);
+    // 0.015 rad per frame: within the bound, and 1.4 m per frame along the circle.
+    for (frame, camera) in circle(40, 0.015).iter().enumerate() {
+        let frame = frame as u64;
+        let stats = step(&mut deferred, &hierarchy, frame, camera, false);
+        let reference = step(&mut full, &hierarchy, frame, camera, false);
+        deferred.validate(camera, PriorityCheck::Deferred).unwrap();
+        assert!(
+            vertex_set(&deferred) == vertex_set(&full),
+            "frame {frame}: the meshes differ"
+        );
+        let revalidated = extra(&deferred, &stats, "revalidations");
+        assert_eq!(
+            revalidated,
+            f64::from(u8::from(frame == 0)),
+            "frame {frame}"
+        );
+        if frame > 0 {
+            evaluations += stats.metric_evaluations;
+            full_evaluations += reference.metric_evaluations;
+        }
+    }
+    assert!(
+        2 * evaluations < full_evaluations,
+        "{evaluations} evaluations deferred against {full_evaluations}"
+    );
+}
+
+/// A circle around the terrain's centre at `radians_per_frame`, the camera looking along the
+/// path: it turns by exactly that angle every frame.
+fn circle(frames: u64, radians_per_frame: f64) -> Vec<Camera> {
+    (0..frames)
+        .map(|k| {
+            let angle = radians_per_frame * k as f64;
+            Camera::new(
+                &Pose {
+                    position: DVec3::new(
+                        160.0 + 110.0 * angle.cos(),
+                        160.0 + 110.0 * angle.sin(),
+                        60.0,
+                    ),
+                    yaw: angle + std::f64::consts::FRAC_PI_2,
+                    pitch: -0.3,
+                },
+                view_600(),
+            )
+        })
+        .collect()
+}
+
+/// Flies `config` with and without deferral (the deferred one under `motion`), checking after
+/// every frame that the meshes are identical and that the deferred queues are stale only where
+/// the schedule allows. Returns the priority evaluations (deferred, full) and the deferred run's
+/// revalidations.
+fn deferral_against_full(
+    config: RoamConfig,
+    motion: MotionBound,
+    cameras: &[Camera],
+) -> (u64, u64, f64) {
+    let hierarchy = bumpy_terrain(5);
+    let mut deferred = Roam::with_motion_bound(
+        &hierarchy,
+        RoamConfig {
+            deferral: true,
+            ..config
+        },
+        motion,
+    );
+    let mut full = Roam::new(&hierarchy, config, SPEED);
+    let (mut evaluations, mut revalidations) = ((0, 0), 0.0);
+    for (frame, camera) in cameras.iter().enumerate() {
+        let frame = frame as u64;
+        let stats = step(&mut deferred, &hierarchy, frame, camera, false);
+        let reference = step(&mut full, &hierarchy, frame, camera, false);
+        if let Err(error) = deferred.validate(camera, PriorityCheck::Deferred) {
+            panic!("{config:?}, frame {frame}: {error}");
+        }
+        assert!(
+            vertex_set(&deferred) == vertex_set(&full),
+            "{config:?}, frame {frame}: the meshes differ"
+        );
+        assert_eq!(
+            (stats.splits, stats.merges),
+            (reference.splits, reference.merges)
+        );
+        if frame > 0 {
+            evaluations.0 += stats.metric_evaluations;
+            evaluations.1 += reference.metric_evaluations;
+            revalidations += extra(&deferred, &stats, "revalidations");
+        }
+    }
+    (evaluations.0, evaluations.1, revalidations)
+}
+
+const NO_TURN: MotionBound = MotionBound {
+    metres_per_frame: 4.47213595499958,
+    radians_per_frame: None,
+};
+
+#[test]
+fn deferral_with_a_triangle_target_gives_the_meshes_of_full_recomputation_for_less() {
+    // Culling flags on: without them the triangles behind the eye take priority +∞ and the
+    // crossover with them, and nothing can be deferred against an infinite crossover.
+    for strips in [false, true] {
+        let config = RoamConfig {
+            culling_flags: true,
+            strips,
+            ..target(240)
+        };
+        let (deferred, full, revalidations) =
+            deferral_against_full(config, NO_TURN, &straight_flight(60));
+        assert!(
+            3 * deferred < 2 * full,
+            "strips {strips}: {deferred} evaluations against {full}"
+        );
+        assert!(revalidations < 10.0, "{revalidations} revalidations");
+    }
+}
+
+#[test]
+fn with_a_rotation_bound_a_turning_camera_defers_and_keeps_the_meshes() {
+    // 0.03 rad a frame, bound 0.035: never beyond the bound.
+    let turning = MotionBound {
+        metres_per_frame: 4.0,
+        radians_per_frame: Some(0.035),
+    };
+    let cameras = circle(60, 0.03);
+    for goal in [RoamGoal::TolerancePx(1.0), RoamGoal::TargetTriangles(240)] {
+        let config = RoamConfig {
+            goal,
+            culling_flags: true,
+            strips: true,
+            ..tolerance(1.0)
+        };
+        let (deferred, full, revalidations) = deferral_against_full(config, turning, &cameras);
+        assert!(
+            deferred < full,
+            "{goal:?}: {deferred} evaluations against {full}"
+        );
+        if matches!(goal, RoamGoal::TolerancePx(_)) {
+            assert_eq!(
+                revalidations, 0.0,
+                "{goal:?}: a turn within the bound revalidated"
+            );
+        }
+        // Without the rotation bound the same flight revalidates every frame.
+        let (_, _, unbounded) = deferral_against_full(config, NO_TURN, &cameras);
+        assert_eq!(unbounded, 59.0);
+    }
+}
+
+#[test]
+fn a_turn_beyond_the_rotation_bound_revalidates() {
+    let hierarchy = bumpy_terrain(5);
+    let motion = MotionBound {
+        metres_per_frame: 4.0,
+        radians_per_frame: Some(0.01),
+    };
+    let config = RoamConfig {
+        deferral: true,
+        ..tolerance(1.0)
+    };
+    let mut roam = Roam::with_motion_bound(&hierarchy, config, motion);
+    let slow = circle(10, 0.009);
+    for (frame, camera) in slow.iter().enumerate() {
+        let stats = step(&mut roam, &hierarchy, frame as u64, camera, false);
+        let expected = if frame == 0 { 1.0 } else { 0.0 };
+        assert_eq!(
+            extra(&roam, &stats, "revalidations"),
+            expected,
+            "frame {frame}"
+        );
+    }
+    let next = circle(11, 0.009)[10];
+    let stats = step(&mut roam, &hierarchy, 10, &next, false);
+    assert_eq!(extra(&roam, &stats, "revalidations"), 0.0);
+    let fast = circle(13, 0.009)[12];
+    let stats = step(&mut roam, &hierarchy, 11, &fast, false);
+    assert_eq!(
+        extra(&roam, &stats, "revalidations"),
+        1.0,
+        "0.018 rad in one frame"
+    );
+    let beyond = Camera::new(
+        &Pose {
+            yaw: 0.5,
+            ..Pose {
+                position: fast.eye,
+                yaw: 0.0,
+                pitch: -0.3,
+            }
+        },
+        view_600(),
+    );
+    let stats = step(&mut roam, &hierarchy, 12, &beyond, false);
+    assert_eq!(extra(&roam, &stats, "revalidations"), 1.0);
+    roam.validate(&beyond, PriorityCheck::Deferred).unwrap();
+}
+
+#[test]
+fn culling_flags_are_kept_without_walking_the_whole_tree() {
+    // A straight flight: the labels of most of the tree stay, and the traversal stops at the
+    // top of every unchanged OUT or ALL-IN subtree (the validator checks every label).
+    let config = RoamConfig {
+        culling_flags: true,
+        ..tolerance(0.5)
+    };
+    let hierarchy = bumpy_terrain(5);
+    let mut roam = Roam::new(&hierarchy, config, SPEED);
+    let mut tested = 0.0;
+    let mut tree = 0.0;
+    for (frame, camera) in straight_flight(30).iter().enumerate() {
+        let stats = step(&mut roam, &hierarchy, frame as u64, camera, false);
+        roam.validate(camera, PriorityCheck::Exact).unwrap();
+        if frame > 0 {
+            tested += extra(&roam, &stats, "flag_tests");
+            // Leaves plus interior triangles: 2·leaves − 2.
+            tree += 2.0 * stats.triangles as f64 - 2.0;
+        }
+    }
+    assert!(
+        tested < 0.5 * tree,
+        "{tested} flag tests for {tree} triangles"
+    );
+}
+
+#[test]
+fn strips_glue_new_triangles_to_their_neighbours() {
+    let config = RoamConfig {
+        culling_flags: true,
+        strips: true,
+        ..target(300)
+    };
+    let frames = fly_checked(config, &turning_flight(40));
+    let hierarchy = bumpy_terrain(5);
+    let roam = Roam::new(&hierarchy, config, SPEED);
+    let mean: f64 = frames
+        .iter()
+        .map(|f| extra(&roam, f, "triangles_per_strip"))
+        .sum::<f64>()
+        / frames.len() as f64;
+    assert!(mean > 3.0, "{mean} triangles per strip");
+}
+
+#[test]
+fn per_vertex_thickness_refines_a_superset_of_the_papers_per_triangle_mesh_on_the_real_tile() {
+    // Per vertex, every triangle's thickness is at least eq. (1)'s, so every priority is at least
+    // as large: at a fixed τ the rebuild splits a superset, and on real terrain a larger one.
+    let experiment = roamsim::edge::experiment::load(
+        &common::experiment::repository().join("experiments/quickstart.json"),
+    )
+    .unwrap();
+    let hierarchy = Hierarchy::new(experiment.field.clone());
+    let per_triangle = RoamConfig {
+        culling_flags: true,
+        ..tolerance(4.0)
+    };
+    let per_vertex = RoamConfig {
+        thickness: ThicknessScope::PerVertex,
+        ..per_triangle
+    };
+    let mut paper = RoamRebuild::new(&hierarchy, per_triangle, experiment.speed);
+    let mut loose = RoamRebuild::new(&hierarchy, per_vertex, experiment.speed);
+    for frame in [0u64, 150, 300] {
+        let camera = Camera::new(
+            &experiment.field.local_pose(experiment.flight.pose(frame)),
+            experiment.view,
+        );
+        let a = step(&mut paper, &hierarchy, frame, &camera, false);
+        let b = step(&mut loose, &hierarchy, frame, &camera, false);
+        assert!(
+            vertex_set(&paper).is_subset(vertex_set(&loose)),
+            "frame {frame}"
+        );
+        assert!(
+            b.triangles > a.triangles + a.triangles / 20,
+            "frame {frame}: {} triangles per vertex, {} per triangle",
+            b.triangles,
+            a.triangles
+        );
     }
 }

@@ -85,6 +85,8 @@ pub fn lindstrom(tau_px: f64, block_level: u32) -> LindstromConfig {
 pub fn roam_tolerance(tau_px: f64) -> RoamConfig {
     RoamConfig {
         nesting: NestingRule::MaxPlusOwn,
+        thickness: roamsim::sim::algorithm::ThicknessScope::PerTriangle,
+        queue: roamsim::sim::algorithm::QueueKind::Buckets,
         goal: RoamGoal::TolerancePx(tau_px),
         deferral: false,
         culling_flags: false,

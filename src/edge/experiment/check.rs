@@ -654,21 +654,37 @@ fn roam_config(origin: &str, p: &RoamParameters, problems: &mut Problems) -> Opt
             return None;
         }
     };
-    if p.deferral && matches!(goal, RoamGoal::TargetTriangles(_)) {
-        problems.add(
-            format!("{origin}.deferral"),
-            "true with \"target_triangles\": deferral needs a fixed crossover, expected \
-             \"tau_px\" (or no deferral)",
-        );
-        return None;
-    }
     Some(RoamConfig {
         nesting: nesting_rule(p.nesting, NestingRule::MaxPlusOwn),
+        thickness: roam_thickness(p.thickness),
+        queue: roam_queue(p.queue),
         goal,
         deferral: p.deferral,
         culling_flags: p.culling_flags,
         strips: p.strips,
     })
+}
+
+/// ROAM's thickness scope: per triangle (eq. 1) unless the entry says otherwise.
+fn roam_thickness(
+    entry: Option<super::format::ThicknessEntry>,
+) -> crate::sim::algorithm::ThicknessScope {
+    use super::format::ThicknessEntry;
+    use crate::sim::algorithm::ThicknessScope;
+    match entry {
+        None | Some(ThicknessEntry::PerTriangle) => ThicknessScope::PerTriangle,
+        Some(ThicknessEntry::PerVertex) => ThicknessScope::PerVertex,
+    }
+}
+
+/// ROAM's queues: Duchaineau's buckets unless the entry says otherwise.
+fn roam_queue(entry: Option<super::format::QueueEntry>) -> crate::sim::algorithm::QueueKind {
+    use super::format::QueueEntry;
+    use crate::sim::algorithm::QueueKind;
+    match entry {
+        None | Some(QueueEntry::Buckets) => QueueKind::Buckets,
+        Some(QueueEntry::Heap) => QueueKind::Heap,
+    }
 }
 
 fn nesting_rule(entry: Option<NestingEntry>, default: NestingRule) -> NestingRule {

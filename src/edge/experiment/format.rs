@@ -316,6 +316,28 @@ pub struct RoamParameters {
     /// Default: ROAM's max-plus-own rule.
     #[serde(default)]
     pub nesting: Option<NestingEntry>,
+    /// Default: per triangle, the paper's eq. (1).
+    #[serde(default)]
+    pub thickness: Option<ThicknessEntry>,
+    /// Default: Duchaineau's buckets.
+    #[serde(default)]
+    pub queue: Option<QueueEntry>,
+}
+
+/// Where ROAM's nested wedgie thickness is kept.
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum ThicknessEntry {
+    PerTriangle,
+    PerVertex,
+}
+
+/// ROAM's priority queue implementation.
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum QueueEntry {
+    Buckets,
+    Heap,
 }
 
 /// How nested errors combine a vertex's own error with its descendants'.

@@ -30,6 +30,8 @@ pub mod lindstrom {
     pub const VERTICES_EVALUATED: &str = "vertices_evaluated";
     pub const VERTICES_BY_INTERVAL: &str = "vertices_by_interval";
     pub const FORCED_ACTIVATIONS: &str = "forced_activations";
+    pub const BLOCKS_CHANGED: &str = "blocks_changed";
+    pub const INTERVAL_PROBES: &str = "interval_probes";
 }
 
 /// `roam` and `roam-rebuild` (Duchaineau et al. 1997).
@@ -41,6 +43,7 @@ pub mod roam {
     pub const OSCILLATION_GUARD_STOPS: &str = "oscillation_guard_stops";
     pub const DEFERRED: &str = "deferred";
     pub const REVALIDATIONS: &str = "revalidations";
+    pub const FLAG_TESTS: &str = "flag_tests";
     pub const TRIANGLES_PER_STRIP: &str = "triangles_per_strip";
 }
 
@@ -82,6 +85,8 @@ pub const ALL: &[&str] = &[
     lindstrom::VERTICES_EVALUATED,
     lindstrom::VERTICES_BY_INTERVAL,
     lindstrom::FORCED_ACTIVATIONS,
+    lindstrom::BLOCKS_CHANGED,
+    lindstrom::INTERVAL_PROBES,
     roam::FORCED_SPLITS,
     roam::SPLIT_QUEUE,
     roam::MERGE_QUEUE,
@@ -89,6 +94,7 @@ pub const ALL: &[&str] = &[
     roam::OSCILLATION_GUARD_STOPS,
     roam::DEFERRED,
     roam::REVALIDATIONS,
+    roam::FLAG_TESTS,
     roam::TRIANGLES_PER_STRIP,
     geomipmap::PATCHES_REFINED_FOR_NEIGHBOURS,
     geomipmap::STITCHED_SIDES,

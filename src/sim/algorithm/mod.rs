@@ -20,7 +20,10 @@ pub use chunked::{Chunked, ChunkedConfig, SkirtDepth};
 pub use geomipmap::{Geomipmap, GeomipmapConfig, LevelDifference};
 pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold, ViewThreshold};
-pub use roam::{BintreeError, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild};
+pub use roam::{
+    BintreeError, MotionBound, PriorityCheck, QueueKind, Roam, RoamConfig, RoamGoal, RoamRebuild,
+    ThicknessScope,
+};
 pub use wu::{BudgetConfig, Refinement, TauRecentring, Wu, WuConfig, initial_tau_px};
 
 pub use crate::sim::flight::BrokenBounds;

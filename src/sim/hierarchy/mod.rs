@@ -303,8 +303,8 @@ fn max_of_finite(values: &[f64; 5]) -> f64 {
     largest
 }
 
-/// The smallest `f32` not below `value`.
-fn round_up(value: f64) -> f32 {
+/// The smallest `f32` not below `value` (stored errors stay bounds).
+pub(crate) fn round_up(value: f64) -> f32 {
     let rounded = value as f32;
     if f64::from(rounded) < value {
         rounded.next_up()

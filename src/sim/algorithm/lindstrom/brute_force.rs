@@ -1,17 +1,16 @@
 //! The brute-force reference for Lindstrom's criterion: every vertex evaluated exactly, no
 //! blocks, no interval tests, closure by activating parents recursively (top-down).
 //!
-//! It shares with the algorithm only the criterion itself ([`super::keeps_vertex`]) and the
-//! metric; it is the ground truth of the differential tests. O(samples) per call.
+//! It shares with the algorithm only the criterion itself ([`Tolerance::keeps`]); it is the
+//! ground truth of the differential tests. O(samples) per call.
 
-use super::keeps_vertex;
+use super::Tolerance;
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::VertexSet;
-use crate::sim::metrics::vertical_projection_error_px;
 use glam::DVec3;
 
-/// What the from-scratch evaluation needs: the terrain, every vertex's nested error under
-/// Lindstrom's max rule (indexed by vertex id), the eye, λ and τ.
+/// What the from-scratch evaluation needs: the terrain, every vertex's nested error under the
+/// run's nesting rule (indexed by vertex id), the eye, λ and τ.
 #[derive(Clone, Copy, Debug)]
 pub struct FromScratchView<'a> {
     pub hierarchy: &'a Hierarchy,
@@ -22,10 +21,11 @@ pub struct FromScratchView<'a> {
 }
 
 /// The mesh Lindstrom's criterion asks for at this view: the closure under parents of every
-/// vertex with δ > 0 whose vertical-projection error is at least τ.
+/// vertex whose vertical-projection error exceeds τ.
 pub fn mesh_from_scratch(view: &FromScratchView) -> VertexSet {
     let lattice = view.hierarchy.lattice();
     let field = view.hierarchy.field();
+    let tolerance = Tolerance::new(view.lambda, view.tau_px);
     let mut mesh = VertexSet::base_mesh(lattice);
     let mut stack: Vec<GridPoint> = Vec::new();
     for j in 0..lattice.side() {
@@ -33,9 +33,7 @@ pub fn mesh_from_scratch(view: &FromScratchView) -> VertexSet {
             let point = GridPoint::new(i, j);
             let delta = view.nested_errors[lattice.id(point) as usize];
             let position = field.position(i as usize, j as usize);
-            let projected =
-                vertical_projection_error_px(view.eye, position, f64::from(delta), view.lambda);
-            if !keeps_vertex(delta, projected, view.tau_px) {
+            if !tolerance.keeps(delta, position - view.eye) {
                 continue;
             }
             stack.push(point);

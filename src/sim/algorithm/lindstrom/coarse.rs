@@ -8,10 +8,21 @@
 //! - the smallest g is at the largest h, at r_min or r_max (whichever is smaller).
 //!
 //! A vertex of nested error δ in the box then projects to between δ·g_min and δ·g_max pixels.
-//! The tests are made conservative against rounding by [`INTERVAL_MARGIN`]: a vertex is decided
-//! *removed* by interval only when δ = 0 or δ·g_max·(1 + margin) < τ, *kept* only when δ > 0 and
-//! δ·g_min·(1 − margin) ≥ τ; anything between is evaluated exactly. So an interval decision never
-//! differs from the exact criterion ([`super::keeps_vertex`]).
+//! The paper keeps a vertex only when its error *exceeds* τ, so a vertex is decided *removed* by
+//! interval when δ·g_max·(1 + margin) ≤ τ and *kept* when δ·g_min·(1 − margin) > τ; anything
+//! between is evaluated exactly by the paper's squared comparison ([`super::Tolerance::keeps`]).
+//! The [`INTERVAL_MARGIN`] makes the interval tests conservative against rounding, so an interval
+//! decision never differs from the exact criterion.
+//!
+//! **Block state kept between frames.** ROAM'97 §2 on Lindstrom et al.: "The block-LOD updates
+//! are incremental, taking advantage of frame-to-frame and object-space coherence." Each node
+//! keeps a [`BlockState`]: whether its subtree was open (visited) in the previous frame and where
+//! its δ-sorted list was cut into kept / evaluated / removed. A frame starts each node's two
+//! searches from last frame's cuts (galloping: O(log of how far a cut moved) probes instead of
+//! O(log of the list)), and when a subtree that was open closes, only its previously open part is
+//! walked to close it. The per-vertex decisions themselves are redone every frame, as in the
+//! paper's bottom-up vertex step (no deferral: the paper has no speed bound). `interval_probes`
+//! counts the searches' predicate evaluations, `blocks_changed` the nodes that opened or closed.
 //!
 //! Traversal, top-down from the root with a reused stack:
 //! - if the subtree's largest δ is removed by interval over the node's box (which holds the
@@ -25,11 +36,10 @@
 //!
 //! Kept vertices are handed to the fine step by level ([`super::fine::LevelBuckets`]).
 
+use super::Tolerance;
 use super::blocks::{BlockNode, BlockTree};
 use super::fine::LevelBuckets;
-use super::keeps_vertex;
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::metrics::vertical_projection_error_px;
 use glam::DVec3;
 
 /// Relative margin by which an interval test must clear τ before it decides a vertex without
@@ -49,6 +59,21 @@ pub(super) struct CoarseCounts {
     pub(super) vertices_by_interval: u64,
     /// Vertices that meet the criterion themselves (before closure).
     pub(super) vertices_kept: u64,
+    /// Predicate evaluations of the searches that cut the δ-sorted lists.
+    pub(super) interval_probes: u64,
+    /// Nodes whose subtree opened or closed since the previous frame.
+    pub(super) blocks_changed: u64,
+}
+
+/// What a node of the block quadtree remembers from the previous frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct BlockState {
+    /// The node's subtree was visited (not removed by interval) in the previous frame.
+    open: bool,
+    /// Where the previous frame cut the node's δ-sorted list: `[0, kept_end)` kept by interval,
+    /// `[removed_start, n)` removed by interval (meaningful only when `open`).
+    kept_end: u32,
+    removed_start: u32,
 }
 
 /// Bounds of the vertical projection factor λ·r/(r² + h²) over an axis-aligned box.
@@ -104,14 +129,16 @@ impl ProjectionBounds {
         }
     }
 
-    /// Whether every vertex of nested error `delta` in the box projects below τ.
+    /// Whether every vertex of nested error `delta` in the box projects to at most τ (the paper
+    /// removes those).
     pub fn removes(&self, delta: f32, tau_px: f64) -> bool {
-        delta == 0.0 || f64::from(delta) * self.max * (1.0 + INTERVAL_MARGIN) < tau_px
+        delta == 0.0 || f64::from(delta) * self.max * (1.0 + INTERVAL_MARGIN) <= tau_px
     }
 
-    /// Whether every vertex of nested error `delta` in the box projects to at least τ.
+    /// Whether every vertex of nested error `delta` in the box projects to more than τ (the
+    /// paper keeps those).
     pub fn keeps(&self, delta: f32, tau_px: f64) -> bool {
-        delta > 0.0 && f64::from(delta) * self.min * (1.0 - INTERVAL_MARGIN) >= tau_px
+        f64::from(delta) * self.min * (1.0 - INTERVAL_MARGIN) > tau_px
     }
 }
 
@@ -122,16 +149,20 @@ pub(super) struct CoarseFrame<'a> {
     pub(super) eye: DVec3,
     pub(super) lambda: f64,
     pub(super) tau_px: f64,
+    pub(super) tolerance: Tolerance,
 }
 
 /// Runs the coarse step: decides every node, evaluates what the intervals leave open, and puts
-/// every vertex that meets the criterion into `kept` by level. O(nodes visited + log of their
-/// sizes + vertices evaluated or kept).
+/// every vertex that meets the criterion into `kept` by level. `state` (one entry per node) is
+/// last frame's state on entry and this frame's on return. O(nodes visited + log of how far their
+/// cuts moved + vertices evaluated or kept + nodes that closed).
 pub(super) fn select_blocks(
     frame: &CoarseFrame,
-    stack: &mut Vec<u32>,
+    state: &mut [BlockState],
+    stacks: &mut (Vec<u32>, Vec<u32>),
     kept: &mut LevelBuckets,
 ) -> CoarseCounts {
+    let (stack, closing) = stacks;
     let mut counts = CoarseCounts::default();
     stack.clear();
     stack.push(0);
@@ -141,14 +172,40 @@ pub(super) fn select_blocks(
         if bounds.removes(node.subtree_delta_max, frame.tau_px) {
             counts.blocks_coarsest += node.subtree_nodes;
             counts.vertices_by_interval += node.subtree_vertices;
+            if state[index as usize].open {
+                close_subtree(frame.blocks, state, index, closing, &mut counts);
+            }
             continue;
         }
-        decide_owned_vertices(frame, node, &bounds, &mut counts, kept);
+        let node_state = &mut state[index as usize];
+        counts.blocks_changed += u64::from(!node_state.open);
+        decide_owned_vertices(frame, node, &bounds, node_state, &mut counts, kept);
         if let Some(children) = frame.blocks.children(index) {
             stack.extend(children.iter().rev());
         }
     }
     counts
+}
+
+/// Marks the previously open part of the subtree of `root` closed. O(nodes that were open).
+fn close_subtree(
+    blocks: &BlockTree,
+    state: &mut [BlockState],
+    root: u32,
+    pending: &mut Vec<u32>,
+    counts: &mut CoarseCounts,
+) {
+    pending.clear();
+    pending.push(root);
+    while let Some(index) = pending.pop() {
+        let node_state = &mut state[index as usize];
+        if !node_state.open {
+            continue;
+        }
+        node_state.open = false;
+        counts.blocks_changed += 1;
+        pending.extend(blocks.children(index).into_iter().flatten());
+    }
 }
 
 fn node_bounds(frame: &CoarseFrame, node: &BlockNode) -> ProjectionBounds {
@@ -170,17 +227,38 @@ fn decide_owned_vertices(
     frame: &CoarseFrame,
     node: &BlockNode,
     bounds: &ProjectionBounds,
+    state: &mut BlockState,
     counts: &mut CoarseCounts,
     kept: &mut LevelBuckets,
 ) {
     let ids = frame.blocks.owned_ids(node);
     let deltas = frame.blocks.owned_deltas(node);
     let n_owned = ids.len();
-    // δ is non-increasing along the list, and both tests are monotone in δ.
-    let kept_end = deltas.partition_point(|&delta| bounds.keeps(delta, frame.tau_px));
-    let removed_start = deltas
-        .partition_point(|&delta| !bounds.removes(delta, frame.tau_px))
-        .max(kept_end);
+    // δ is non-increasing along the list, and both tests are monotone in δ; last frame's cuts
+    // (when the node was open) are where the searches start.
+    let (kept_hint, removed_hint) = if state.open {
+        (state.kept_end as usize, state.removed_start as usize)
+    } else {
+        (0, n_owned)
+    };
+    let kept_end = partition_point_from(
+        deltas,
+        kept_hint,
+        |&delta| bounds.keeps(delta, frame.tau_px),
+        &mut counts.interval_probes,
+    );
+    let removed_start = partition_point_from(
+        deltas,
+        removed_hint,
+        |&delta| !bounds.removes(delta, frame.tau_px),
+        &mut counts.interval_probes,
+    )
+    .max(kept_end);
+    *state = BlockState {
+        open: true,
+        kept_end: kept_end as u32,
+        removed_start: removed_start as u32,
+    };
     if kept_end == n_owned && n_owned > 0 {
         counts.blocks_finest += 1;
     } else if removed_start == 0 {
@@ -203,11 +281,92 @@ fn decide_owned_vertices(
     {
         let point = lattice.point(id);
         let position = field.position(point.i as usize, point.j as usize);
-        let projected =
-            vertical_projection_error_px(frame.eye, position, f64::from(delta), frame.lambda);
-        if keeps_vertex(delta, projected, frame.tau_px) {
+        if frame.tolerance.keeps(delta, position - frame.eye) {
             kept.push(lattice, id);
             counts.vertices_kept += 1;
+        }
+    }
+}
+
+/// The partition point of `slice` under `pred` (true on a prefix, false after it), found by
+/// galloping from `hint` outwards and then bisecting: O(log |answer − hint|) evaluations of
+/// `pred`, each counted in `probes`.
+fn partition_point_from<T>(
+    slice: &[T],
+    hint: usize,
+    pred: impl Fn(&T) -> bool,
+    probes: &mut u64,
+) -> usize {
+    let n = slice.len();
+    let hint = hint.min(n);
+    let mut test = |k: usize| {
+        *probes += 1;
+        pred(&slice[k])
+    };
+    // The answer p satisfies lo ≤ p ≤ hi.
+    let (mut lo, mut hi);
+    if hint > 0 && !test(hint - 1) {
+        // p < hint: gallop to the left.
+        hi = hint - 1;
+        let mut step = 1;
+        loop {
+            if hi < step {
+                lo = 0;
+                break;
+            }
+            if test(hi - step) {
+                lo = hi - step + 1;
+                break;
+            }
+            hi -= step;
+            step *= 2;
+        }
+    } else {
+        // p ≥ hint: gallop to the right.
+        lo = hint;
+        let mut step = 1;
+        loop {
+            if lo + step > n {
+                hi = n;
+                break;
+            }
+            if !test(lo + step - 1) {
+                hi = lo + step - 1;
+                break;
+            }
+            lo += step;
+            step *= 2;
+        }
+    }
+    while lo < hi {
+        let middle = lo + (hi - lo) / 2;
+        if test(middle) {
+            lo = middle + 1;
+        } else {
+            hi = middle;
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+mod tests {
+    use super::partition_point_from;
+
+    #[test]
+    fn galloping_from_any_hint_finds_the_partition_point_of_every_prefix() {
+        for n in 0..40usize {
+            let values: Vec<usize> = (0..n).collect();
+            for point in 0..=n {
+                for hint in 0..=n + 2 {
+                    let mut probes = 0;
+                    let found = partition_point_from(&values, hint, |&v| v < point, &mut probes);
+                    assert_eq!(found, point, "n {n}, point {point}, hint {hint}");
+                    if hint == point && n > 0 {
+                        assert!(probes <= 2, "a right hint costs at most two probes");
+                    }
+                }
+            }
         }
     }
 }

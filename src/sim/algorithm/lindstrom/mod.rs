@@ -1,24 +1,38 @@
 //! `lindstrom`: Lindstrom et al.'s 1996 continuous LOD for height fields, on the 4-8 family.
 //!
-//! Each frame is computed from scratch in two steps, as in the paper: a *coarse* block-based step
-//! (`coarse.rs`) that decides whole blocks of a quadtree (`blocks.rs`) by interval tests on their
-//! δ range, and a *fine* vertex-based step (`fine.rs`) that keeps, bottom-up, the vertices whose
-//! projected error reaches τ and whatever depends on them. No queues, no state carried between
-//! frames but the previous mesh (for the inserted/deleted counts): the per-frame cost grows with
-//! the vertices the step must look at, which is the contrast with Wu's and ROAM's coherence.
+//! Each frame runs two steps, as in the paper: a *coarse* block-based step (`coarse.rs`) that
+//! decides whole blocks of a quadtree (`blocks.rs`) by interval tests on their δ range, starting
+//! from the state each block kept from the previous frame, and a *fine* vertex-based step
+//! (`fine.rs`) that keeps, bottom-up, the vertices whose projected error exceeds τ and whatever
+//! depends on them. No queues and no deferral: every vertex the block step leaves open is
+//! evaluated again every frame, so the per-frame cost grows with the vertices the step must look
+//! at, which is the contrast with Wu's and ROAM's coherence.
 //!
 //! # The criterion
 //!
 //! δ(v) is v's nested error under Lindstrom's max rule
-//! ([`NestingRule::Max`]). Its projection is the
-//! paper's vertical-projection error λ·δ·√(dx²+dy²)/(dx²+dy²+dz²), λ = (h/2)/tan(fovy/2), with
-//! (dx, dy, dz) = v − eye ([`vertical_projection_error_px`]).
-//! A vertex is **kept** when δ > 0 and its projected error is **≥ τ** (non-strict); it is
-//! removed when the projection is below τ, which is the paper's removal test. δ = 0 vertices are
-//! never kept for themselves (they would only add flat triangles), so τ = 0 gives exactly the
-//! vertices with δ > 0 (and their parents, which have δ > 0 too under the max rule). An eye at a
-//! vertex projects its δ > 0 to +∞: kept. The mesh is the closure under parents of the kept
-//! vertices; [`mesh_from_scratch`] computes the same mesh with no blocks at all.
+//! ([`NestingRule::Max`]; `max_plus_own` is an option). Its projection is the paper's
+//! vertical-projection error λ·δ·√(dx²+dy²)/(dx²+dy²+dz²), λ = (h/2)/tan(fovy/2), with
+//! (dx, dy, dz) = v − eye ([`vertical_projection_error_px`]), and the paper compares it with τ
+//! **without a square root**: v is **kept** when λ²δ²(dx²+dy²) > τ²(dx²+dy²+dz²)²
+//! ([`Tolerance::keeps`]), i.e. only when its screen error *exceeds* τ, and it is removed when the
+//! error is at most τ (Lindstrom et al. 1996; Lauritsen–Nielsen 2005 §2.1: "if the error is
+//! greater than the threshold the vertex should not be removed"). Consequences of the paper's
+//! form, all deliberate: δ = 0 is never kept; an eye exactly on a vertex, or straight above or
+//! below it, projects its error to 0 and removes it (closure may still keep it); τ = 0 keeps every
+//! vertex with δ > 0 that is not straight above or below the eye. The mesh is the closure under
+//! parents of the kept vertices; [`mesh_from_scratch`] computes the same mesh with no blocks at
+//! all.
+//!
+//! **What the metric measures off the view axis.** The vertical-projection error is the length
+//! the segment would have on screen if the camera looked straight at the vertex horizontally; it
+//! ignores where the vertex lies in the image. A real perspective camera stretches a segment
+//! towards the edges of the window by 1/cos² of its angle off the axis: at pitch −15° in a 600×600
+//! window with fovy = 60°, the true projected length of a short vertical segment equals the metric
+//! at the image centre, is 1.33× the metric at the middle of the bottom (or top) edge, 1.38× at a
+//! bottom corner and 1.49× at a top corner (`tests/lindstrom.rs` pins these). So the audit's
+//! projected error can exceed τ even where every vertex met the criterion
+//! (`docs/reproductions/lindstrom.md`).
 //!
 //! # Decisions the paper leaves to the implementation
 //!
@@ -30,9 +44,10 @@
 //!   factor is bounded over the box analytically ([`ProjectionBounds`]), with a relative margin
 //!   ([`INTERVAL_MARGIN`]) so rounding can never make an interval decision disagree with the
 //!   exact criterion. The tests are conservative: a block is called "coarsest" only when even
-//!   its largest δ projects below τ from every point of its box, "finest" only when even its
-//!   smallest δ projects to τ or more. Between the two, per vertex: δ ≥ τ/g_min kept, δ <
-//!   τ/g_max removed (binary searches in the δ-sorted list), the rest evaluated exactly.
+//!   its largest δ projects to at most τ from every point of its box, "finest" only when even its
+//!   smallest δ projects to more than τ. Between the two, per vertex: δ > τ/g_min kept, δ ≤
+//!   τ/g_max removed (searches in the δ-sorted list, started from last frame's cuts), the rest
+//!   evaluated exactly.
 //! - **Bottom-up.** Per frame, finest level first: a vertex stays if it is kept or a vertex that
 //!   depends on it stayed (one level finer); see `fine.rs`. Parents are activated across block
 //!   borders wherever they lie.
@@ -44,19 +59,24 @@
 //!   by its own vertices (nodes in a skipped subtree are coarsest); they add up to the node
 //!   count. `splits` / `merges` = vertices entering / leaving the mesh since the previous frame
 //!   (one 4-8 diamond split or merge each: what an incremental renderer would apply), equal to
-//!   `vertices_inserted` / `vertices_deleted`.
+//!   `vertices_inserted` / `vertices_deleted`. `blocks_changed` = nodes whose subtree opened or
+//!   closed since the previous frame; `interval_probes` = predicate evaluations of the searches
+//!   that cut the nodes' δ-sorted lists (what the kept block state saves, `coarse.rs`).
 //!
-//! Memory: 8 bytes per sample for the blocks, one bit per sample per mesh (two meshes).
+//! Memory: 8 bytes per sample for the blocks plus 12 bytes per block of state, one bit per
+//! sample per mesh (two meshes).
 //! Per frame: O(nodes visited + vertices evaluated + mesh).
 
 mod blocks;
 mod brute_force;
 mod coarse;
 mod fine;
+mod tolerance;
 mod validate;
 
 pub use brute_force::{FromScratchView, mesh_from_scratch};
 pub use coarse::{INTERVAL_MARGIN, ProjectionBounds};
+pub use tolerance::Tolerance;
 pub use validate::BlockTreeError;
 
 use super::columns::lindstrom as columns;
@@ -68,7 +88,7 @@ use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
 use blocks::BlockTree;
-use coarse::{CoarseFrame, select_blocks};
+use coarse::{BlockState, CoarseFrame, select_blocks};
 use fine::{LevelBuckets, activate_bottom_up};
 
 #[cfg(doc)]
@@ -83,6 +103,8 @@ const EXTRA_COLUMNS: &[&str] = &[
     columns::VERTICES_EVALUATED,
     columns::VERTICES_BY_INTERVAL,
     columns::FORCED_ACTIVATIONS,
+    columns::BLOCKS_CHANGED,
+    columns::INTERVAL_PROBES,
 ];
 
 /// Parameters of Lindstrom's algorithm.
@@ -97,12 +119,6 @@ pub struct LindstromConfig {
     pub nesting: NestingRule,
 }
 
-/// Whether a vertex of nested error `delta` whose vertical-projection error is `projected_px`
-/// meets Lindstrom's criterion: δ > 0 and projected ≥ τ.
-pub fn keeps_vertex(delta: f32, projected_px: f64, tau_px: f64) -> bool {
-    delta > 0.0 && projected_px >= tau_px
-}
-
 /// Lindstrom's algorithm. Per frame: O(nodes visited + vertices evaluated + mesh); the
 /// per-frame buffers (stack, level lists, meshes, active lists) are reused.
 pub struct Lindstrom<'h> {
@@ -112,7 +128,10 @@ pub struct Lindstrom<'h> {
     blocks: BlockTree,
     mesh: RebuiltMesh,
     n_triangles: u64,
-    node_stack: Vec<u32>,
+    /// Each block's state from the previous frame (see `coarse.rs`).
+    block_states: Vec<BlockState>,
+    /// The traversal's stack and the stack that closes subtrees.
+    node_stacks: (Vec<u32>, Vec<u32>),
     kept: LevelBuckets,
 }
 
@@ -136,10 +155,11 @@ impl<'h> Lindstrom<'h> {
             hierarchy,
             config,
             lambda: view.pixels_per_unit(),
+            block_states: vec![BlockState::default(); blocks.nodes().len()],
             blocks,
             mesh: RebuiltMesh::new(lattice),
             n_triangles: 2,
-            node_stack: Vec::new(),
+            node_stacks: (Vec::new(), Vec::new()),
             kept: LevelBuckets::new(lattice),
         }
     }
@@ -188,9 +208,15 @@ impl LodAlgorithm for Lindstrom<'_> {
             eye: input.camera.eye,
             lambda: self.lambda,
             tau_px: self.config.tau_px,
+            tolerance: Tolerance::new(self.lambda, self.config.tau_px),
         };
         self.kept.clear();
-        let counts = select_blocks(&frame, &mut self.node_stack, &mut self.kept);
+        let counts = select_blocks(
+            &frame,
+            &mut self.block_states,
+            &mut self.node_stacks,
+            &mut self.kept,
+        );
         self.n_triangles += activate_bottom_up(lattice, &mut self.kept, &mut self.mesh);
         let n_non_corner = (self.mesh.active().len() - 4) as u64;
 
@@ -207,6 +233,8 @@ impl LodAlgorithm for Lindstrom<'_> {
             counts.vertices_evaluated as f64,
             counts.vertices_by_interval as f64,
             (n_non_corner - counts.vertices_kept) as f64,
+            counts.blocks_changed as f64,
+            counts.interval_probes as f64,
         ];
     }
 
@@ -220,8 +248,10 @@ impl LodAlgorithm for Lindstrom<'_> {
 
     fn memory_bytes(&self) -> usize {
         self.blocks.memory_bytes()
+            + self.block_states.capacity() * std::mem::size_of::<BlockState>()
             + self.mesh.memory_bytes()
-            + self.node_stack.capacity() * std::mem::size_of::<u32>()
+            + (self.node_stacks.0.capacity() + self.node_stacks.1.capacity())
+                * std::mem::size_of::<u32>()
             + self.kept.memory_bytes()
     }
 }

@@ -10,12 +10,14 @@
 //!   (the same level or one level finer-or-coarser, as ROAM's bintree allows).
 //!
 //! A split triangle keeps `partner`, the other half of the diamond it was split with (`None` on
-//! the border), until it is merged. With strips on, the leaves also form a doubly linked list in
-//! Sierpinski (curve) order, `prev`/`next`, and the bintree counts the *joined junctions* of that
-//! list (see `strips.rs`); split and merge keep both in O(1). The structure does no priority
-//! work; `split.rs` and `merge.rs` change it, `validate.rs` checks it. Memory: one slot (about
-//! 120 bytes) per triangle, leaves and interior nodes alike.
+//! the border), until it is merged. Each triangle also carries what the effects keep on it: its
+//! §7.1 culling flags (`cull.rs`), its place in a §7.2 triangle strip (`strips.rs`, leaves only)
+//! and the frame its priority is next due (`deferral.rs`), and a copy of its corners and
+//! thicknesses ([`Geometry`], filled in by the core). The structure does no priority work;
+//! `split.rs` and `merge.rs` change its topology, `validate.rs` checks it. Memory: one slot
+//! (about 200 bytes) per triangle, leaves and interior nodes alike.
 
+use super::cull::CullFlags;
 use crate::sim::hierarchy::{GridPoint, Lattice};
 use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::triangles::{Triangle, base_triangles};
@@ -47,24 +49,79 @@ pub struct BinTriangle {
     pub right: Option<TriangleKey>,
     /// For a split triangle: the other triangle split at the same vertex.
     pub partner: Option<TriangleKey>,
-    /// For a leaf, with strips on: the previous leaf in curve order (`None` for the first).
-    /// `None` on interior triangles and with strips off.
-    pub prev: Option<TriangleKey>,
-    /// For a leaf, with strips on: the next leaf in curve order (`None` for the last).
-    pub next: Option<TriangleKey>,
-    /// The §7.1 frustum flag of the triangle's wedgie (kept only with culling flags on).
-    pub flag: CullFlag,
+    /// The §7.1 frustum flags of the triangle's wedgie (kept only with culling flags on).
+    pub flags: CullFlags,
+    /// The leaf's place in a §7.2 strip (`None` when it is in none: strips off, not drawn, or an
+    /// interior triangle).
+    pub strip: Option<StripLinks>,
+    /// The frame at which the queued priority of this triangle (a leaf's, or the diamond's it is
+    /// the primary parent of) is due for recomputation under deferral; `u64::MAX` when none.
+    pub due: u64,
+    /// What eq. (3) and the frustum tests read, copied in when the triangle is created.
+    pub geometry: Geometry,
 }
 
-/// ROAM §7.1's frustum flag of a triangle's wedgie.
+/// A triangle's corners and thicknesses, copied from the terrain and the thickness tables when
+/// the triangle is created so that a priority or a frustum test reads one slot and nothing else
+/// (the per-frame recomputation walks the slot map in order).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Geometry {
+    /// Apex, left, right, in terrain-local coordinates.
+    pub corners: [glam::DVec3; 3],
+    /// e_T for the priority (0 when the triangle cannot split).
+    pub thickness: f32,
+    /// e_T for the culling flags (a nested bound).
+    pub culling_thickness: f32,
+    /// The triangle's tie key in the split queue (`queues.rs`); 0 when it cannot split.
+    pub tie: u64,
+}
+
+impl Geometry {
+    /// Before the core fills it in.
+    pub const UNSET: Geometry = Geometry {
+        corners: [glam::DVec3::ZERO; 3],
+        thickness: f32::NAN,
+        culling_thickness: f32::NAN,
+        tie: 0,
+    };
+
+    /// The geometry of the triangle `shape` from the terrain and the thickness tables.
+    pub fn of(
+        shape: &Triangle,
+        field: &crate::sim::terrain::Heightfield,
+        thicknesses: &super::thickness::Thicknesses,
+        lattice: &Lattice,
+    ) -> Geometry {
+        let position = |p: GridPoint| field.position(p.i as usize, p.j as usize);
+        let (thickness, culling_thickness, tie) = match shape.split_vertex() {
+            Some(mid) => (
+                thicknesses.priority(mid, shape.apex),
+                thicknesses.culling(mid, shape.apex),
+                super::queues::QueueKey::triangle_tie(lattice, mid, shape.apex),
+            ),
+            None => (0.0, 0.0, 0),
+        };
+        Geometry {
+            corners: [
+                position(shape.apex),
+                position(shape.left),
+                position(shape.right),
+            ],
+            thickness,
+            culling_thickness,
+            tie,
+        }
+    }
+}
+
+/// A leaf's place in a triangle strip: its neighbours in the strip and the order of its corners
+/// in the strip's vertex sequence (see `strips.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CullFlag {
-    /// Entirely inside all six planes: descendants are inside too.
-    Inside,
-    /// Entirely outside one plane: descendants are outside too.
-    Outside,
-    /// Neither is known.
-    DontKnow,
+pub struct StripLinks {
+    pub prev: Option<TriangleKey>,
+    pub next: Option<TriangleKey>,
+    /// The triangle's corners (0 apex, 1 left, 2 right) as v_k, v_k+1, v_k+2 of the strip.
+    pub order: [u8; 3],
 }
 
 impl BinTriangle {
@@ -99,33 +156,35 @@ impl BinTriangle {
 
 /// The bintree over one lattice. Invariants (checked by `validate.rs`): leaves tile the square;
 /// leaf links are symmetric and geometric; `mesh` holds the corners plus the split vertex of
-/// every split triangle; `n_leaves` counts the leaves; with `strips` on, the leaves' `prev`/`next`
-/// links list every leaf once in curve order, from the first leaf of `roots[0]` to the last of
-/// `roots[1]`, and `joined_junctions` counts the consecutive pairs of that list that continue a
-/// strip (the rule of `strips.rs`).
+/// every split triangle; `n_leaves` counts the leaves; the strip links form valid strips whose
+/// numbers `strips.rs` keeps in `strip_counts`.
 pub struct Bintree {
     pub(super) lattice: Lattice,
     pub(super) triangles: SlotMap<TriangleKey, BinTriangle>,
     pub(super) roots: [TriangleKey; 2],
     pub(super) mesh: VertexSet,
     pub(super) n_leaves: u64,
-    /// Whether the curve-order list and `joined_junctions` are kept (ROAM §7.2 strips).
-    pub(super) strips: bool,
-    pub(super) joined_junctions: u64,
+    /// Strips and the triangles in them (`strips.rs`).
+    pub(super) strip_counts: StripCounts,
+}
+
+/// How many strips there are and how many triangles they hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StripCounts {
+    pub strips: u64,
+    pub triangles: u64,
 }
 
 impl Bintree {
-    /// The base mesh: two triangles sharing the diagonal from (0, 0) to (2^n, 2^n). With
-    /// `strips`, split and merge also keep the leaves' curve-order list (see `strips.rs`).
-    pub fn new(lattice: &Lattice, strips: bool) -> Bintree {
+    /// The base mesh: two triangles sharing the diagonal from (0, 0) to (2^n, 2^n).
+    pub fn new(lattice: &Lattice) -> Bintree {
         let mut bintree = Bintree {
             lattice: *lattice,
             triangles: SlotMap::with_key(),
             roots: [TriangleKey::default(); 2],
             mesh: VertexSet::base_mesh(lattice),
             n_leaves: 2,
-            strips,
-            joined_junctions: 0,
+            strip_counts: StripCounts::default(),
         };
         bintree.reset();
         bintree
@@ -151,9 +210,10 @@ impl Bintree {
             left: None,
             right: None,
             partner: None,
-            prev: None,
-            next: None,
-            flag: CullFlag::DontKnow,
+            flags: CullFlags::UNKNOWN,
+            strip: None,
+            due: u64::MAX,
+            geometry: Geometry::UNSET,
         };
         let a = self.triangles.insert(root(first));
         let b = self.triangles.insert(root(second));
@@ -161,10 +221,7 @@ impl Bintree {
         self.triangles[b].base = Some(a);
         self.roots = [a, b];
         self.n_leaves = 2;
-        self.joined_junctions = 0;
-        if self.strips {
-            super::strips::link_roots(self);
-        }
+        self.strip_counts = StripCounts::default();
     }
 
     pub fn lattice(&self) -> &Lattice {
@@ -187,14 +244,9 @@ impl Bintree {
         self.n_leaves
     }
 
-    /// Whether the curve-order list and the joined-junction count are kept.
-    pub fn tracks_strips(&self) -> bool {
-        self.strips
-    }
-
-    /// Consecutive curve-order leaves that continue a strip (0 with strips off).
-    pub fn joined_junctions(&self) -> u64 {
-        self.joined_junctions
+    /// Strips and the triangles in them.
+    pub fn strip_counts(&self) -> StripCounts {
+        self.strip_counts
     }
 
     /// Every triangle, leaves and interior, in slot order.
@@ -202,8 +254,8 @@ impl Bintree {
         self.triangles.iter()
     }
 
-    pub(super) fn set_flag(&mut self, key: TriangleKey, flag: CullFlag) {
-        self.triangles[key].flag = flag;
+    pub(super) fn get_mut(&mut self, key: TriangleKey) -> &mut BinTriangle {
+        &mut self.triangles[key]
     }
 
     /// Points `neighbour`'s link that referred to `old` at `new` instead.
@@ -223,31 +275,6 @@ impl Bintree {
             triangle.left = Some(new);
         } else if triangle.right == Some(old) {
             triangle.right = Some(new);
-        }
-    }
-
-    /// Leaves in Sierpinski order (consecutive leaves share a vertex), walked from the roots in
-    /// O(triangles): the from-scratch reference for the incremental list of `strips.rs`. Reuses
-    /// `stack` and `out`.
-    pub fn leaves_in_curve_order(
-        &self,
-        stack: &mut Vec<(TriangleKey, bool)>,
-        out: &mut Vec<TriangleKey>,
-    ) {
-        out.clear();
-        stack.clear();
-        stack.push((self.roots[1], true));
-        stack.push((self.roots[0], true));
-        while let Some((key, from_left)) = stack.pop() {
-            match self.triangles[key].children {
-                None => out.push(key),
-                Some([c0, c1]) => {
-                    // Entering at `left`: child 0 (leg apex–left) first, then child 1.
-                    let (first, second) = if from_left { (c0, c1) } else { (c1, c0) };
-                    stack.push((second, !from_left));
-                    stack.push((first, !from_left));
-                }
-            }
         }
     }
 }

@@ -2,8 +2,9 @@
 //!
 //! A diamond is mergeable when every child of its parents is a leaf. Merging removes the split
 //! vertex from the mesh, gives the parents back the children's outer neighbours (relinking those
-//! neighbours to the parents), puts each parent back in the curve-order list in place of its
-//! children (strips on, `strips.rs`) and frees the children's slots. O(1).
+//! neighbours to the parents) and frees the children's slots. O(1). The children must have left
+//! their strips first (`mod.rs` does that); the parents keep their culling flags, which are
+//! current.
 
 use super::bintree::{Bintree, TriangleKey};
 use crate::sim::hierarchy::GridPoint;
@@ -48,9 +49,6 @@ pub fn merge(bintree: &mut Bintree, primary: TriangleKey) -> Option<GridPoint> {
     let vertex = bintree.get(primary).split_vertex()?;
     for parent in parents.into_iter().flatten() {
         let [c0, c1] = bintree.get(parent).children?;
-        if bintree.strips {
-            super::strips::replace_children_by_parent(bintree, parent);
-        }
         let outer_left = bintree.get(c0).base;
         let outer_right = bintree.get(c1).base;
         bintree.relink(outer_left, c0, parent);

@@ -4,11 +4,13 @@
 //! (the two form a diamond); when the neighbour is one level coarser it is split first
 //! (recursively: it may force its own base neighbour), after which the triangle's base neighbour
 //! is the coarser triangle's child that shares its hypotenuse. Each diamond split inserts its
-//! split vertex in the mesh and is recorded in a [`SplitLog`] so the queues can follow; with strips
-//! on, each split leaf is replaced by its children in the curve-order list (`strips.rs`). O(depth)
-//! per split, no allocation besides the new slots and the log.
+//! split vertex in the mesh and is recorded in a [`SplitLog`] so that the queues, the culling
+//! flags and the strips can follow (in `mod.rs`). O(depth) per split, no allocation besides the
+//! new slots and the log. New children start with unknown culling flags, no strip and unset
+//! geometry: the core fills those in.
 
-use super::bintree::{BinTriangle, Bintree, TriangleKey};
+use super::bintree::{BinTriangle, Bintree, Geometry, TriangleKey};
+use super::cull::CullFlags;
 use crate::sim::hierarchy::GridPoint;
 
 /// A diamond that was split: its one or two parent triangles.
@@ -109,9 +111,10 @@ fn add_children(bintree: &mut Bintree, key: TriangleKey, mid: GridPoint) -> [Tri
         left: None,
         right: None,
         partner: None,
-        prev: None,
-        next: None,
-        flag: parent.flag,
+        flags: CullFlags::UNKNOWN,
+        strip: None,
+        due: u64::MAX,
+        geometry: Geometry::UNSET,
     };
     let c0 = bintree.triangles.insert(child(shape0, parent.left));
     let c1 = bintree.triangles.insert(child(shape1, parent.right));
@@ -121,8 +124,5 @@ fn add_children(bintree: &mut Bintree, key: TriangleKey, mid: GridPoint) -> [Tri
     bintree.relink(parent.right, key, c1);
     bintree.triangles[key].children = Some([c0, c1]);
     bintree.n_leaves += 1;
-    if bintree.strips {
-        super::strips::replace_by_children(bintree, key);
-    }
     [c0, c1]
 }

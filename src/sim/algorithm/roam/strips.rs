@@ -1,379 +1,432 @@
-//! Triangle strips over the leaves (ROAM §7.2), kept incrementally and reported as triangles per
-//! strip.
+//! Incremental triangle strips as ROAM'97 §7.2 describes them.
 //!
-//! **What a strip is here.** The leaves are taken in the bintree's Sierpinski (curve) order: the
-//! two roots in turn, each triangle's children in the order that keeps the curve continuous
-//! (child 0 first at even depths, child 1 first at odd depths, as in
-//! [`Bintree::leaves_in_curve_order`]). In a conforming bintree mesh consecutive leaves in that
-//! order always share an edge (a test checks it), so with swaps allowed the whole mesh would be a
-//! single generalised strip and the figure would say nothing. We therefore model ROAM's strips
-//! *without* swaps, cut along the curve: a swap-free strip (v0 v1 v2)(v1 v2 v3)… holds each
-//! vertex in at most three consecutive triangles, so three consecutive junctions that turn
-//! around one vertex (the four leaves they join share a corner) cannot all be kept; the last of
-//! such three is a *fan junction*. The *junction* between consecutive leaves is *joined* when
-//! they share an edge and it is
-//! not the 1st, 4th, 7th, … of a run of consecutive fan junctions (such a run turns around a
-//! single vertex, so it is at most as long as that vertex's fan, ≤ 8 triangles). Every maximal
-//! run of joined junctions is then a valid swap-free strip (its first triangle can be oriented
-//! freely), within a run of fan junctions the cuts are as few as possible, and
-//! `strips = leaves − joined junctions`. The rule is local: a junction's status depends only on
-//! the leaves from the start of its fan to the leaf after it. That is what makes the count
-//! incremental, and it is the structure §7.2 maintains (strips along the bintree's recursive
-//! order, repaired around each split and merge), so `triangles_per_strip` is the §7.2 figure for
-//! these strips. It never reorders leaves to lengthen strips and does not count swap vertices.
+//! "We consider only non-generalized strips (no vertex swapping). We use a simple, sub-optimal,
+//! incremental approach … As triangles are split, merged or change view-culling status, minimal
+//! re-linking of strips is performed. Deleting a triangle from a strip causes the strip to be
+//! deleted (for a singleton strip), shortened on the end, or split in two. New triangles are first
+//! inserted as singleton strips, which we subsequently attempt to glue to each of the neighboring
+//! strip ends." That is what this module does, over the *drawn* leaves only: every leaf with
+//! culling flags off, every leaf not labelled `Out` with them on.
 //!
-//! **Incremental.** With strips on, the [`Bintree`] keeps its leaves in a doubly linked list in
-//! curve order (`prev`/`next`) and the number of joined junctions. A split replaces a leaf by its
-//! two children in curve order and a merge replaces the two children by their parent; each
-//! re-evaluates only the junctions whose status the change can affect (from the leaf before the
-//! change to the end of the fan that runs past it), a bounded number, in O(1). Per frame the
-//! strip count therefore costs O(splits + merges), not O(leaves). The previous implementation
-//! recounted a greedy rule (no swaps, first triangle's orientation fixed by the vertex order)
-//! over all leaves on every changed frame; its figure (2.58 triangles per strip on
-//! `experiments/roam-pop.json`) is not the same rule.
+//! **A strip** is a vertex sequence v0 v1 v2 … whose k-th triangle is (v_k, v_k+1, v_k+2): each
+//! triangle shares with the next the edge opposite its oldest vertex. Each stripped leaf stores
+//! its neighbours in the strip and the order of its three corners in that sequence
+//! ([`StripLinks`]), so a strip's ends are known in O(1): a strip can grow at its head across
+//! the head's edge (v0, v1), at its tail across the tail's edge (v_k+1, v_k+2), and a singleton
+//! across any of its edges (its order is free). Gluing a new triangle t to a neighbour n across
+//! their shared edge: to a singleton n (the two become a strip of two), to the tail of n's strip
+//! if that edge is the tail's exit, or to its head if it is the head's entry. Once glued, t's
+//! other free end is tried against its remaining neighbours, which may join two strips into one
+//! (reversing the second when only its other orientation fits: O(its length)). Neighbours are
+//! tried in a fixed order (base, left, right), so the strips are deterministic.
 //!
-//! [`count_strips`] recounts from scratch in O(triangles) with the same rule: the validator and
-//! the tests compare it with the incremental count.
+//! `triangles_per_strip` = stripped triangles / strips; the paper reports about 4 to 5 for its
+//! strips. Counted, not emitted: roamsim draws nothing. Each operation is O(1) apart from the
+//! reversal, so strips cost O(splits + merges + culling changes) per frame.
 
-use super::bintree::{BinTriangle, Bintree, TriangleKey};
+use super::bintree::{Bintree, Side, StripLinks, TriangleKey};
 use crate::sim::hierarchy::GridPoint;
 
-/// Leaves per strip, from the incremental count in O(1). With strips off in the bintree, 0.
+/// Triangles per strip from the counts (0 when nothing is stripped).
 pub fn triangles_per_strip(bintree: &Bintree) -> f64 {
-    if !bintree.tracks_strips() {
-        return 0.0;
-    }
-    let strips = bintree
-        .n_leaves()
-        .saturating_sub(bintree.joined_junctions());
-    bintree.n_leaves() as f64 / strips.max(1) as f64
-}
-
-/// The number of strips, recounted from scratch over the leaves in curve order with the rule of
-/// the module comment: leaves minus joined junctions. O(triangles); reuses `stack` and `leaves`.
-pub fn count_strips(
-    bintree: &Bintree,
-    stack: &mut Vec<(TriangleKey, bool)>,
-    leaves: &mut Vec<TriangleKey>,
-) -> u64 {
-    bintree.leaves_in_curve_order(stack, leaves);
-    let corners = |k: usize| corners(bintree.get(leaves[k]));
-    let mut joined = 0;
-    // Consecutive fan junctions ending at the current one.
-    let mut run = 0u32;
-    for k in 0..leaves.len().saturating_sub(1) {
-        let fan =
-            k >= 2 && shares_corner(&[corners(k - 2), corners(k - 1), corners(k), corners(k + 1)]);
-        run = if fan { run + 1 } else { 0 };
-        if shares_edge(corners(k), corners(k + 1)) && !(fan && run % 3 == 1) {
-            joined += 1;
-        }
-    }
-    leaves.len() as u64 - joined
-}
-
-type Corners = [GridPoint; 3];
-
-fn corners(triangle: &BinTriangle) -> Corners {
-    [
-        triangle.shape.apex,
-        triangle.shape.left,
-        triangle.shape.right,
-    ]
-}
-
-/// Whether two triangles share an edge: two of their corners coincide.
-fn shares_edge(a: Corners, b: Corners) -> bool {
-    a.iter().filter(|v| b.contains(v)).count() >= 2
-}
-
-/// Whether the triangles have a corner in common.
-fn shares_corner(triangles: &[Corners]) -> bool {
-    triangles[0]
-        .iter()
-        .any(|v| triangles[1..].iter().all(|t| t.contains(v)))
-}
-
-fn prev(bintree: &Bintree, key: TriangleKey) -> Option<TriangleKey> {
-    bintree.get(key).prev
-}
-
-fn next(bintree: &Bintree, key: TriangleKey) -> Option<TriangleKey> {
-    bintree.get(key).next
-}
-
-/// Whether the junction after the leaf `key` is a fan junction: it, the two before it and the
-/// four leaves they join turn around one vertex.
-fn is_fan(bintree: &Bintree, key: TriangleKey) -> bool {
-    let window = || {
-        let after = next(bintree, key)?;
-        let before = prev(bintree, key)?;
-        let first = prev(bintree, before)?;
-        Some([first, before, key, after].map(|k| corners(bintree.get(k))))
-    };
-    window().is_some_and(|w| shares_corner(&w))
-}
-
-/// The junction after the leaf `key`: `Some((joined, fan))`, or `None` for the last leaf.
-/// Walks back over the fan junctions before it (at most the triangles around one vertex).
-fn junction(bintree: &Bintree, key: TriangleKey) -> Option<(bool, bool)> {
-    let after = next(bintree, key)?;
-    let edge = shares_edge(corners(bintree.get(key)), corners(bintree.get(after)));
-    let fan = is_fan(bintree, key);
-    let mut run = u32::from(fan);
-    let mut back = prev(bintree, key);
-    while fan && let Some(k) = back.filter(|&k| is_fan(bintree, k)) {
-        run += 1;
-        back = prev(bintree, k);
-    }
-    Some((edge && !(fan && run % 3 == 1), fan))
-}
-
-/// The joined junctions whose status a change of the leaves up to `last_changed` can affect:
-/// those from the leaf `start` on, up to the first non-fan junction whose four leaves all lie
-/// after `last_changed` (the junctions after it depend only on unchanged leaves).
-fn stretch_joined(bintree: &Bintree, start: TriangleKey, last_changed: TriangleKey) -> u64 {
-    let mut joined = 0;
-    let mut key = Some(start);
-    let mut steps_after: Option<u32> = None;
-    while let Some(k) = key {
-        let Some((is_joined, fan)) = junction(bintree, k) else {
-            break;
-        };
-        joined += u64::from(is_joined);
-        steps_after = if k == last_changed {
-            Some(0)
-        } else {
-            steps_after.map(|s| s + 1)
-        };
-        if steps_after.is_some_and(|s| s >= 3) && !fan {
-            break;
-        }
-        key = next(bintree, k);
-    }
-    joined
-}
-
-/// The children of a triangle at `depth`, in curve order.
-fn in_curve_order(depth: u32, [c0, c1]: [TriangleKey; 2]) -> [TriangleKey; 2] {
-    if depth.is_multiple_of(2) {
-        [c0, c1]
+    let counts = bintree.strip_counts();
+    if counts.strips == 0 {
+        0.0
     } else {
-        [c1, c0]
+        counts.triangles as f64 / counts.strips as f64
     }
 }
 
-/// Points `prev`'s `next` and `next`'s `prev` at `first` and `last`, the new ends of the run
-/// between them.
-fn splice(
-    bintree: &mut Bintree,
-    prev: Option<TriangleKey>,
-    first: TriangleKey,
-    last: TriangleKey,
-    next: Option<TriangleKey>,
-) {
-    bintree.triangles[first].prev = prev;
-    bintree.triangles[last].next = next;
-    if let Some(prev) = prev {
-        bintree.triangles[prev].next = Some(first);
-    }
-    if let Some(next) = next {
-        bintree.triangles[next].prev = Some(last);
-    }
+/// The corners of a triangle as grid points, in the order apex, left, right.
+fn corners(bintree: &Bintree, key: TriangleKey) -> [GridPoint; 3] {
+    let shape = bintree.get(key).shape;
+    [shape.apex, shape.left, shape.right]
 }
 
-/// The base mesh's list: `roots[0]` then `roots[1]`.
-pub(super) fn link_roots(bintree: &mut Bintree) {
-    let [a, b] = bintree.roots;
-    splice(bintree, None, a, a, Some(b));
-    splice(bintree, Some(a), b, b, None);
-    bintree.joined_junctions = stretch_joined(bintree, a, b);
+/// A stripped triangle's vertices v_k, v_k+1, v_k+2.
+fn sequence(bintree: &Bintree, key: TriangleKey) -> [GridPoint; 3] {
+    let c = corners(bintree, key);
+    let order = bintree.get(key).strip.map_or([0, 1, 2], |s| s.order);
+    order.map(|k| c[k as usize])
 }
 
-/// After the leaf `parent` got its children: puts them in its place in the list and re-evaluates
-/// the junctions around them. O(1): a few junctions, each walking back over at most one fan.
-pub(super) fn replace_by_children(bintree: &mut Bintree, parent: TriangleKey) {
-    let triangle = bintree.get(parent);
-    let (prev, next) = (triangle.prev, triangle.next);
-    let Some(children) = triangle.children else {
+fn links(bintree: &Bintree, key: TriangleKey) -> Option<StripLinks> {
+    bintree.get(key).strip
+}
+
+fn set_links(bintree: &mut Bintree, key: TriangleKey, links: StripLinks) {
+    bintree.get_mut(key).strip = Some(links);
+}
+
+/// The order (corner indices) that makes `key`'s sequence start with `first`, `second`.
+fn order_starting(
+    bintree: &Bintree,
+    key: TriangleKey,
+    first: GridPoint,
+    second: GridPoint,
+) -> [u8; 3] {
+    let c = corners(bintree, key);
+    let index = |p: GridPoint| c.iter().position(|&q| q == p).unwrap_or(0) as u8;
+    let (a, b) = (index(first), index(second));
+    [a, b, 3 - a - b]
+}
+
+/// The order that makes `key`'s sequence end with `second_last`, `last`.
+fn order_ending(
+    bintree: &Bintree,
+    key: TriangleKey,
+    second_last: GridPoint,
+    last: GridPoint,
+) -> [u8; 3] {
+    let c = corners(bintree, key);
+    let index = |p: GridPoint| c.iter().position(|&q| q == p).unwrap_or(0) as u8;
+    let (b, c2) = (index(second_last), index(last));
+    [3 - b - c2, b, c2]
+}
+
+/// Whether the unordered edges are the same.
+fn same_edge(a: [GridPoint; 2], b: [GridPoint; 2]) -> bool {
+    (a[0] == b[0] && a[1] == b[1]) || (a[0] == b[1] && a[1] == b[0])
+}
+
+/// Takes `key` out of its strip (if it is in one): the strip is deleted, shortened at an end or
+/// split in two.
+pub fn detach(bintree: &mut Bintree, key: TriangleKey) {
+    let Some(own) = links(bintree, key) else {
         return;
     };
-    let [first, second] = in_curve_order(triangle.depth, children);
-    let before = stretch_joined(bintree, prev.unwrap_or(parent), parent);
-    splice(bintree, prev, first, first, Some(second));
-    splice(bintree, Some(first), second, second, next);
-    let triangle = &mut bintree.triangles[parent];
-    triangle.prev = None;
-    triangle.next = None;
-    let after = stretch_joined(bintree, prev.unwrap_or(first), second);
-    bintree.joined_junctions = bintree.joined_junctions + after - before;
+    bintree.get_mut(key).strip = None;
+    bintree.strip_counts.triangles -= 1;
+    match (own.prev, own.next) {
+        (None, None) => bintree.strip_counts.strips -= 1,
+        (Some(prev), None) => {
+            if let Some(s) = bintree.get_mut(prev).strip.as_mut() {
+                s.next = None;
+            }
+        }
+        (None, Some(next)) => {
+            if let Some(s) = bintree.get_mut(next).strip.as_mut() {
+                s.prev = None;
+            }
+        }
+        (Some(prev), Some(next)) => {
+            if let Some(s) = bintree.get_mut(prev).strip.as_mut() {
+                s.next = None;
+            }
+            if let Some(s) = bintree.get_mut(next).strip.as_mut() {
+                s.prev = None;
+            }
+            bintree.strip_counts.strips += 1;
+        }
+    }
 }
 
-/// Before the leaf children of `parent` are freed: puts `parent` back in their place in the list
-/// and re-evaluates the junctions around it. O(1), as for a split.
-pub(super) fn replace_children_by_parent(bintree: &mut Bintree, parent: TriangleKey) {
-    let triangle = bintree.get(parent);
-    let Some(children) = triangle.children else {
+/// Inserts the leaf `key` as a singleton strip, then glues it to the neighbouring strip ends
+/// it fits (see the module comment). The caller decides which leaves are drawn.
+pub fn attach(bintree: &mut Bintree, key: TriangleKey) {
+    if links(bintree, key).is_some() {
+        return;
+    }
+    set_links(
+        bintree,
+        key,
+        StripLinks {
+            prev: None,
+            next: None,
+            order: [0, 1, 2],
+        },
+    );
+    bintree.strip_counts.triangles += 1;
+    bintree.strip_counts.strips += 1;
+    for side in [Side::Base, Side::Left, Side::Right] {
+        let Some(neighbour) = bintree.get(key).neighbour(side) else {
+            continue;
+        };
+        if links(bintree, neighbour).is_none() {
+            continue;
+        }
+        let edge = bintree.get(key).edge(side);
+        if glue(bintree, key, neighbour, edge) {
+            break;
+        }
+    }
+    // Now try to grow the strip from t's other free end, if t is an end.
+    let Some(own) = links(bintree, key) else {
         return;
     };
-    let [first, second] = in_curve_order(triangle.depth, children);
-    let (prev, next) = (bintree.get(first).prev, bintree.get(second).next);
-    let before = stretch_joined(bintree, prev.unwrap_or(first), second);
-    splice(bintree, prev, parent, parent, next);
-    for child in [first, second] {
-        bintree.triangles[child].prev = None;
-        bintree.triangles[child].next = None;
+    if own.prev.is_none() == own.next.is_none() {
+        return; // still a singleton (nothing fitted) or in the middle: nothing more to do
     }
-    let after = stretch_joined(bintree, prev.unwrap_or(parent), parent);
-    bintree.joined_junctions = bintree.joined_junctions + after - before;
+    for side in [Side::Base, Side::Left, Side::Right] {
+        let Some(neighbour) = bintree.get(key).neighbour(side) else {
+            continue;
+        };
+        if links(bintree, neighbour).is_none() || same_strip(bintree, key, neighbour) {
+            continue;
+        }
+        let edge = bintree.get(key).edge(side);
+        if extend_end(bintree, key, neighbour, edge) {
+            break;
+        }
+    }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::super::merge::{is_mergeable, merge, primary_parent};
-    use super::super::split::{SplitLog, split};
-    use super::*;
-    use crate::sim::hierarchy::Lattice;
-
-    /// The bintree under test and the reference's buffers.
-    struct Strips {
-        bintree: Bintree,
-        stack: Vec<(TriangleKey, bool)>,
-        leaves: Vec<TriangleKey>,
-    }
-
-    impl Strips {
-        fn new(level: u32) -> Strips {
-            Strips {
-                bintree: Bintree::new(&Lattice::new(level), true),
-                stack: Vec::new(),
-                leaves: Vec::new(),
-            }
-        }
-
-        /// The strips the incremental count gives.
-        fn incremental(&self) -> u64 {
-            self.bintree.n_leaves() - self.bintree.joined_junctions()
-        }
-
-        /// Checks the incremental count and the linked list against a recount.
-        fn check(&mut self, what: &str) {
-            let expected = count_strips(&self.bintree, &mut self.stack, &mut self.leaves);
-            assert_eq!(self.incremental(), expected, "{what}");
-            let mut walked = Vec::new();
-            let mut key = Some(self.leaves[0]);
-            while let Some(k) = key {
-                walked.push(k);
-                key = self.bintree.get(k).next;
-                assert!(walked.len() <= self.leaves.len(), "{what}: the list loops");
-            }
-            assert_eq!(walked, self.leaves, "{what}: list order");
-            assert_eq!(self.bintree.get(self.leaves[0]).prev, None, "{what}");
-        }
-
-        fn leaves(&self) -> Vec<TriangleKey> {
-            let mut leaves: Vec<_> = self
-                .bintree
-                .iter()
-                .filter(|(_, t)| t.is_leaf())
-                .map(|(k, t)| (self.bintree.lattice().id(t.shape.apex), t.depth, k))
-                .collect();
-            leaves.sort();
-            leaves.into_iter().map(|(_, _, k)| k).collect()
-        }
-
-        fn mergeable(&self) -> Vec<TriangleKey> {
-            let mut diamonds: Vec<_> = self
-                .bintree
-                .iter()
-                .filter(|(k, t)| !t.is_leaf() && is_mergeable(&self.bintree, *k))
-                .map(|(k, _)| primary_parent(&self.bintree, k))
-                .map(|k| (self.bintree.get(k).split_vertex(), k))
-                .collect();
-            diamonds.sort_by_key(|(v, _)| v.map(|v| self.bintree.lattice().id(v)));
-            diamonds.dedup();
-            diamonds.into_iter().map(|(_, k)| k).collect()
-        }
-    }
-
-    fn next_random(state: &mut u64) -> u64 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        *state >> 33
-    }
-
-    #[test]
-    fn the_base_mesh_is_one_strip_of_two() {
-        let mut strips = Strips::new(3);
-        strips.check("base mesh");
-        assert_eq!(strips.incremental(), 1);
-        assert_eq!(triangles_per_strip(&strips.bintree), 2.0);
-    }
-
-    /// Whether every pair of consecutive leaves in curve order shares an edge.
-    fn edge_connected(strips: &mut Strips) -> bool {
-        count_strips(&strips.bintree, &mut strips.stack, &mut strips.leaves);
-        strips.leaves.windows(2).all(|pair| {
-            shares_edge(
-                corners(strips.bintree.get(pair[0])),
-                corners(strips.bintree.get(pair[1])),
-            )
-        })
-    }
-
-    #[test]
-    fn a_uniform_mesh_is_cut_only_in_its_fans() {
-        let mut strips = Strips::new(4);
-        let mut log = SplitLog::default();
-        for level in 1..=4 {
-            for leaf in strips.leaves() {
-                split(&mut strips.bintree, leaf, &mut log);
-            }
-            strips.check(&format!("uniform level {level}"));
-            assert!(edge_connected(&mut strips), "level {level}");
-        }
-        assert_eq!(strips.bintree.n_leaves(), 32);
-        let per_strip = triangles_per_strip(&strips.bintree);
-        assert!((2.0..=3.0).contains(&per_strip), "{per_strip}");
-    }
-
-    #[test]
-    fn the_incremental_count_equals_a_recount_after_every_split_and_merge() {
-        let mut cut_meshes = 0;
-        for seed in 1..=6u64 {
-            let mut strips = Strips::new(5);
-            let mut log = SplitLog::default();
-            let mut state = seed;
-            let (mut splits, mut merges) = (0, 0);
-            for step in 0..600 {
-                // Grow for a while, then mix, so that deep and shallow meshes both occur.
-                let split_share = if step < 200 { 8 } else { 5 };
-                if next_random(&mut state) % 10 < split_share {
-                    let leaves = strips.leaves();
-                    let leaf = leaves[next_random(&mut state) as usize % leaves.len()];
-                    if split(&mut strips.bintree, leaf, &mut log) {
-                        splits += 1;
-                    }
-                } else {
-                    let diamonds = strips.mergeable();
-                    if let Some(&primary) =
-                        diamonds.get(next_random(&mut state) as usize % diamonds.len().max(1))
-                        && merge(&mut strips.bintree, primary).is_some()
-                    {
-                        merges += 1;
-                    }
-                }
-                strips.check(&format!("seed {seed}, step {step}"));
-                assert!(edge_connected(&mut strips), "seed {seed}, step {step}");
-                cut_meshes += u64::from(strips.incremental() > 1);
-            }
-            assert!(
-                splits > 200 && merges > 100,
-                "{splits} splits, {merges} merges"
+/// Glues the singleton `t` to its stripped neighbour `n` across `edge`; returns whether it fitted.
+fn glue(bintree: &mut Bintree, t: TriangleKey, n: TriangleKey, edge: [GridPoint; 2]) -> bool {
+    let Some(theirs) = links(bintree, n) else {
+        return false;
+    };
+    match (theirs.prev, theirs.next) {
+        (None, None) => {
+            // Both singletons: n then t, across the shared edge.
+            let order = order_ending(bintree, n, edge[0], edge[1]);
+            set_links(
+                bintree,
+                n,
+                StripLinks {
+                    prev: None,
+                    next: Some(t),
+                    order,
+                },
             );
+            let order = order_starting(bintree, t, edge[0], edge[1]);
+            set_links(
+                bintree,
+                t,
+                StripLinks {
+                    prev: Some(n),
+                    next: None,
+                    order,
+                },
+            );
+            bintree.strip_counts.strips -= 1;
+            true
         }
-        // Fans cut strips: the rule is not trivially "one strip".
-        assert!(cut_meshes > 1000, "{cut_meshes}");
+        (_, None) => {
+            let [_, exit0, exit1] = sequence(bintree, n);
+            if !same_edge([exit0, exit1], edge) {
+                return false;
+            }
+            append(bintree, n, t, exit0, exit1);
+            bintree.strip_counts.strips -= 1;
+            true
+        }
+        (None, _) => {
+            let [entry0, entry1, _] = sequence(bintree, n);
+            if !same_edge([entry0, entry1], edge) {
+                return false;
+            }
+            prepend(bintree, n, t, entry0, entry1);
+            bintree.strip_counts.strips -= 1;
+            true
+        }
+        _ => false,
     }
+}
+
+/// Puts `t` after the tail `n` whose exit edge is (`exit0`, `exit1`).
+fn append(
+    bintree: &mut Bintree,
+    n: TriangleKey,
+    t: TriangleKey,
+    exit0: GridPoint,
+    exit1: GridPoint,
+) {
+    if let Some(s) = bintree.get_mut(n).strip.as_mut() {
+        s.next = Some(t);
+    }
+    let order = order_starting(bintree, t, exit0, exit1);
+    let next = links(bintree, t).and_then(|s| s.next);
+    set_links(
+        bintree,
+        t,
+        StripLinks {
+            prev: Some(n),
+            next,
+            order,
+        },
+    );
+}
+
+/// Puts `t` before the head `n` whose entry edge is (`entry0`, `entry1`).
+fn prepend(
+    bintree: &mut Bintree,
+    n: TriangleKey,
+    t: TriangleKey,
+    entry0: GridPoint,
+    entry1: GridPoint,
+) {
+    if let Some(s) = bintree.get_mut(n).strip.as_mut() {
+        s.prev = Some(t);
+    }
+    let order = order_ending(bintree, t, entry0, entry1);
+    let prev = links(bintree, t).and_then(|s| s.prev);
+    set_links(
+        bintree,
+        t,
+        StripLinks {
+            prev,
+            next: Some(n),
+            order,
+        },
+    );
+}
+
+/// Whether `a` and `b` are in the same strip (walks `a`'s strip: O(its length)).
+fn same_strip(bintree: &Bintree, a: TriangleKey, b: TriangleKey) -> bool {
+    let mut cursor = Some(a);
+    while let Some(k) = cursor {
+        if k == b {
+            return true;
+        }
+        cursor = links(bintree, k).and_then(|s| s.prev);
+    }
+    let mut cursor = links(bintree, a).and_then(|s| s.next);
+    while let Some(k) = cursor {
+        if k == b {
+            return true;
+        }
+        cursor = links(bintree, k).and_then(|s| s.next);
+    }
+    false
+}
+
+/// `t` is an end of its strip (not a singleton); tries to join the strip of its neighbour `n`
+/// across `edge` at `t`'s free end. Returns whether it did.
+fn extend_end(bintree: &mut Bintree, t: TriangleKey, n: TriangleKey, edge: [GridPoint; 2]) -> bool {
+    let Some(own) = links(bintree, t) else {
+        return false;
+    };
+    let [v0, v1, v2] = sequence(bintree, t);
+    let Some(theirs) = links(bintree, n) else {
+        return false;
+    };
+    let singleton = theirs.prev.is_none() && theirs.next.is_none();
+    if own.next.is_none() {
+        // t is a tail: its exit is (v1, v2); n must start with (v1, v2).
+        if !same_edge([v1, v2], edge) {
+            return false;
+        }
+        if singleton {
+            append(bintree, t, n, v1, v2);
+            bintree.strip_counts.strips -= 1;
+            return true;
+        }
+        if theirs.prev.is_none() && sequence(bintree, n)[..2] == [v1, v2] {
+            link(bintree, t, n);
+            return true;
+        }
+        if theirs.next.is_none() && sequence(bintree, n)[1..] == [v2, v1] {
+            reverse_strip_ending(bintree, n);
+            link(bintree, t, n);
+            return true;
+        }
+    } else {
+        // t is a head: its entry is (v0, v1); n must end with (v0, v1).
+        if !same_edge([v0, v1], edge) {
+            return false;
+        }
+        if singleton {
+            prepend(bintree, t, n, v0, v1);
+            bintree.strip_counts.strips -= 1;
+            return true;
+        }
+        if theirs.next.is_none() && sequence(bintree, n)[1..] == [v0, v1] {
+            link(bintree, n, t);
+            return true;
+        }
+        if theirs.prev.is_none() && sequence(bintree, n)[..2] == [v1, v0] {
+            reverse_strip_starting(bintree, n);
+            link(bintree, n, t);
+            return true;
+        }
+    }
+    false
+}
+
+/// Joins the strip ending at `tail` and the strip starting at `head` (orders already fit).
+fn link(bintree: &mut Bintree, tail: TriangleKey, head: TriangleKey) {
+    if let Some(s) = bintree.get_mut(tail).strip.as_mut() {
+        s.next = Some(head);
+    }
+    if let Some(s) = bintree.get_mut(head).strip.as_mut() {
+        s.prev = Some(tail);
+    }
+    bintree.strip_counts.strips -= 1;
+}
+
+/// Reverses the strip whose tail is `tail` (it becomes its head). O(strip length).
+fn reverse_strip_ending(bintree: &mut Bintree, tail: TriangleKey) {
+    reverse_strip(bintree, tail, |links| links.prev);
+}
+
+/// Reverses the strip whose head is `head` (it becomes its tail). O(strip length).
+fn reverse_strip_starting(bintree: &mut Bintree, head: TriangleKey) {
+    reverse_strip(bintree, head, |links| links.next);
+}
+
+/// Reverses the strip at one of its ends, walking towards the other with `onwards`: every
+/// triangle's neighbours swap and its vertex order reverses.
+fn reverse_strip(
+    bintree: &mut Bintree,
+    end: TriangleKey,
+    onwards: impl Fn(&StripLinks) -> Option<TriangleKey>,
+) {
+    let mut cursor = Some(end);
+    while let Some(k) = cursor {
+        let Some(s) = bintree.get_mut(k).strip.as_mut() else {
+            break;
+        };
+        let following = onwards(s);
+        std::mem::swap(&mut s.prev, &mut s.next);
+        s.order.reverse();
+        cursor = following;
+    }
+}
+
+/// Checks the strips: every stripped triangle is a leaf, consecutive triangles continue each
+/// other's vertex sequence, links are symmetric, and the counts match. O(triangles).
+pub fn check(bintree: &Bintree) -> Result<(), String> {
+    let (mut strips, mut triangles) = (0, 0);
+    for (key, triangle) in bintree.iter() {
+        let Some(own) = triangle.strip else {
+            continue;
+        };
+        triangles += 1;
+        if !triangle.is_leaf() {
+            return Err(format!("{:?}: split, yet in a strip", triangle.shape));
+        }
+        let mut order = own.order;
+        order.sort_unstable();
+        if order != [0, 1, 2] {
+            return Err(format!("{:?}: order {:?}", triangle.shape, own.order));
+        }
+        if own.prev.is_none() {
+            strips += 1;
+        }
+        if let Some(next) = own.next {
+            let Some(theirs) = bintree.triangles.get(next).and_then(|t| t.strip) else {
+                return Err(format!("{:?}: next is not stripped", triangle.shape));
+            };
+            if theirs.prev != Some(key) {
+                return Err(format!("{:?}: next does not link back", triangle.shape));
+            }
+            let (mine, following) = (sequence(bintree, key), sequence(bintree, next));
+            if mine[1..] != following[..2] {
+                return Err(format!(
+                    "{:?} then {:?}: sequences {mine:?} and {following:?} do not continue",
+                    triangle.shape,
+                    bintree.get(next).shape
+                ));
+            }
+        }
+    }
+    let counts = bintree.strip_counts();
+    if (strips, triangles) != (counts.strips, counts.triangles) {
+        return Err(format!(
+            "{strips} strips of {triangles} triangles, counted {} of {}",
+            counts.strips, counts.triangles
+        ));
+    }
+    Ok(())
 }

@@ -3,20 +3,26 @@
 //! Checks, in order: parent/child links; every leaf's neighbour links are symmetric, point at
 //! leaves and share the right edge; neighbours' depths differ by at most one; the leaf count;
 //! the mesh is exactly the corners plus every split vertex, and it passes the shared mesh
-//! validator (closure, T = 2 + Σ parents); with strips on, the curve-order list holds every leaf
-//! in the order of a walk from the roots and the joined-junction count equals a recount; the
-//! split queue holds exactly the splittable leaves
-//! and the merge queue exactly the mergeable diamonds, with priorities that equal a
-//! recomputation (or, under deferral, lie on the same side of τ). Tests call it after every
+//! validator (closure, T = 2 + Σ parents); every triangle's copied corners, thicknesses and tie
+//! key equal the terrain's and the tables'; every triangle's culling flags equal a fresh
+//! classification with its parent's (with culling flags on; §7.1's labels are exact every
+//! frame); the strips are valid (`strips.rs`) and hold exactly the drawn leaves; the split queue
+//! holds exactly the splittable leaves and the merge queue exactly the mergeable diamonds, with
+//! priorities that equal a recomputation or, under deferral, are stale only where the schedule
+//! allows it (a stale split priority and its recomputation both at most the floor G, a stale
+//! merge priority and its recomputation both above the ceiling H). Tests call it after every
 //! operation; it is O(triangles · log) and allocates.
 
-use super::bintree::{Bintree, CullFlag, Side};
+use super::bintree::Geometry;
+use super::bintree::{Bintree, Side};
+use super::cull::{self, CullFlags};
 use super::merge::{is_mergeable, primary_parent};
 use super::priority::PriorityContext;
 use super::queues::Queues;
-use super::strips::count_strips;
+use super::thickness::Thicknesses;
 use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::validate::validate_reported;
+use crate::sim::terrain::Heightfield;
 use std::collections::HashSet;
 
 /// How stored priorities must compare with a recomputation.
@@ -26,8 +32,9 @@ pub enum PriorityCheck {
     Skip,
     /// Equal to a recomputation.
     Exact,
-    /// On the same side of τ as a recomputation (deferral).
-    SameSideOf(f64),
+    /// Equal, or stale as deferral allows: both at most the floor G (split queue) or both above
+    /// the ceiling H (merge queue). Without deferral, as `Exact`.
+    Deferred,
 }
 
 /// The first inconsistency found, in words.
@@ -39,13 +46,26 @@ fn fail<T>(message: String) -> Result<T, BintreeError> {
     Err(BintreeError(message))
 }
 
-/// Validates the bintree and its queues; `context` recomputes priorities and flags.
+/// What the validator checks a bintree against: the terrain and thickness tables (for every
+/// triangle's copied geometry), the frame (flags and priorities), deferral's band, and whether
+/// strips are on.
+pub struct Expected<'a> {
+    pub field: &'a Heightfield,
+    pub thicknesses: &'a Thicknesses,
+    pub context: PriorityContext<'a>,
+    pub check: PriorityCheck,
+    /// Deferral's (G, H), for [`PriorityCheck::Deferred`].
+    pub band: Option<(f64, f64)>,
+    pub strips_on: bool,
+}
+
+/// Validates the bintree and its queues against `expected`.
 pub fn validate(
     bintree: &Bintree,
     queues: &Queues,
-    context: &PriorityContext,
-    check: PriorityCheck,
+    expected: &Expected,
 ) -> Result<(), BintreeError> {
+    let context = &expected.context;
     let mut n_leaves = 0;
     let mut expected_mesh = VertexSet::base_mesh(bintree.lattice());
     for (key, triangle) in bintree.iter() {
@@ -122,40 +142,79 @@ pub fn validate(
     }
     validate_reported(bintree.lattice(), bintree.mesh(), bintree.n_leaves())
         .map_err(|e| BintreeError(e.to_string()))?;
-    validate_strips(bintree)?;
-    validate_queues(bintree, queues, context, check)
+    validate_geometry(bintree, expected)?;
+    if context.culling_flags {
+        validate_flags(bintree, context)?;
+    }
+    validate_strips(bintree, context, expected.strips_on)?;
+    validate_queues(bintree, queues, context, expected.check, expected.band)
 }
 
-/// The curve-order list against a walk from the roots, the joined junctions against a recount.
-fn validate_strips(bintree: &Bintree) -> Result<(), BintreeError> {
-    if !bintree.tracks_strips() {
-        return Ok(());
-    }
-    let (mut stack, mut leaves) = (Vec::new(), Vec::new());
-    let strips = count_strips(bintree, &mut stack, &mut leaves);
-    let mut previous = None;
-    let mut key = leaves.first().copied();
-    for (position, &expected) in leaves.iter().enumerate() {
-        let Some(current) = key else {
-            return fail(format!("the curve-order list ends after {position} leaves"));
-        };
-        if current != expected || bintree.get(current).prev != previous {
+/// Every triangle's copied corners and thicknesses against the terrain and the tables.
+fn validate_geometry(bintree: &Bintree, expected: &Expected) -> Result<(), BintreeError> {
+    for (_, triangle) in bintree.iter() {
+        let shape = triangle.shape;
+        let fresh = Geometry::of(
+            &shape,
+            expected.field,
+            expected.thicknesses,
+            bintree.lattice(),
+        );
+        if triangle.geometry != fresh {
             return fail(format!(
-                "curve-order list differs from a walk at leaf {position}: {:?}",
-                bintree.get(expected).shape
+                "{shape:?}: geometry {:?}, expected {fresh:?}",
+                triangle.geometry
             ));
         }
-        previous = key;
-        key = bintree.get(current).next;
     }
-    if key.is_some() {
-        return fail("the curve-order list goes on past the last leaf".into());
+    Ok(())
+}
+
+/// Every triangle's flags against a fresh classification from its parent's flags: §7.1's flags
+/// are exact every frame, and inheritance is exact because wedgies are nested.
+fn validate_flags(bintree: &Bintree, context: &PriorityContext) -> Result<(), BintreeError> {
+    for (key, triangle) in bintree.iter() {
+        let inherited = triangle
+            .parent
+            .map_or(0, |parent| bintree.get(parent).flags.in_mask);
+        let (corners, e) = cull::wedgie(bintree, key);
+        let fresh = context.view.frustum.classify(corners, e, inherited);
+        let stored: CullFlags = triangle.flags;
+        // Below an `Out` ancestor, `Out` is inherited whatever the wedgie's own test says.
+        let ancestor_out = triangle
+            .parent
+            .is_some_and(|parent| bintree.get(parent).flags.is_out());
+        let agrees = if ancestor_out {
+            stored.is_out()
+        } else {
+            stored.label == fresh.label && (stored.is_out() || stored.in_mask == fresh.in_mask)
+        };
+        if !agrees {
+            return fail(format!(
+                "{:?}: flags {stored:?}, a fresh classification gives {fresh:?}",
+                triangle.shape
+            ));
+        }
     }
-    let incremental = bintree.n_leaves() - bintree.joined_junctions().min(bintree.n_leaves());
-    if incremental != strips {
-        return fail(format!(
-            "{incremental} strips counted incrementally, {strips} recounted"
-        ));
+    Ok(())
+}
+
+/// The strips are valid and hold exactly the drawn leaves (none with strips off).
+fn validate_strips(
+    bintree: &Bintree,
+    context: &PriorityContext,
+    strips_on: bool,
+) -> Result<(), BintreeError> {
+    super::strips::check(bintree).map_err(|e| BintreeError(format!("strips: {e}")))?;
+    for (_, triangle) in bintree.iter() {
+        let drawn = strips_on && (!context.culling_flags || !triangle.flags.is_out());
+        if (triangle.is_leaf() && drawn) != triangle.strip.is_some() {
+            return fail(format!(
+                "{:?}: drawn {drawn}, in a strip {}",
+                triangle.shape,
+                triangle.strip.is_some()
+            ));
+        }
     }
     Ok(())
 }
@@ -165,6 +224,7 @@ fn validate_queues(
     queues: &Queues,
     context: &PriorityContext,
     check: PriorityCheck,
+    band: Option<(f64, f64)>,
 ) -> Result<(), BintreeError> {
     let mut splittable = HashSet::new();
     let mut mergeable = HashSet::new();
@@ -176,8 +236,10 @@ fn validate_queues(
             mergeable.insert(primary_parent(bintree, key));
         }
     }
-    let queued_split: HashSet<_> = queues.split.iter().map(|(k, _)| *k).collect();
-    let queued_merge: HashSet<_> = queues.merge.iter().map(|(k, _)| *k).collect();
+    let split_entries = queues.split.entries();
+    let merge_entries = queues.merge.entries();
+    let queued_split: HashSet<_> = split_entries.iter().map(|(k, _)| *k).collect();
+    let queued_merge: HashSet<_> = merge_entries.iter().map(|(k, _)| *k).collect();
     if queued_split != splittable {
         return fail(format!(
             "split queue holds {} triangles, {} leaves can split",
@@ -192,35 +254,58 @@ fn validate_queues(
             mergeable.len()
         ));
     }
-    let compare = |what: String, stored: f64, recomputed: f64| match check {
-        PriorityCheck::Skip => Ok(()),
-        PriorityCheck::Exact if stored == recomputed => Ok(()),
-        PriorityCheck::SameSideOf(tau) if (stored <= tau) == (recomputed <= tau) => Ok(()),
-        _ => fail(format!(
-            "{what}: stored priority {stored}, recomputed {recomputed} ({check:?})"
-        )),
+    let compare = |what: String, stored: f64, recomputed: f64, split: bool| {
+        let allowed = match (check, band) {
+            (PriorityCheck::Skip, _) => true,
+            _ if stored == recomputed => true,
+            (PriorityCheck::Deferred, Some((floor, ceiling))) => {
+                if split {
+                    stored <= floor && recomputed <= floor
+                } else {
+                    stored > ceiling && recomputed > ceiling
+                }
+            }
+            _ => false,
+        };
+        if allowed {
+            Ok(())
+        } else {
+            fail(format!(
+                "{what}: stored priority {stored}, recomputed {recomputed} ({check:?}, band {band:?})"
+            ))
+        }
     };
-    for (key, priority) in queues.split.iter() {
+    for (key, priority) in &split_entries {
         let triangle = bintree.get(*key);
-        let recomputed = context.priority(triangle, flag_now(context, triangle));
-        compare(format!("{:?}", triangle.shape), priority.value, recomputed)?;
+        let recomputed = context.priority(triangle);
+        compare(
+            format!("{:?}", triangle.shape),
+            priority.value,
+            recomputed,
+            true,
+        )?;
     }
-    for (key, priority) in queues.merge.iter() {
-        let recomputed = super::diamond_priority_fresh(bintree, context, *key);
+    for (key, priority) in &merge_entries {
+        let recomputed = diamond_priority(bintree, context, *key);
         compare(
             format!("diamond of {:?}", bintree.get(*key).shape),
-            priority.0.value,
+            priority.value,
             recomputed,
+            false,
         )?;
     }
     Ok(())
 }
 
-/// A freshly tested flag (the validator never trusts inherited ones).
-fn flag_now(context: &PriorityContext, triangle: &super::bintree::BinTriangle) -> CullFlag {
-    if context.culling_flags {
-        context.classify(triangle)
-    } else {
-        CullFlag::DontKnow
-    }
+/// A diamond's priority from scratch: the larger of its parents'.
+pub fn diamond_priority(
+    bintree: &Bintree,
+    context: &PriorityContext,
+    primary: super::bintree::TriangleKey,
+) -> f64 {
+    super::merge::diamond_parents(bintree, primary)
+        .into_iter()
+        .flatten()
+        .map(|parent| context.priority(bintree.get(parent)))
+        .fold(0.0, f64::max)
 }
