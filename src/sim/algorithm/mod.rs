@@ -7,11 +7,13 @@
 pub mod lindstrom;
 mod reference;
 mod roam;
+pub mod rottger;
 mod wu;
 
 pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold};
 pub use roam::{BintreeError, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild};
+pub use rottger::{Rottger, RottgerConfig};
 pub use wu::{BudgetConfig, Wu, WuConfig, initial_tau_px};
 
 use crate::sim::hierarchy::Hierarchy;
@@ -60,6 +62,7 @@ pub enum AlgorithmConfig {
     Lindstrom(LindstromConfig),
     Roam(RoamConfig),
     RoamRebuild(RoamConfig),
+    Rottger(RottgerConfig),
 }
 
 impl AlgorithmConfig {
@@ -70,6 +73,7 @@ impl AlgorithmConfig {
             AlgorithmConfig::Lindstrom(_) => lindstrom::NAME,
             AlgorithmConfig::Roam(_) => roam::NAME,
             AlgorithmConfig::RoamRebuild(_) => roam::REBUILD_NAME,
+            AlgorithmConfig::Rottger(_) => rottger::NAME,
         }
     }
 
@@ -92,6 +96,7 @@ impl AlgorithmConfig {
             AlgorithmConfig::RoamRebuild(config) => {
                 Box::new(RoamRebuild::new(hierarchy, *config, speed))
             }
+            AlgorithmConfig::Rottger(config) => Box::new(Rottger::new(hierarchy, *config)),
         }
     }
 }
