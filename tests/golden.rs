@@ -1,11 +1,13 @@
 //! Golden determinism: every quickstart entry over the first 60 frames of its flight, hashed —
 //! every per-frame count and algorithm column (never the timings) and every frame's mesh — must
-//! equal the hash pinned in `tests/golden/quickstart-60.sha256`, whatever the thread count.
+//! equal the hash pinned for it in `tests/golden/quickstart-60.sha256` (one line per entry:
+//! the hash, two spaces, the entry's label), whatever the thread count.
 //!
-//! A change that alters any decision of any algorithm changes the hash. If the change is
-//! intended, re-pin with `ROAMSIM_BLESS=1 cargo test --test golden` and say why in the commit.
-//! Pinned on x86_64 Linux; a platform whose libm rounds sin/cos/atan2 differently in the last bit
-//! could in principle flip a decision that sits exactly on a threshold.
+//! A change that alters any decision of any algorithm changes its entry's hash, and only its
+//! entry's: a new entry adds a line and leaves the others alone. If the change is intended,
+//! re-pin with `ROAMSIM_BLESS=1 cargo test --test golden` and say why in the commit. Pinned on
+//! x86_64 Linux; a platform whose libm rounds sin/cos/atan2 differently in the last bit could in
+//! principle flip a decision that sits exactly on a threshold.
 
 mod common;
 
@@ -60,8 +62,12 @@ fn entry_bytes(spec: &AlgorithmSpec, experiment: &Experiment, hierarchy: &Hierar
     bytes
 }
 
-/// The hash of every entry, computed on `threads` threads.
-fn quickstart_hash(threads: usize) -> String {
+fn hex(digest: &[u8]) -> String {
+    digest.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Every entry's hash line (`<hash>  <label>`), computed on `threads` threads.
+fn quickstart_hashes(threads: usize) -> Vec<String> {
     let dir = tempfile::tempdir().unwrap();
     let path = save(dir.path(), "golden", &short_quickstart(FRAMES));
     let experiment = experiment::load(&path).unwrap();
@@ -70,33 +76,44 @@ fn quickstart_hash(threads: usize) -> String {
         .num_threads(threads)
         .build()
         .unwrap();
-    let entries: Vec<Vec<u8>> = pool.install(|| {
+    pool.install(|| {
         experiment
             .algorithms
             .par_iter()
-            .map(|spec| entry_bytes(spec, &experiment, &hierarchy))
+            .map(|spec| {
+                let digest = Sha256::digest(entry_bytes(spec, &experiment, &hierarchy));
+                format!("{}  {}", hex(&digest), spec.label)
+            })
             .collect()
-    });
-    let mut hash = Sha256::new();
-    for entry in entries {
-        hash.update(&entry);
-    }
-    hash.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    })
 }
 
 #[test]
-fn the_quickstart_counts_and_meshes_match_the_pinned_hash_on_one_and_four_threads() {
+fn the_quickstart_counts_and_meshes_match_the_pinned_hashes_on_one_and_four_threads() {
     let pinned_path = repository().join("tests/golden/quickstart-60.sha256");
-    let one = quickstart_hash(1);
-    let four = quickstart_hash(4);
+    let one = quickstart_hashes(1);
+    let four = quickstart_hashes(4);
     assert_eq!(one, four, "the thread count changed a count or a mesh");
     if std::env::var_os("ROAMSIM_BLESS").is_some() {
-        std::fs::write(&pinned_path, format!("{one}\n")).unwrap();
+        std::fs::write(&pinned_path, format!("{}\n", one.join("\n"))).unwrap();
     }
     let pinned = std::fs::read_to_string(&pinned_path).unwrap();
+    let pinned: Vec<&str> = pinned.lines().collect();
+    for line in &one {
+        let label = line.split_once("  ").unwrap().1;
+        let pinned_line = pinned
+            .iter()
+            .find(|p| p.split_once("  ").map(|(_, l)| l) == Some(label));
+        assert_eq!(
+            pinned_line.copied(),
+            Some(line.as_str()),
+            "entry {label:?}: a decision changed; if intended, re-pin with ROAMSIM_BLESS=1 (see \
+             the module docs)"
+        );
+    }
     assert_eq!(
-        one,
-        pinned.trim(),
-        "a decision changed; if intended, re-pin with ROAMSIM_BLESS=1 (see the module docs)"
+        pinned.len(),
+        one.len(),
+        "pinned entries that the quickstart no longer has"
     );
 }

@@ -8,12 +8,14 @@
 //!   would be an absolute length hidden in the arithmetic (an epsilon in metres, a clamp); other
 //!   factors (0.001, 1000) are checked on a fixed scene in `tests/hard_cases.rs`.
 //!
+//! Röttger's configurations (`every_rottger`: it has no τ) run on every scene too.
+//!
 //! This file does not check that the meshes are right, only that they do not move;
 //! `tests/hard_cases.rs` and the per-algorithm tests check the right answers.
 
 mod common;
 
-use common::algorithms::every_algorithm;
+use common::algorithms::{every_algorithm, every_rottger};
 use common::view_600;
 use glam::DVec3;
 use proptest::prelude::*;
@@ -145,7 +147,7 @@ proptest! {
             .iter()
             .map(|p| Pose { position: p.position + offset, ..*p })
             .collect();
-        for config in every_algorithm(scene.tau_px) {
+        for config in every_algorithm(scene.tau_px).into_iter().chain(every_rottger()) {
             let a = decisions(&here, &config, view_600(), SPEED, &scene.poses);
             let b = decisions(&there, &config, view_600(), SPEED, &moved);
             prop_assert_eq!(a, b, "{:?}, offset {:?}", config, offset);
@@ -172,7 +174,7 @@ proptest! {
             horizontal: SPEED.horizontal * scale,
             vertical: SPEED.vertical * scale,
         };
-        for config in every_algorithm(scene.tau_px) {
+        for config in every_algorithm(scene.tau_px).into_iter().chain(every_rottger()) {
             let a = decisions(&original, &config, view, SPEED, &scene.poses);
             let b = decisions(&scaled, &config, scaled_view, scaled_speed, &scaled_poses);
             prop_assert_eq!(a, b, "{:?} at scale 2^{}", config, exponent);

@@ -1,7 +1,8 @@
 //! Very long runs (SPEC §9): 10^6 frames of every algorithm over a small terrain, circled so that
 //! the mesh keeps changing. Nothing may overflow or drift: the frame counter, the wheels and b
 //! (Wu's own million-frame test is in `tests/wu.rs`), the slotmap keys and queues (ROAM), the
-//! double-buffered meshes (the from-scratch algorithms). Each run checks that the mesh is valid,
+//! double-buffered meshes and quadtree matrix (the from-scratch algorithms), Röttger's c under its
+//! load controller. Each run checks that the mesh is valid,
 //! that the inserted and deleted vertices summed over the run account exactly for the final mesh
 //! (no counter wrapped or lost a change), that the algorithm's memory stays bounded (no leak
 //! from frame to frame), and that the final mesh is the one a fresh instance builds for the
@@ -13,9 +14,10 @@ mod common;
 
 use common::{bumpy_terrain, camera_at};
 use glam::DVec3;
+use roamsim::sim::algorithm::rottger::{LoadCount, LoadTarget};
 use roamsim::sim::algorithm::{
     AlgorithmConfig, FrameInput, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
-    SplitThreshold,
+    RottgerConfig, SplitThreshold,
 };
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
@@ -174,4 +176,77 @@ fn a_million_roam_rebuild_frames_stay_exact() {
         culling_flags: false,
         strips: false,
     }));
+}
+
+#[test]
+fn a_million_rottger_frames_with_clipping_and_geomorphing_stay_exact() {
+    check_million_frames(AlgorithmConfig::Rottger(RottgerConfig {
+        clipping: true,
+        ..common::algorithms::rottger(4.0, 20.0)
+    }));
+}
+
+#[test]
+fn a_million_rottger_frames_under_the_load_controller_keep_c_bounded_and_exact() {
+    // The controller's c changes every frame it misses the target: after 10^6 frames it must
+    // still be a finite value inside its bounds that moved within the last lap, and the mesh must
+    // be the one a fixed-c instance at the final c builds for the final view.
+    let hierarchy = bumpy_terrain(3);
+    let config = RottgerConfig {
+        load: Some(LoadTarget {
+            count: LoadCount::FanVertices,
+            target: 150,
+        }),
+        ..common::algorithms::rottger(2.0, 1.0)
+    };
+    let mut algorithm =
+        AlgorithmConfig::Rottger(config).build(&hierarchy, &common::view_600(), SPEED);
+    let (mut inserted, mut deleted) = (0u128, 0u128);
+    let mut c_seen_in_last_lap = std::collections::BTreeSet::new();
+    let mut last_c = 0.0;
+    for frame in 0..MILLION {
+        let camera = camera_at(eye_at(frame));
+        let mut stats = FrameStats::default();
+        algorithm.update(
+            &FrameInput {
+                frame,
+                camera: &camera,
+                speed_bound_broken: frame == 0,
+            },
+            &mut stats,
+        );
+        inserted += u128::from(stats.vertices_inserted);
+        deleted += u128::from(stats.vertices_deleted);
+        last_c = stats.extra[0];
+        assert!(
+            (roamsim::sim::algorithm::rottger::DESIRED_RESOLUTION_MIN
+                ..=roamsim::sim::algorithm::rottger::DESIRED_RESOLUTION_MAX)
+                .contains(&last_c),
+            "frame {frame}: c = {last_c}"
+        );
+        if frame + FRAMES_PER_LAP >= MILLION {
+            c_seen_in_last_lap.insert(last_c.to_bits());
+        }
+    }
+    validate_reported(
+        hierarchy.lattice(),
+        algorithm.mesh(),
+        algorithm.triangle_count(),
+    )
+    .unwrap();
+    let base = VertexSet::base_mesh(hierarchy.lattice());
+    assert_eq!(
+        inserted as i128 - deleted as i128,
+        algorithm.mesh().len() as i128 - base.len() as i128
+    );
+    assert!(c_seen_in_last_lap.len() > 1, "c froze");
+    let fixed = AlgorithmConfig::Rottger(RottgerConfig {
+        load: None,
+        desired_resolution: last_c,
+        ..config
+    });
+    assert_eq!(
+        algorithm.mesh(),
+        &fresh_mesh(&hierarchy, &fixed, MILLION - 1)
+    );
 }

@@ -536,10 +536,14 @@ fn a_run_killed_while_it_writes_its_outputs_leaves_the_previous_output_whole() {
         "{names:?}"
     );
     let frames = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let entries = common::experiment::quickstart()["algorithms"]
+        .as_array()
+        .unwrap()
+        .len();
     assert_eq!(
         frames.lines().count(),
-        1 + 40 * 7,
-        "a header and 40 frames of 7 entries"
+        1 + 40 * entries,
+        "a header and 40 frames of every quickstart entry"
     );
 }
 

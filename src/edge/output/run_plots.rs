@@ -9,8 +9,9 @@ use super::plots::{
 use crate::sim::stats::{pareto_front, summarise};
 use std::path::Path;
 
-/// Writes `triangles`, `update_time`, `error` and `accuracy_vs_time` (when audited) and `base_b`
-/// (when an algorithm reports Wu's base) as PNG and SVG into `dir`.
+/// Writes `triangles`, `update_time`, `error` and `accuracy_vs_time` (when audited), `base_b`
+/// (when an algorithm reports Wu's base) and `desired_resolution_c` (when one reports Röttger's
+/// c) as PNG and SVG into `dir`.
 pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result<(), PlotError> {
     let series_of = |column: &str, scale: f64| -> Vec<Series> {
         runs.iter()
@@ -47,6 +48,7 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
         },
     )?;
     write_base_plot(dir, runs)?;
+    write_desired_resolution_plot(dir, runs)?;
     if audited {
         write_accuracy_vs_time(dir, runs)?;
         write_line_chart(
@@ -120,6 +122,42 @@ fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
             y_label: "b (frames)",
             series: &series,
             markers: &markers,
+        },
+    )
+}
+
+/// Röttger's c per frame for every run that reports it (log scale: the controller moves it by
+/// factors).
+fn write_desired_resolution_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
+    let series: Vec<Series> = runs
+        .iter()
+        .filter(|r| r.extra_columns.contains(&"desired_resolution_c"))
+        .map(|run| Series {
+            label: run.label.to_string(),
+            points: run
+                .frames
+                .iter()
+                .filter_map(|f| {
+                    value(run, f, "desired_resolution_c")
+                        .filter(|c| *c > 0.0)
+                        .map(|c| (f.frame as f64, c.log10()))
+                })
+                .collect(),
+        })
+        .filter(|s| !s.points.is_empty())
+        .collect();
+    if series.is_empty() {
+        return Ok(());
+    }
+    write_line_chart(
+        dir,
+        "desired_resolution_c",
+        &LineChart {
+            title: "Röttger's desired resolution c per frame",
+            x_label: "frame",
+            y_label: "log10 c",
+            series: &series,
+            markers: &[],
         },
     )
 }
