@@ -632,7 +632,10 @@ fn a_checked_run_of_the_real_tile_writes_the_rottger_columns_and_facts() {
         assert!(value("fan_triangles") < value("triangles"));
     }
     for extension in ["png", "svg"] {
-        assert!(out.join(format!("plots/desired_resolution_c.{extension}")).is_file());
+        assert!(
+            out.join(format!("plots/desired_resolution_c.{extension}"))
+                .is_file()
+        );
     }
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();

@@ -15,7 +15,7 @@
 //!
 //! O(samples × closure rounds) per call: for tests, not for runs.
 
-use super::clip::{fan_may_be_seen, generation_may_see};
+use super::clip::{ViewFrustum, fan_may_be_seen, generation_may_see};
 use super::criterion::{Criterion, SMALLEST_BLEND_BYTE, blend_byte, subdivides};
 use super::fans::FanCounts;
 use super::matrix::QuadtreeMatrix;
@@ -77,11 +77,12 @@ pub fn frame_from_scratch(view: &FromScratchView) -> FromScratchFrame {
     let mut by_criterion = vec![false; n];
     let mut blend_bytes = vec![0u8; n];
     let mut n_by_criterion = 0;
+    let frustum = ViewFrustum::new(view.camera);
     for (centre, half) in every_block(hierarchy) {
         let id = lattice.id(centre) as usize;
         let above = centre == lattice.root()
             || by_criterion[lattice.id(parent_block(centre, half)) as usize];
-        let visible = !view.clipping || generation_may_see(hierarchy, view.camera, centre, half);
+        let visible = !view.clipping || generation_may_see(hierarchy, &frustum, centre, half);
         if !above || !visible {
             continue;
         }
@@ -191,8 +192,9 @@ fn ring_position(centre: GridPoint, half: u32, p: GridPoint) -> usize {
 fn fans_from_triangles(view: &FromScratchView, mesh: &VertexSet, base_mesh: bool) -> FanCounts {
     let hierarchy = view.hierarchy;
     let lattice = hierarchy.lattice();
+    let frustum = ViewFrustum::new(view.camera);
     let seen = |centre: GridPoint, half: u32| {
-        !view.clipping || fan_may_be_seen(hierarchy, view.camera, centre, half)
+        !view.clipping || fan_may_be_seen(hierarchy, &frustum, centre, half)
     };
     if base_mesh {
         return if seen(lattice.root(), lattice.cells() / 2) {

@@ -13,10 +13,9 @@
 //! Every triangle of the mesh belongs to exactly one fan, so without clipping the fans' triangles
 //! add up to the mesh's; with clipping, a fan is counted only when its block's box may be seen.
 
-use super::clip::fan_may_be_seen;
+use super::clip::{ViewFrustum, fan_may_be_seen};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, VertexClass};
 use crate::sim::mesh::VertexSet;
-use crate::sim::view::Camera;
 
 /// The fans of a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -81,17 +80,17 @@ pub fn block_fans(lattice: &Lattice, mesh: &VertexSet, centre: GridPoint, half: 
 }
 
 /// Every fan of the frame: the fans of the subdivided blocks (`subdivided` lists their centres),
-/// or the two base triangles when there are none. With `clipping_camera`, only the fans whose
+/// or the two base triangles when there are none. With a `clipping` frustum, only the fans whose
 /// block's box may be seen.
 pub fn count_fans(
     hierarchy: &Hierarchy,
     mesh: &VertexSet,
     subdivided: &[u32],
-    clipping_camera: Option<&Camera>,
+    clipping: Option<&ViewFrustum>,
 ) -> FanCounts {
     let lattice = hierarchy.lattice();
     let seen = |centre: GridPoint, half: u32| {
-        clipping_camera.is_none_or(|camera| fan_may_be_seen(hierarchy, camera, centre, half))
+        clipping.is_none_or(|frustum| fan_may_be_seen(hierarchy, frustum, centre, half))
     };
     if subdivided.is_empty() {
         let root = lattice.root();

@@ -107,14 +107,14 @@ mod roughness;
 mod validate;
 
 pub use brute_force::{FromScratchFrame, FromScratchView, frame_from_scratch};
-pub use clip::{GENERATION_BOX_SCALE, block_box, box_may_be_seen};
+pub use clip::{GENERATION_BOX_SCALE, ViewFrustum, block_box, box_may_be_seen};
 pub use control::{
     ControlStep, DESIRED_RESOLUTION_MAX, DESIRED_RESOLUTION_MIN, LoadCount, LoadTarget,
     next_desired_resolution,
 };
 pub use criterion::{
-    Criterion, DistanceNorm, average_elevation, blend, blend_byte, block_distance, block_edge_m,
-    morph_factor, propagation_factor, subdivides,
+    Criterion, DistanceNorm, SMALLEST_BLEND_BYTE, average_elevation, blend, blend_byte,
+    block_distance, block_edge_m, morph_factor, propagation_factor, subdivides,
 };
 pub use fans::FanCounts;
 pub use matrix::{D2Scale, QuadtreeMatrix};
@@ -290,6 +290,10 @@ impl LodAlgorithm for Rottger<'_> {
             self.desired_resolution = step.desired_resolution;
             clamped = step.clamped;
         }
+        let frustum = self
+            .config
+            .clipping
+            .then(|| clip::ViewFrustum::new(input.camera));
         let generation = GenerationInput {
             hierarchy,
             criterion: Criterion {
@@ -298,7 +302,7 @@ impl LodAlgorithm for Rottger<'_> {
                 norm: self.config.distance,
             },
             camera: input.camera,
-            clipping: self.config.clipping,
+            clipping: frustum.as_ref(),
         };
         let mut state = GenerationState {
             mesh: &mut self.mesh,
@@ -316,7 +320,7 @@ impl LodAlgorithm for Rottger<'_> {
             hierarchy,
             self.mesh.mesh(),
             &self.subdivided,
-            self.config.clipping.then_some(input.camera),
+            frustum.as_ref(),
         );
         let morphing = if self.config.geomorphing {
             geomorph::count_morphing(hierarchy, &self.matrix, self.mesh.active())

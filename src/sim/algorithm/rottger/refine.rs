@@ -19,7 +19,7 @@
 //!
 //! O(blocks visited + mesh) per frame; the stack and lists are reused.
 
-use super::clip::generation_may_see;
+use super::clip::{ViewFrustum, generation_may_see};
 use super::criterion::{Criterion, SMALLEST_BLEND_BYTE, blend_byte, subdivides};
 use super::matrix::QuadtreeMatrix;
 use crate::sim::hierarchy::{GridPoint, Hierarchy, VertexClass};
@@ -32,7 +32,8 @@ pub(super) struct GenerationInput<'a> {
     pub hierarchy: &'a Hierarchy,
     pub criterion: Criterion,
     pub camera: &'a Camera,
-    pub clipping: bool,
+    /// The frame's frustum when clipping is on.
+    pub clipping: Option<&'a ViewFrustum>,
 }
 
 /// What one frame's generation writes: the mesh, the matrix's blend bytes, the subdivided block
@@ -103,7 +104,9 @@ pub(super) fn subdivide_top_down(
     state.stack.push((lattice.root(), lattice.cells() / 2));
     while let Some((centre, half)) = state.stack.pop() {
         counts.visited += 1;
-        if input.clipping && !generation_may_see(hierarchy, input.camera, centre, half) {
+        if let Some(frustum) = input.clipping
+            && !generation_may_see(hierarchy, frustum, centre, half)
+        {
             counts.clipped += 1;
             continue;
         }
