@@ -53,6 +53,16 @@ struct LongRun {
 }
 
 fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun {
+    fly_observed(hierarchy, config, frames, &mut |_, _| {})
+}
+
+/// [`fly`], showing every frame's statistics to `observe`.
+fn fly_observed(
+    hierarchy: &Hierarchy,
+    config: &AlgorithmConfig,
+    frames: u64,
+    observe: &mut dyn FnMut(u64, &FrameStats),
+) -> LongRun {
     let mut algorithm = config.build(hierarchy, &common::view_600(), SPEED);
     let (mut inserted, mut deleted) = (0u128, 0u128);
     let mut memory_after_first_lap = 0;
@@ -69,6 +79,7 @@ fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun 
         );
         inserted += u128::from(stats.vertices_inserted);
         deleted += u128::from(stats.vertices_deleted);
+        observe(frame, &stats);
         let checked = frame % 100_003 == 0 || frame + 1 == frames;
         if checked
             && let Err(error) = validate_reported(
@@ -191,6 +202,7 @@ fn a_million_rottger_frames_under_the_load_controller_keep_c_bounded_and_exact()
     // The controller's c changes every frame it misses the target: after 10^6 frames it must
     // still be a finite value inside its bounds that moved within the last lap, and the mesh must
     // be the one a fixed-c instance at the final c builds for the final view.
+    use roamsim::sim::algorithm::rottger::{DESIRED_RESOLUTION_MAX, DESIRED_RESOLUTION_MIN};
     let hierarchy = bumpy_terrain(3);
     let config = RottgerConfig {
         load: Some(LoadTarget {
@@ -199,54 +211,34 @@ fn a_million_rottger_frames_under_the_load_controller_keep_c_bounded_and_exact()
         }),
         ..common::algorithms::rottger(2.0, 1.0)
     };
-    let mut algorithm =
-        AlgorithmConfig::Rottger(config).build(&hierarchy, &common::view_600(), SPEED);
-    let (mut inserted, mut deleted) = (0u128, 0u128);
-    let mut c_seen_in_last_lap = std::collections::BTreeSet::new();
+    let mut c_in_last_lap = std::collections::BTreeSet::new();
     let mut last_c = 0.0;
-    for frame in 0..MILLION {
-        let camera = camera_at(eye_at(frame));
-        let mut stats = FrameStats::default();
-        algorithm.update(
-            &FrameInput {
-                frame,
-                camera: &camera,
-                speed_bound_broken: frame == 0,
-            },
-            &mut stats,
-        );
-        inserted += u128::from(stats.vertices_inserted);
-        deleted += u128::from(stats.vertices_deleted);
-        last_c = stats.extra[0];
-        assert!(
-            (roamsim::sim::algorithm::rottger::DESIRED_RESOLUTION_MIN
-                ..=roamsim::sim::algorithm::rottger::DESIRED_RESOLUTION_MAX)
-                .contains(&last_c),
-            "frame {frame}: c = {last_c}"
-        );
-        if frame + FRAMES_PER_LAP >= MILLION {
-            c_seen_in_last_lap.insert(last_c.to_bits());
-        }
-    }
-    validate_reported(
-        hierarchy.lattice(),
-        algorithm.mesh(),
-        algorithm.triangle_count(),
-    )
-    .unwrap();
+    let run = fly_observed(
+        &hierarchy,
+        &AlgorithmConfig::Rottger(config),
+        MILLION,
+        &mut |frame, stats| {
+            last_c = stats.extra[0];
+            assert!(
+                (DESIRED_RESOLUTION_MIN..=DESIRED_RESOLUTION_MAX).contains(&last_c),
+                "frame {frame}: c = {last_c}"
+            );
+            if frame + FRAMES_PER_LAP >= MILLION {
+                c_in_last_lap.insert(last_c.to_bits());
+            }
+        },
+    );
     let base = VertexSet::base_mesh(hierarchy.lattice());
     assert_eq!(
-        inserted as i128 - deleted as i128,
-        algorithm.mesh().len() as i128 - base.len() as i128
+        run.net_vertices,
+        run.final_mesh.len() as i128 - base.len() as i128
     );
-    assert!(c_seen_in_last_lap.len() > 1, "c froze");
+    assert!(run.memory_at_end <= 2 * run.memory_after_first_lap);
+    assert!(c_in_last_lap.len() > 1, "c froze");
     let fixed = AlgorithmConfig::Rottger(RottgerConfig {
         load: None,
         desired_resolution: last_c,
         ..config
     });
-    assert_eq!(
-        algorithm.mesh(),
-        &fresh_mesh(&hierarchy, &fixed, MILLION - 1)
-    );
+    assert_eq!(run.final_mesh, fresh_mesh(&hierarchy, &fixed, MILLION - 1));
 }

@@ -10,6 +10,7 @@
 
 mod common;
 
+use common::algorithms::rottger;
 use common::{bumpy_terrain, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::rottger::{
@@ -35,18 +36,6 @@ const SUBDIVIDED: usize = 7;
 const FORCED: usize = 8;
 const CLIPPED: usize = 9;
 const MORPHING: usize = 10;
-
-fn config(minimum_resolution: f64, desired_resolution: f64) -> RottgerConfig {
-    RottgerConfig {
-        minimum_resolution,
-        desired_resolution,
-        load: None,
-        distance: DistanceNorm::L1,
-        d2_propagation: true,
-        clipping: false,
-        geomorphing: true,
-    }
-}
 
 /// A pose at `eye` whose heading turns with `k`, looking slightly down: over a sweep of eyes the
 /// view points every way, so clipping sees everything from nothing to all.
@@ -238,7 +227,7 @@ fn configs(pairs: &[(f64, f64)]) -> Vec<RottgerConfig> {
                 configs.push(RottgerConfig {
                     distance,
                     clipping,
-                    ..config(minimum_resolution, desired_resolution)
+                    ..rottger(minimum_resolution, desired_resolution)
                 });
             }
         }
@@ -251,7 +240,7 @@ fn every_eye_over_a_9_by_9_terrain_gives_the_brute_force_frame() {
     let mut all = configs(&[(2.0, 0.0), (2.0, 40.0), (8.0, 5.0), (8.0, 1e4)]);
     all.push(RottgerConfig {
         d2_propagation: false,
-        ..config(4.0, 60.0)
+        ..rottger(4.0, 60.0)
     });
     let seen = check_every_eye(3, &all);
     for column in [FANS, SUBDIVIDED, FORCED, CLIPPED, MORPHING] {
@@ -268,7 +257,7 @@ fn every_eye_over_a_17_by_17_terrain_gives_the_brute_force_frame() {
     let mut all = configs(&[(2.0, 0.5), (2.0, 5.0), (8.0, 2.0), (16.0, 0.0)]);
     all.push(RottgerConfig {
         d2_propagation: false,
-        ..config(2.0, 2.0)
+        ..rottger(2.0, 2.0)
     });
     let seen = check_every_eye(4, &all);
     for column in [FANS, SUBDIVIDED, FORCED, CLIPPED, MORPHING] {
@@ -304,7 +293,7 @@ fn where_every_block_averages_alike_propagation_alone_keeps_the_mesh_conforming(
                 for distance in [DistanceNorm::L1, DistanceNorm::Euclidean] {
                     let config = RottgerConfig {
                         distance,
-                        ..config(minimum_resolution, desired_resolution)
+                        ..rottger(minimum_resolution, desired_resolution)
                     };
                     let mut scene = Scene::new(&hierarchy, config);
                     let mut subdivided = 0.0;
@@ -333,7 +322,7 @@ fn on_rough_terrain_propagation_leaves_fewer_forced_splits_than_local_d2() {
                 &hierarchy,
                 RottgerConfig {
                     d2_propagation,
-                    ..config(minimum_resolution, desired_resolution)
+                    ..rottger(minimum_resolution, desired_resolution)
                 },
             );
             poses
@@ -357,8 +346,8 @@ fn on_flat_terrain_the_mesh_depends_on_c_not_at_all_and_needs_no_forced_split() 
     );
     let poses = poses_over(&flat, &[250.0, 300.0, 1000.0]);
     for minimum_resolution in [2.0, 8.0] {
-        let mut coarse = Scene::new(&flat, config(minimum_resolution, 0.0));
-        let mut rough = Scene::new(&flat, config(minimum_resolution, 1e6));
+        let mut coarse = Scene::new(&flat, rottger(minimum_resolution, 0.0));
+        let mut rough = Scene::new(&flat, rottger(minimum_resolution, 1e6));
         for pose in &poses {
             let a = coarse.frame_matches_brute_force(pose);
             let b = rough.frame_matches_brute_force(pose);
@@ -370,15 +359,15 @@ fn on_flat_terrain_the_mesh_depends_on_c_not_at_all_and_needs_no_forced_split() 
 }
 
 #[test]
-fn vertices_grow_with_c_on_a_rough_tile_and_about_quadratically_with_large_c() {
+fn fan_vertices_grow_with_the_minimum_resolution_c_about_quadratically() {
     // The paper: "as C increases, the total number of vertices per frame grows quadratically".
     let hierarchy = bumpy_terrain(7);
     let eye = DVec3::new(640.0, 640.0, 80.0);
     let vertices_at = |minimum_resolution: f64| {
-        let mut rottger = Rottger::new(&hierarchy, config(minimum_resolution, 0.0));
+        let mut algorithm = Rottger::new(&hierarchy, rottger(minimum_resolution, 0.0));
         let camera = Camera::new(&pose(eye, 0), view_600());
         let mut stats = FrameStats::default();
-        rottger.update(
+        algorithm.update(
             &FrameInput {
                 frame: 0,
                 camera: &camera,
@@ -445,7 +434,7 @@ fn the_controller_holds_a_fan_vertex_target_and_records_c_every_frame() {
                 RottgerConfig {
                     load: Some(LoadTarget { count, target }),
                     clipping,
-                    ..config(4.0, 1.0)
+                    ..rottger(4.0, 1.0)
                 },
                 300,
             );
@@ -486,7 +475,7 @@ fn an_unreachable_target_drives_c_to_its_bound_and_reports_the_clamp() {
                     count: LoadCount::Triangles,
                     target,
                 }),
-                ..config(2.0, 1.0)
+                ..rottger(2.0, 1.0)
             },
             120,
         );
@@ -500,32 +489,9 @@ fn an_unreachable_target_drives_c_to_its_bound_and_reports_the_clamp() {
     }
 }
 
-/// Loads the quickstart with its algorithms replaced by `algorithms`: the validated configs, or
-/// the problems as `field: problem` lines.
-fn load_with_algorithms(
-    algorithms: serde_json::Value,
-) -> Result<Vec<AlgorithmConfig>, Vec<String>> {
-    let dir = tempfile::tempdir().unwrap();
-    let mut experiment = common::experiment::quickstart();
-    experiment["algorithms"] = algorithms;
-    let path = common::experiment::save(dir.path(), "rottger", &experiment);
-    match roamsim::edge::experiment::load(&path) {
-        Ok(loaded) => Ok(loaded
-            .algorithms
-            .into_iter()
-            .map(|spec| spec.config)
-            .collect()),
-        Err(error) => Err(error
-            .problems
-            .iter()
-            .map(|p| format!("{}: {}", p.field, p.problem))
-            .collect()),
-    }
-}
-
 #[test]
 fn an_experiment_names_rottger_with_its_resolutions_target_and_options() {
-    let configs = load_with_algorithms(serde_json::json!([
+    let configs = common::experiment::load_with_algorithms(serde_json::json!([
         { "name": "rottger", "label": "a", "minimum_resolution": 8, "desired_resolution": 25 },
         { "name": "rottger", "label": "b", "minimum_resolution": 8, "target_fan_vertices": 15000,
           "distance": "euclidean", "clipping": true, "geomorphing": true, "d2_propagation": false }
@@ -543,7 +509,7 @@ fn an_experiment_names_rottger_with_its_resolutions_target_and_options() {
                 d2_propagation: false,
                 clipping: true,
                 geomorphing: true,
-                ..config(8.0, 1.0)
+                ..rottger(8.0, 1.0)
             })
         ])
     );
@@ -552,13 +518,13 @@ fn an_experiment_names_rottger_with_its_resolutions_target_and_options() {
 fn config_without_morphing(minimum_resolution: f64, desired_resolution: f64) -> RottgerConfig {
     RottgerConfig {
         geomorphing: false,
-        ..config(minimum_resolution, desired_resolution)
+        ..rottger(minimum_resolution, desired_resolution)
     }
 }
 
 #[test]
 fn an_experiment_with_bad_rottger_entries_names_each_field() {
-    let problems = load_with_algorithms(serde_json::json!([
+    let problems = common::experiment::load_with_algorithms(serde_json::json!([
         { "name": "rottger", "label": "a", "minimum_resolution": 1.5, "desired_resolution": 1 },
         { "name": "rottger", "label": "b", "minimum_resolution": 8, "desired_resolution": -1 },
         { "name": "rottger", "label": "c", "minimum_resolution": 8 },
