@@ -1,6 +1,8 @@
 //! The hot paths of every run, on the quickstart's terrain and flight
 //! (`experiments/quickstart.json`): each algorithm's per-frame update after a warm-up, the
-//! preprocessing pass, and the audit of one mesh.
+//! preprocessing pass, and the audit of one mesh (a 4-8 mesh on its fast path, every sample and
+//! every 4th; with popping on; the same triangles handed as a triangle list, on the general
+//! path).
 //!
 //! Run with `cargo bench --bench hot_paths`. Compare ratios measured in one run, not absolute
 //! times across machines; operation counts are in the run outputs.
@@ -12,6 +14,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use roamsim::edge::experiment;
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use roamsim::sim::view::Camera;
 use std::hint::black_box;
 use std::path::Path;
@@ -72,10 +75,28 @@ fn audit(c: &mut Criterion) {
     );
     let mut group = c.benchmark_group("audit_one_frame");
     group.sample_size(20);
+    let settings = |stride, popping| AuditSettings { stride, popping };
     for stride in [1, 4] {
-        let mut auditor = Auditor::new(&hierarchy, AuditSettings { stride });
+        let mut auditor = Auditor::new(&hierarchy, settings(stride, false));
         group.bench_function(BenchmarkId::new("stride", stride), |b| {
             b.iter(|| auditor.audit(&hierarchy, reference.mesh(), &camera))
+        });
+    }
+    let mut auditor = Auditor::new(&hierarchy, settings(4, true));
+    group.bench_function(BenchmarkId::new("stride_popping", 4), |b| {
+        b.iter(|| auditor.audit(&hierarchy, reference.mesh(), &camera))
+    });
+    // The same triangles as a triangle list: the general rasteriser with its tie rule, holes
+    // and crack gaps.
+    let mut list = TriangleList::new(hierarchy.lattice(), CrackPolicy::Closed);
+    reference.mesh().for_each_triangle(&hierarchy, |t| {
+        let corners = t.corners.map(|c| list.add_vertex(c.position, c.z));
+        list.add_triangle(corners, t.info);
+    });
+    for stride in [1, 4] {
+        let mut auditor = Auditor::new(&hierarchy, settings(stride, false));
+        group.bench_function(BenchmarkId::new("triangle_list_stride", stride), |b| {
+            b.iter(|| auditor.audit(&hierarchy, MeshOutput::triangles(&list), &camera))
         });
     }
     group.finish();

@@ -71,7 +71,7 @@ enum Command {
     },
     /// Replay an experiment's flight in a window: the meshes, their wireframe by level, the
     /// statistics in the title. Keys: Space pause · → step · A/B switch the left/right
-    /// algorithm · S split screen · W wireframe · C culling view · Q quit.
+    /// algorithm · S split screen · W wireframe · C culling view · R triangle roles · Q quit.
     #[cfg(feature = "preview")]
     #[command(after_help = EXAMPLES)]
     Preview {
@@ -109,6 +109,10 @@ enum Command {
         /// Leave out the statistics drawn in each pane's corner.
         #[arg(long)]
         no_captions: bool,
+        /// Tell triangle roles apart: skirts cyan, stitches violet, degenerate triangles as
+        /// magenta lines.
+        #[arg(long)]
+        roles: bool,
     },
 }
 
@@ -145,6 +149,7 @@ fn main() -> ExitCode {
             camera,
             no_wireframe,
             no_captions,
+            roles,
         } => render(roamsim::edge::preview::headless::RenderRequest {
             experiment,
             frames,
@@ -157,6 +162,7 @@ fn main() -> ExitCode {
             wireframe: !no_wireframe,
             size: None,
             captions: !no_captions,
+            roles,
         }),
     };
     match result {

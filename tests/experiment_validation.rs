@@ -201,3 +201,42 @@ fn a_recorded_log_with_a_nan_is_refused_before_anything_runs() {
         "{error}"
     );
 }
+
+#[test]
+fn mesh_exports_name_entries_that_exist_and_frames_inside_the_flight() {
+    assert_eq!(
+        problems_of(|e| {
+            e["outputs"] =
+                json!({"meshes": {"frames": [0, 399], "entries": ["wu", "roam target=6000"]}})
+        }),
+        Vec::<String>::new()
+    );
+    assert_one_problem(
+        |e| e["outputs"] = json!({"meshes": {"frames": [3], "entries": ["wu", "röttger"]}}),
+        "outputs.meshes.entries[1]",
+        "\"röttger\" names no algorithm entry",
+    );
+    assert_one_problem(
+        |e| e["outputs"] = json!({"meshes": {"frames": []}}),
+        "outputs.meshes.frames",
+        "empty: expected at least one frame",
+    );
+    assert_one_problem(
+        |e| e["outputs"] = json!({"meshes": {"frames": [12, 400]}}),
+        "outputs.meshes.frames",
+        "400 is past the flight's last frame 399",
+    );
+}
+
+#[test]
+fn popping_is_an_option_of_the_audit() {
+    assert_eq!(
+        problems_of(|e| e["effects"]["audit"]["popping"] = json!(true)),
+        Vec::<String>::new()
+    );
+    assert_one_problem(
+        |e| e["effects"]["popping"] = json!(true),
+        "effects.popping",
+        "unknown field `popping`, expected `audit` or `culling`",
+    );
+}

@@ -5,18 +5,19 @@
 
 mod common;
 
-use common::algorithms::{every_algorithm, every_rottger, rottger};
-use common::view_600;
+use common::algorithms::{
+    every_algorithm, every_rottger, reference, roam_target, rottger, wu, wu_budget,
+};
+use common::{checked_step, extra, vertex_set, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
 use roamsim::sim::algorithm::{
-    AlgorithmConfig, BudgetConfig, FrameInput, LodAlgorithm, ReferenceConfig, RoamConfig, RoamGoal,
-    SplitThreshold, Wu, WuConfig,
+    AlgorithmConfig, LodAlgorithm, ReferenceConfig, RoamConfig, SplitThreshold, Wu, WuConfig,
 };
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::{Flight, speed_violations};
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
-use roamsim::sim::mesh::VertexSet;
-use roamsim::sim::mesh::validate::validate_reported;
+use roamsim::sim::mesh::{MeshOutput, VertexSet};
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::embed::{Fit, embed};
 use roamsim::sim::terrain::{Heightfield, SampleGrid, Spacing};
@@ -99,22 +100,19 @@ fn final_mesh_from(
         let eye = pose.position;
         // As the runner does: world pose into the terrain's local frame.
         let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
-        let mut stats = FrameStats::default();
-        algorithm.update(
-            &FrameInput {
-                frame: frame as u64,
-                camera: &camera,
-                speed_bound_broken: frame == 0 || broken.contains(&(frame as u64)),
-            },
-            &mut stats,
+        let frame = frame as u64;
+        let broken = frame == 0 || broken.contains(&frame);
+        let context = format!("{config:?}, eye {eye:?}");
+        checked_step(
+            hierarchy,
+            algorithm.as_mut(),
+            frame,
+            &camera,
+            broken,
+            context,
         );
-        if let Err(error) =
-            validate_reported(hierarchy.lattice(), algorithm.mesh(), stats.triangles)
-        {
-            panic!("{config:?}, eye {eye:?}: {error}");
-        }
     }
-    algorithm.mesh().clone()
+    vertex_set(algorithm.as_ref()).clone()
 }
 
 /// `every_algorithm(tau_px)` and every Röttger configuration: for the cases whose right answer
@@ -384,26 +382,15 @@ fn an_eye_exactly_on_a_zone_boundary_splits_and_one_step_outside_it_does_not() {
                 }],
             )
         };
-        let reference = |threshold| {
+        let from_scratch = |threshold| {
             AlgorithmConfig::Reference(ReferenceConfig {
-                nesting: roamsim::sim::hierarchy::NestingRule::Max,
-                tau_px: 1.0,
-                zone,
                 threshold,
+                ..reference(1.0, zone)
             })
         };
-        let at_most_zero = reference(SplitThreshold::LifeAtMost(0.0));
-        let below_one = reference(SplitThreshold::LifeBelow(1.0));
-        let wu = AlgorithmConfig::Wu(WuConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: Some(1.0),
-            budget: None,
-            zone,
-            block_priority: false,
-            depth_limit: None,
-            cone_culling: false,
-            wheel_links: 64,
-        });
+        let at_most_zero = from_scratch(SplitThreshold::LifeAtMost(0.0));
+        let below_one = from_scratch(SplitThreshold::LifeBelow(1.0));
+        let wu = AlgorithmConfig::Wu(wu(1.0, zone));
         for config in [&at_most_zero, &below_one, &wu] {
             let on = mesh_of(config, eye);
             assert!(on.contains_point(hierarchy.lattice(), root), "{config:?}");
@@ -545,8 +532,12 @@ fn audited_max_px(hierarchy: &Hierarchy, mesh: &VertexSet, eye: DVec3) -> f64 {
         },
         view_600(),
     );
-    let mut auditor = Auditor::new(hierarchy, AuditSettings { stride: 1 });
-    let audit = auditor.audit(hierarchy, mesh, &camera);
+    let settings = AuditSettings {
+        stride: 1,
+        popping: false,
+    };
+    let mut auditor = Auditor::new(hierarchy, settings);
+    let audit = auditor.audit(hierarchy, MeshOutput::lattice(mesh), &camera);
     assert!(audit.samples_in_view > 0);
     audit.projected.unwrap().max
 }
@@ -701,29 +692,16 @@ fn a_terrain_of_2_to_the_n_plus_2_samples_is_padded_and_reproduced_exactly_at_ta
     }
 }
 
-/// One frame of `algorithm` at `eye` with the tests' pose; returns its statistics.
-fn step(algorithm: &mut dyn LodAlgorithm, frame: u64, eye: DVec3) -> FrameStats {
+/// One frame of `algorithm` at `eye` with the tests' pose, checked as `--check` checks it.
+fn step(
+    hierarchy: &Hierarchy,
+    algorithm: &mut dyn LodAlgorithm,
+    frame: u64,
+    eye: DVec3,
+) -> FrameStats {
     let camera = Camera::new(&pose(eye), view_600());
-    let mut stats = FrameStats::default();
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera: &camera,
-            speed_bound_broken: frame == 0,
-        },
-        &mut stats,
-    );
-    stats
-}
-
-/// The value of the algorithm-specific column `name` in `stats`.
-fn extra(algorithm: &dyn LodAlgorithm, stats: &FrameStats, name: &str) -> f64 {
-    let k = algorithm
-        .extra_columns()
-        .iter()
-        .position(|c| *c == name)
-        .unwrap();
-    stats.extra[k]
+    let name = algorithm.name();
+    checked_step(hierarchy, algorithm, frame, &camera, frame == 0, name)
 }
 
 #[test]
@@ -741,38 +719,28 @@ fn budgets_below_the_base_mesh_hold_the_base_mesh_and_above_the_full_mesh_the_fu
         .collect();
     for (budget, expected, limit) in [(1, &base, -200), (1_000_000, &full, 200)] {
         let wu_config = WuConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: Some(64.0),
-            budget: Some(BudgetConfig {
-                triangles: budget,
-                dead_band: 0,
-                base_limit: 200,
-                initial_tau_k: 1.5,
-            }),
-            zone: ZoneVariant::Conservative,
             block_priority: true,
-            depth_limit: None,
-            cone_culling: false,
-            wheel_links: 64,
+            ..wu_budget(64.0, budget, 200)
         };
         let mut wu = Wu::new(&hierarchy, wu_config, &view_600(), SPEED);
         for (frame, eye) in eyes.iter().enumerate() {
-            let stats = step(&mut wu, frame as u64, *eye);
-            validate_reported(lattice, wu.mesh(), stats.triangles).unwrap();
+            let stats = step(&hierarchy, &mut wu, frame as u64, *eye);
             if frame >= 250 {
-                assert_eq!(wu.mesh(), expected, "wu, budget {budget}, frame {frame}");
+                assert_eq!(
+                    wu.vertex_set(),
+                    expected,
+                    "wu, budget {budget}, frame {frame}"
+                );
                 assert_eq!(wu.base(), limit, "wu, budget {budget}");
-                assert_eq!(extra(&wu, &stats, "base_clamped"), 1.0);
+                assert_eq!(extra(&wu, &stats, BASE_CLAMPED), 1.0);
             }
         }
         // Culling flags aside: they keep triangles out of view coarse whatever the budget.
         for deferral in [false, true] {
             let roam = RoamConfig {
-                nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-                goal: RoamGoal::TargetTriangles(budget),
                 deferral,
-                culling_flags: false,
                 strips: deferral,
+                ..roam_target(budget)
             };
             for config in [
                 AlgorithmConfig::Roam(roam),
@@ -780,9 +748,9 @@ fn budgets_below_the_base_mesh_hold_the_base_mesh_and_above_the_full_mesh_the_fu
             ] {
                 let mut algorithm = config.build(&hierarchy, &view_600(), SPEED);
                 for (frame, eye) in eyes.iter().enumerate() {
-                    let stats = step(algorithm.as_mut(), frame as u64, *eye);
-                    validate_reported(lattice, algorithm.mesh(), stats.triangles).unwrap();
-                    assert_eq!(algorithm.mesh(), expected, "{config:?}, frame {frame}");
+                    let stats = step(&hierarchy, algorithm.as_mut(), frame as u64, *eye);
+                    let mesh = vertex_set(algorithm.as_ref());
+                    assert_eq!(mesh, expected, "{config:?}, frame {frame}");
                     assert_eq!(stats.triangles, expected.triangle_count(lattice));
                 }
             }
@@ -971,11 +939,11 @@ fn rottger_load_targets_below_the_base_mesh_and_above_the_full_mesh_end_at_the_b
     // A target of 1 triangle drives c to its smallest value: the mesh of c → 0 (C's alone). A
     // target of 10^6 drives it to its largest: every rough block subdivides, the full grid. Both
     // frames report the clamp.
+    use roamsim::sim::algorithm::columns::rottger::{C_CLAMPED, DESIRED_RESOLUTION_C};
     use roamsim::sim::algorithm::rottger::{
         DESIRED_RESOLUTION_MAX, DESIRED_RESOLUTION_MIN, LoadCount, LoadTarget,
     };
     let hierarchy = rough(33, 10.0, 20.0);
-    let lattice = hierarchy.lattice();
     let eyes: Vec<DVec3> = (0..120)
         .map(|f| DVec3::new(60.0 + 0.5 * f as f64, 80.0, 50.0))
         .collect();
@@ -993,19 +961,18 @@ fn rottger_load_targets_below_the_base_mesh_and_above_the_full_mesh_end_at_the_b
         let mut algorithm = config.build(&hierarchy, &view_600(), SPEED);
         let mut last = FrameStats::default();
         for (frame, eye) in eyes.iter().enumerate() {
-            last = step(algorithm.as_mut(), frame as u64, *eye);
-            validate_reported(lattice, algorithm.mesh(), last.triangles).unwrap();
+            last = step(&hierarchy, algorithm.as_mut(), frame as u64, *eye);
         }
         assert_eq!(
-            extra(algorithm.as_ref(), &last, "desired_resolution_c"),
+            extra(algorithm.as_ref(), &last, DESIRED_RESOLUTION_C),
             bound
         );
-        assert_eq!(extra(algorithm.as_ref(), &last, "c_clamped"), 1.0);
+        assert_eq!(extra(algorithm.as_ref(), &last, C_CLAMPED), 1.0);
         let expected = if target == 1 {
             rottger_mesh(&hierarchy, 2.0, 0.0, &[pose(*eyes.last().unwrap())])
         } else {
             full_grid(&hierarchy)
         };
-        assert_eq!(algorithm.mesh(), &expected, "target {target}");
+        assert_eq!(vertex_set(algorithm.as_ref()), &expected, "target {target}");
     }
 }

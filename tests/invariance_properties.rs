@@ -16,13 +16,12 @@
 mod common;
 
 use common::algorithms::{every_algorithm, every_rottger};
-use common::view_600;
+use common::{step, vertex_set, view_600};
 use glam::DVec3;
 use proptest::prelude::*;
-use roamsim::sim::algorithm::{AlgorithmConfig, FrameInput};
+use roamsim::sim::algorithm::AlgorithmConfig;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
-use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose, ViewSettings};
 use roamsim::sim::zone::SpeedBound;
@@ -96,17 +95,9 @@ fn decisions(
         .enumerate()
         .map(|(frame, pose)| {
             let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
-            let mut stats = FrameStats::default();
-            algorithm.update(
-                &FrameInput {
-                    frame: frame as u64,
-                    camera: &camera,
-                    speed_bound_broken: frame == 0,
-                },
-                &mut stats,
-            );
+            let stats = step(algorithm.as_mut(), frame as u64, &camera, frame == 0);
             Decisions {
-                mesh: algorithm.mesh().clone(),
+                mesh: vertex_set(algorithm.as_ref()).clone(),
                 counts: [
                     stats.triangles,
                     stats.splits,

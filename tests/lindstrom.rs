@@ -8,23 +8,29 @@
 
 mod common;
 
-use common::{bumpy_terrain, camera_at, view_600};
+use common::algorithms::lindstrom;
+use common::{bumpy_terrain, camera_at, checked_step, extra, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::columns::lindstrom::{
+    BLOCKS_COARSEST, BLOCKS_FINEST, BLOCKS_PARTIAL, FORCED_ACTIVATIONS, VERTICES_BY_INTERVAL,
+    VERTICES_EVALUATED,
+};
 use roamsim::sim::algorithm::lindstrom::{FromScratchView, mesh_from_scratch};
-use roamsim::sim::algorithm::{FrameInput, Lindstrom, LindstromConfig, LodAlgorithm};
+use roamsim::sim::algorithm::{Lindstrom, LindstromConfig};
 use roamsim::sim::hierarchy::{Hierarchy, NestingRule};
 use roamsim::sim::mesh::VertexSet;
-use roamsim::sim::mesh::validate::validate_reported;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
 
-/// Names of the extra columns, in the order the algorithm declares them.
-const BLOCKS_COARSEST: usize = 0;
-const BLOCKS_FINEST: usize = 1;
-const BLOCKS_PARTIAL: usize = 2;
-const VERTICES_EVALUATED: usize = 3;
-const VERTICES_BY_INTERVAL: usize = 4;
-const FORCED_ACTIVATIONS: usize = 5;
+/// Lindstrom's own columns, in the order it declares them.
+const COLUMNS: [&str; 6] = [
+    BLOCKS_COARSEST,
+    BLOCKS_FINEST,
+    BLOCKS_PARTIAL,
+    VERTICES_EVALUATED,
+    VERTICES_BY_INTERVAL,
+    FORCED_ACTIVATIONS,
+];
 
 /// One Lindstrom instance on a terrain, with the brute force beside it.
 struct Scene<'h> {
@@ -37,11 +43,7 @@ struct Scene<'h> {
 
 impl<'h> Scene<'h> {
     fn new(hierarchy: &'h Hierarchy, tau_px: f64, block_level: u32) -> Scene<'h> {
-        let config = LindstromConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px,
-            block_level,
-        };
+        let config = lindstrom(tau_px, block_level);
         Scene {
             hierarchy,
             nested_errors: hierarchy.nested_vertex_errors(NestingRule::Max),
@@ -54,15 +56,16 @@ impl<'h> Scene<'h> {
     /// Runs one frame from `eye`, checks the mesh against the brute force and the validator,
     /// checks that the counters add up, and returns the frame's statistics.
     fn frame_matches_brute_force(&mut self, eye: DVec3) -> FrameStats {
+        let context = format!("eye {eye:?}, {:?}", self.config);
         let camera = camera_at(eye);
-        let mut stats = FrameStats::default();
-        self.algorithm.update(
-            &FrameInput {
-                frame: self.frame,
-                camera: &camera,
-                speed_bound_broken: false,
-            },
-            &mut stats,
+        let (hierarchy, frame) = (self.hierarchy, self.frame);
+        let stats = checked_step(
+            hierarchy,
+            &mut self.algorithm,
+            frame,
+            &camera,
+            false,
+            &context,
         );
         self.frame += 1;
         let lattice = self.hierarchy.lattice();
@@ -73,33 +76,27 @@ impl<'h> Scene<'h> {
             lambda: view_600().pixels_per_unit(),
             tau_px: self.config.tau_px,
         });
-        let context = format!("eye {eye:?}, {:?}", self.config);
+        let mesh = self.algorithm.vertex_set();
         assert!(
-            self.algorithm.mesh() == &expected,
+            mesh == &expected,
             "{context}: {} vertices, brute force {}",
-            self.algorithm.mesh().len(),
+            mesh.len(),
             expected.len()
         );
-        if let Err(error) = validate_reported(lattice, self.algorithm.mesh(), stats.triangles) {
-            panic!("{context}: {error}");
-        }
-        assert_eq!(self.algorithm.triangle_count(), stats.triangles);
+        let column = |name| extra(&self.algorithm, &stats, name);
         let non_corner = (lattice.n_vertices() - 4) as f64;
         assert_eq!(
-            stats.extra[VERTICES_EVALUATED] + stats.extra[VERTICES_BY_INTERVAL],
+            column(VERTICES_EVALUATED) + column(VERTICES_BY_INTERVAL),
             non_corner,
             "{context}: every vertex is evaluated or decided by interval"
         );
+        assert_eq!(stats.metric_evaluations as f64, column(VERTICES_EVALUATED));
         assert_eq!(
-            stats.metric_evaluations as f64,
-            stats.extra[VERTICES_EVALUATED]
-        );
-        assert_eq!(
-            stats.extra[BLOCKS_COARSEST] + stats.extra[BLOCKS_FINEST] + stats.extra[BLOCKS_PARTIAL],
+            column(BLOCKS_COARSEST) + column(BLOCKS_FINEST) + column(BLOCKS_PARTIAL),
             self.algorithm.n_blocks() as f64,
             "{context}: every block is classified"
         );
-        assert!(stats.extra[FORCED_ACTIVATIONS] <= (self.algorithm.mesh().len() - 4) as f64);
+        assert!(column(FORCED_ACTIVATIONS) <= (mesh.len() - 4) as f64);
         stats
     }
 }
@@ -145,16 +142,9 @@ impl Seen {
     /// happened, so the comparison exercised every path of the coarse step.
     fn covers_every_decision(&self) {
         assert!(self.fewest_triangles < self.most_triangles, "{self:?}");
-        for column in [
-            BLOCKS_COARSEST,
-            BLOCKS_FINEST,
-            BLOCKS_PARTIAL,
-            VERTICES_EVALUATED,
-            VERTICES_BY_INTERVAL,
-            FORCED_ACTIVATIONS,
-        ] {
+        for (k, column) in COLUMNS.iter().enumerate() {
             assert!(
-                self.extra[column] > 0.0,
+                self.extra[k] > 0.0,
                 "column {column} never counted: {self:?}"
             );
         }
@@ -175,8 +165,8 @@ fn check_every_eye(level: u32, taus: &[f64], block_levels: &[u32]) -> Seen {
                 let stats = scene.frame_matches_brute_force(eye);
                 seen.fewest_triangles = seen.fewest_triangles.min(stats.triangles);
                 seen.most_triangles = seen.most_triangles.max(stats.triangles);
-                for (sum, value) in seen.extra.iter_mut().zip(&stats.extra) {
-                    *sum += value;
+                for (sum, column) in seen.extra.iter_mut().zip(COLUMNS) {
+                    *sum += extra(&scene.algorithm, &stats, column);
                 }
             }
         }
@@ -204,7 +194,7 @@ fn an_eye_exactly_on_a_vertex_keeps_that_vertex() {
     let eye = hierarchy.field().position(5, 7);
     let mut scene = Scene::new(&hierarchy, 1e6, 2);
     scene.frame_matches_brute_force(eye);
-    assert!(scene.algorithm.mesh().contains_point(lattice, vertex));
+    assert!(scene.algorithm.vertex_set().contains_point(lattice, vertex));
 }
 
 #[test]
@@ -222,8 +212,11 @@ fn tau_zero_keeps_exactly_the_vertices_with_an_error() {
         let mut scene = Scene::new(&hierarchy, 0.0, block_level);
         for eye in [DVec3::new(80.0, 80.0, 30.0), DVec3::new(-500.0, 20.0, 1e5)] {
             let stats = scene.frame_matches_brute_force(eye);
-            assert!(scene.algorithm.mesh() == &with_error, "k = {block_level}");
-            assert_eq!(stats.extra[FORCED_ACTIVATIONS], 0.0);
+            assert!(
+                scene.algorithm.vertex_set() == &with_error,
+                "k = {block_level}"
+            );
+            assert_eq!(extra(&scene.algorithm, &stats, FORCED_ACTIVATIONS), 0.0);
             assert_eq!(
                 stats.metric_evaluations, 0,
                 "τ = 0 is decided by intervals alone"
@@ -237,11 +230,11 @@ fn a_far_eye_gives_the_base_mesh_without_evaluating_anything() {
     let hierarchy = bumpy_terrain(4);
     let mut scene = Scene::new(&hierarchy, 1.0, 2);
     let stats = scene.frame_matches_brute_force(DVec3::new(1.0e7, -3.0e7, 5.0e6));
-    assert!(scene.algorithm.mesh() == &VertexSet::base_mesh(hierarchy.lattice()));
+    assert!(scene.algorithm.vertex_set() == &VertexSet::base_mesh(hierarchy.lattice()));
     assert_eq!(stats.triangles, 2);
     assert_eq!(stats.metric_evaluations, 0);
     assert_eq!(
-        stats.extra[BLOCKS_COARSEST],
+        extra(&scene.algorithm, &stats, BLOCKS_COARSEST),
         scene.algorithm.n_blocks() as f64
     );
 }
@@ -268,9 +261,9 @@ fn moving_back_and_forth_reports_what_entered_and_left_the_mesh() {
     let near = DVec3::new(20.0, 20.0, 30.0);
     let far = DVec3::new(150.0, 150.0, 30.0);
     let first = scene.frame_matches_brute_force(near);
-    let mesh_near = scene.algorithm.mesh().clone();
+    let mesh_near = scene.algorithm.vertex_set().clone();
     let second = scene.frame_matches_brute_force(far);
-    let mesh_far = scene.algorithm.mesh().clone();
+    let mesh_far = scene.algorithm.vertex_set().clone();
     let third = scene.frame_matches_brute_force(near);
     assert_eq!(first.vertices_inserted as usize, mesh_near.len() - 4);
     let only_near = mesh_near
@@ -297,15 +290,7 @@ fn moving_back_and_forth_reports_what_entered_and_left_the_mesh() {
 fn the_block_quadtree_is_valid_for_every_block_level() {
     let hierarchy = bumpy_terrain(5);
     for block_level in 1..=6 {
-        let algorithm = Lindstrom::new(
-            &hierarchy,
-            LindstromConfig {
-                nesting: roamsim::sim::hierarchy::NestingRule::Max,
-                tau_px: 1.0,
-                block_level,
-            },
-            &view_600(),
-        );
+        let algorithm = Lindstrom::new(&hierarchy, lindstrom(1.0, block_level), &view_600());
         assert_eq!(algorithm.block_level(), block_level.min(5));
         assert_eq!(algorithm.validate_blocks(), Ok(()), "k = {block_level}");
     }
@@ -319,11 +304,7 @@ fn an_experiment_names_lindstrom_with_its_tolerance_and_block_level() {
     assert_eq!(
         configs,
         Ok(vec![roamsim::sim::algorithm::AlgorithmConfig::Lindstrom(
-            LindstromConfig {
-                nesting: roamsim::sim::hierarchy::NestingRule::Max,
-                tau_px: 1.0,
-                block_level: 4
-            }
+            lindstrom(1.0, 4)
         )])
     );
 }
@@ -369,7 +350,7 @@ fn scaling_terrain_and_eye_by_four_changes_no_decision() {
         for eye in [DVec3::new(35.0, 60.0, 45.0), DVec3::new(-40.0, 170.0, 12.5)] {
             let small_stats = small_scene.frame_matches_brute_force(eye);
             let large_stats = large_scene.frame_matches_brute_force(4.0 * eye);
-            assert!(small_scene.algorithm.mesh() == large_scene.algorithm.mesh());
+            assert!(small_scene.algorithm.vertex_set() == large_scene.algorithm.vertex_set());
             assert_eq!(small_stats.extra, large_stats.extra);
         }
     }
@@ -416,16 +397,16 @@ fn a_checked_run_of_the_real_tile_writes_the_lindstrom_columns() {
         let value = |name: &str| row[column(name)].parse::<f64>().unwrap();
         assert!(value("triangles") > 2.0);
         assert_eq!(
-            value("vertices_evaluated") + value("vertices_by_interval"),
+            value(VERTICES_EVALUATED) + value(VERTICES_BY_INTERVAL),
             (1025.0 * 1025.0) - 4.0
         );
         assert_eq!(
-            value("blocks_coarsest") + value("blocks_finest") + value("blocks_partial"),
+            value(BLOCKS_COARSEST) + value(BLOCKS_FINEST) + value(BLOCKS_PARTIAL),
             5461.0,
             "1 + 4 + … + 4^6 blocks of 17² samples on a 1025² grid"
         );
         assert!(
-            value("forced_activations") > 0.0,
+            value(FORCED_ACTIVATIONS) > 0.0,
             "closure forces parents on a real tile"
         );
     }

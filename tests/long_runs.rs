@@ -12,16 +12,13 @@
 
 mod common;
 
-use common::{bumpy_terrain, camera_at};
+use common::algorithms::{lindstrom, reference, roam_tolerance};
+use common::{bumpy_terrain, camera_at, checked_step, extra, step, vertex_set};
 use glam::DVec3;
 use roamsim::sim::algorithm::rottger::{LoadCount, LoadTarget};
-use roamsim::sim::algorithm::{
-    AlgorithmConfig, FrameInput, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
-    RottgerConfig, SplitThreshold,
-};
+use roamsim::sim::algorithm::{AlgorithmConfig, LodAlgorithm, RoamConfig, RottgerConfig};
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
-use roamsim::sim::mesh::validate::validate_reported;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 
@@ -53,49 +50,44 @@ struct LongRun {
 }
 
 fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun {
-    fly_observed(hierarchy, config, frames, &mut |_, _| {})
+    fly_observed(hierarchy, config, frames, &mut |_, _, _| {})
 }
 
-/// [`fly`], showing every frame's statistics to `observe`.
+/// [`fly`], showing every frame's statistics (and the algorithm that filled them) to `observe`.
 fn fly_observed(
     hierarchy: &Hierarchy,
     config: &AlgorithmConfig,
     frames: u64,
-    observe: &mut dyn FnMut(u64, &FrameStats),
+    observe: &mut dyn FnMut(u64, &dyn LodAlgorithm, &FrameStats),
 ) -> LongRun {
     let mut algorithm = config.build(hierarchy, &common::view_600(), SPEED);
     let (mut inserted, mut deleted) = (0u128, 0u128);
     let mut memory_after_first_lap = 0;
     for frame in 0..frames {
         let camera = camera_at(eye_at(frame));
-        let mut stats = FrameStats::default();
-        algorithm.update(
-            &FrameInput {
+        let checked = frame % 100_003 == 0 || frame + 1 == frames;
+        let stats = if checked {
+            let context = format!("{config:?}");
+            checked_step(
+                hierarchy,
+                algorithm.as_mut(),
                 frame,
-                camera: &camera,
-                speed_bound_broken: frame == 0,
-            },
-            &mut stats,
-        );
+                &camera,
+                frame == 0,
+                context,
+            )
+        } else {
+            step(algorithm.as_mut(), frame, &camera, frame == 0)
+        };
         inserted += u128::from(stats.vertices_inserted);
         deleted += u128::from(stats.vertices_deleted);
-        observe(frame, &stats);
-        let checked = frame % 100_003 == 0 || frame + 1 == frames;
-        if checked
-            && let Err(error) = validate_reported(
-                hierarchy.lattice(),
-                algorithm.mesh(),
-                algorithm.triangle_count(),
-            )
-        {
-            panic!("{config:?}, frame {frame}: {error}");
-        }
+        observe(frame, algorithm.as_ref(), &stats);
         if frame + 1 == FRAMES_PER_LAP {
             memory_after_first_lap = algorithm.memory_bytes();
         }
     }
     LongRun {
-        final_mesh: algorithm.mesh().clone(),
+        final_mesh: vertex_set(algorithm.as_ref()).clone(),
         net_vertices: inserted as i128 - deleted as i128,
         total_changes: inserted + deleted,
         memory_after_first_lap,
@@ -106,16 +98,8 @@ fn fly_observed(
 /// The mesh a fresh instance builds for the view of `frame`.
 fn fresh_mesh(hierarchy: &Hierarchy, config: &AlgorithmConfig, frame: u64) -> VertexSet {
     let mut algorithm = config.build(hierarchy, &common::view_600(), SPEED);
-    let camera = camera_at(eye_at(frame));
-    algorithm.update(
-        &FrameInput {
-            frame: 0,
-            camera: &camera,
-            speed_bound_broken: true,
-        },
-        &mut FrameStats::default(),
-    );
-    algorithm.mesh().clone()
+    step(algorithm.as_mut(), 0, &camera_at(eye_at(frame)), true);
+    vertex_set(algorithm.as_ref()).clone()
 }
 
 fn check_million_frames(config: AlgorithmConfig) {
@@ -148,31 +132,24 @@ fn check_million_frames(config: AlgorithmConfig) {
 #[test]
 fn a_million_reference_frames_stay_exact() {
     // Wu's zones are large at small τ: at 4 px this flight stays inside all of them.
-    check_million_frames(AlgorithmConfig::Reference(ReferenceConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px: 64.0,
-        zone: ZoneVariant::Conservative,
-        threshold: SplitThreshold::LifeAtMost(0.0),
-    }));
+    check_million_frames(AlgorithmConfig::Reference(reference(
+        64.0,
+        ZoneVariant::Conservative,
+    )));
 }
 
 #[test]
 fn a_million_lindstrom_frames_stay_exact() {
-    check_million_frames(AlgorithmConfig::Lindstrom(LindstromConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px: 4.0,
-        block_level: 1,
-    }));
+    check_million_frames(AlgorithmConfig::Lindstrom(lindstrom(4.0, 1)));
 }
 
 #[test]
 fn a_million_roam_frames_with_every_effect_stay_exact() {
     check_million_frames(AlgorithmConfig::Roam(RoamConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-        goal: RoamGoal::TolerancePx(4.0),
         deferral: true,
         culling_flags: true,
         strips: true,
+        ..roam_tolerance(4.0)
     }));
 }
 
@@ -180,13 +157,7 @@ fn a_million_roam_frames_with_every_effect_stay_exact() {
 fn a_million_roam_rebuild_frames_stay_exact() {
     // A coarser τ than roam's: the rebuild splits from the base mesh every frame, and its cost
     // grows with the mesh; the mesh still changes thousands of times.
-    check_million_frames(AlgorithmConfig::RoamRebuild(RoamConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-        goal: RoamGoal::TolerancePx(16.0),
-        deferral: false,
-        culling_flags: false,
-        strips: false,
-    }));
+    check_million_frames(AlgorithmConfig::RoamRebuild(roam_tolerance(16.0)));
 }
 
 #[test]
@@ -202,6 +173,7 @@ fn a_million_rottger_frames_under_the_load_controller_keep_c_bounded_and_exact()
     // The controller's c changes every frame it misses the target: after 10^6 frames it must
     // still be a finite value inside its bounds that moved within the last lap, and the mesh must
     // be the one a fixed-c instance at the final c builds for the final view.
+    use roamsim::sim::algorithm::columns::rottger::DESIRED_RESOLUTION_C;
     use roamsim::sim::algorithm::rottger::{DESIRED_RESOLUTION_MAX, DESIRED_RESOLUTION_MIN};
     let hierarchy = bumpy_terrain(3);
     let config = RottgerConfig {
@@ -217,8 +189,8 @@ fn a_million_rottger_frames_under_the_load_controller_keep_c_bounded_and_exact()
         &hierarchy,
         &AlgorithmConfig::Rottger(config),
         MILLION,
-        &mut |frame, stats| {
-            last_c = stats.extra[0];
+        &mut |frame, algorithm, stats| {
+            last_c = extra(algorithm, stats, DESIRED_RESOLUTION_C);
             assert!(
                 (DESIRED_RESOLUTION_MIN..=DESIRED_RESOLUTION_MAX).contains(&last_c),
                 "frame {frame}: c = {last_c}"

@@ -4,14 +4,11 @@
 
 mod common;
 
-use common::{bumpy_terrain, camera_at, view_600};
+use common::algorithms::reference;
+use common::{bumpy_terrain, camera_at, checked_step, step, view_600};
 use glam::DVec3;
-use roamsim::sim::algorithm::{
-    FrameInput, LodAlgorithm, Reference, ReferenceConfig, SplitThreshold,
-};
+use roamsim::sim::algorithm::Reference;
 use roamsim::sim::hierarchy::Hierarchy;
-use roamsim::sim::mesh::validate::validate_reported;
-use roamsim::sim::stats::FrameStats;
 use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 
 const SPEED: SpeedBound = SpeedBound {
@@ -23,12 +20,7 @@ const SPEED: SpeedBound = SpeedBound {
 /// inserted/deleted bookkeeping is exercised too) and validates every mesh. Returns the smallest
 /// and largest triangle counts seen.
 fn check_every_eye(hierarchy: &Hierarchy, tau_px: f64, zone: ZoneVariant) -> (u64, u64) {
-    let config = ReferenceConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px,
-        zone,
-        threshold: SplitThreshold::LifeAtMost(0.0),
-    };
+    let config = reference(tau_px, zone);
     let mut reference = Reference::new(hierarchy, config, &view_600(), SPEED);
     let field = hierarchy.field();
     let (min_z, max_z) = field.height_range();
@@ -37,20 +29,15 @@ fn check_every_eye(hierarchy: &Hierarchy, tau_px: f64, zone: ZoneVariant) -> (u6
         for frame_i in 0..field.side() {
             for z in [f64::from(min_z) - 5.0, f64::from(max_z) + 1.0, 100_000.0] {
                 let eye = DVec3::new(frame_i as f64 * 10.0, frame_j as f64 * 10.0, z);
-                let camera = camera_at(eye);
-                let mut stats = FrameStats::default();
-                reference.update(
-                    &FrameInput {
-                        frame: 0,
-                        camera: &camera,
-                        speed_bound_broken: false,
-                    },
-                    &mut stats,
+                let context = format!("eye {eye:?}, τ = {tau_px}");
+                let stats = checked_step(
+                    hierarchy,
+                    &mut reference,
+                    0,
+                    &camera_at(eye),
+                    false,
+                    context,
                 );
-                let lattice = hierarchy.lattice();
-                if let Err(error) = validate_reported(lattice, reference.mesh(), stats.triangles) {
-                    panic!("eye {eye:?}, τ = {tau_px}: {error}");
-                }
                 counts = (counts.0.min(stats.triangles), counts.1.max(stats.triangles));
             }
         }
@@ -81,22 +68,9 @@ fn every_eye_over_17_by_17_gives_a_valid_mesh_that_refines_near_the_eye() {
 #[test]
 fn tau_zero_refines_every_node_with_an_error() {
     let hierarchy = bumpy_terrain(4);
-    let config = ReferenceConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px: 0.0,
-        zone: ZoneVariant::Conservative,
-        threshold: SplitThreshold::LifeAtMost(0.0),
-    };
+    let config = reference(0.0, ZoneVariant::Conservative);
     let mut reference = Reference::new(&hierarchy, config, &view_600(), SPEED);
     let camera = camera_at(DVec3::new(-5000.0, -5000.0, 5000.0));
-    let mut stats = FrameStats::default();
-    reference.update(
-        &FrameInput {
-            frame: 0,
-            camera: &camera,
-            speed_bound_broken: false,
-        },
-        &mut stats,
-    );
+    let stats = step(&mut reference, 0, &camera, false);
     assert_eq!(stats.triangles, 2 * 16 * 16);
 }

@@ -6,26 +6,46 @@
 //! shows, so the distinct ids count the triangles drawn, which must equal the frame's
 //! statistic; seen from the flight camera every covered pixel must lie on the triangle the
 //! simulation's own camera projects there, the sky above the horizon stays empty, and the
-//! ground below is covered. Without a graphics adapter the GPU tests say so and pass, unless
-//! `CI` is set: then a missing adapter fails them.
+//! ground below is covered. A triangle list with skirts, degenerate strip joins and morphed
+//! heights (the test-only `Patches` of `tests/common/patches.rs`) is drawn the same way: from
+//! above exactly its surface triangles show (skirts and degenerate triangles have no area seen
+//! from there), from the flight camera every pixel lies on its triangle, from the side the
+//! skirts show, and with roles on they (and the degenerate triangles' edges) are told apart by
+//! colour. Without a graphics adapter the GPU tests say so and pass, unless `CI` is set: then a
+//! missing adapter fails them.
 
 #![cfg(feature = "preview")]
 
 mod common;
 
 use common::experiment::{quickstart, save};
-use glam::DVec2;
-use roamsim::edge::preview::geometry::{MeshGeometry, ViewChoice, Viewport, triangle_level};
+use common::patches::{Borders, PatchConfig, Patches};
+use glam::{DVec2, DVec3};
+use roamsim::edge::preview::geometry::{
+    LineVertex, MeshGeometry, ViewChoice, Viewport, flight_view_projection,
+    overview_view_projection,
+};
 use roamsim::edge::preview::headless::{
     HeadlessError, Offscreen, RenderRequest, TriangleIdImage, pane_camera, render_experiment,
 };
 use roamsim::edge::preview::renderer::{DrawOptions, Pane};
 use roamsim::edge::preview::replay::{Replay, Scene};
-use roamsim::sim::hierarchy::Lattice;
-use roamsim::sim::mesh::triangles::{base_triangles, count_triangles, for_each_triangle};
+use roamsim::sim::algorithm::LodAlgorithm;
+use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::triangles::count_triangles;
+use roamsim::sim::mesh::{MeshOutput, TriangleRole};
+use roamsim::sim::run::{Effects, FrameOutcome, FrameRunner, RunInputs};
+use roamsim::sim::view::{Camera, Pose};
 use serde_json::json;
 use std::collections::BTreeSet;
 use std::path::Path;
+
+/// Drawing options of the id checks: no wireframe, no tint, no roles.
+const PLAIN: DrawOptions = DrawOptions {
+    wireframe: false,
+    tint_culled: false,
+    roles: false,
+};
 
 /// Frames of the small flight that the tests look at.
 const FRAMES: [u64; 3] = [0, 4, 9];
@@ -127,7 +147,8 @@ fn the_triangle_list_holds_every_triangle_of_the_mesh_once_with_the_runs_culling
                 "{}",
                 lane.label
             );
-            assert_eq!(geometry.n_triangles(), count_triangles(lattice, lane.mesh));
+            let vertices = lane.mesh.lattice_vertices().unwrap();
+            assert_eq!(geometry.n_triangles(), count_triangles(lattice, vertices));
             let in_view = geometry
                 .vertices()
                 .chunks_exact(3)
@@ -167,10 +188,7 @@ fn seen_from_above_the_drawn_triangles_are_exactly_the_frames_triangles() {
                     view_projection,
                     mesh: &geometry,
                     lines: &[],
-                    options: DrawOptions {
-                        wireframe: false,
-                        tint_culled: false,
-                    },
+                    options: PLAIN,
                 })
                 .unwrap();
             let drawn = distinct_triangles(&image);
@@ -232,10 +250,7 @@ fn from_the_flight_camera_each_pixel_shows_the_triangle_the_camera_projects_ther
                     view_projection,
                     mesh: &geometry,
                     lines: &[],
-                    options: DrawOptions {
-                        wireframe: false,
-                        tint_culled: false,
-                    },
+                    options: PLAIN,
                 })
                 .unwrap();
             let (width, height) = (image.width as usize, image.height as usize);
@@ -272,7 +287,12 @@ fn from_the_flight_camera_each_pixel_shows_the_triangle_the_camera_projects_ther
                 "{}: a triangle the run counts as culled was drawn",
                 lane.label
             );
-            let (agreeing, checked) = pixels_on_their_projected_triangle(scene, &lane, &image);
+            let (agreeing, checked) = pixels_on_their_projected_triangle(
+                &scene.hierarchy,
+                lane.mesh,
+                lane.camera,
+                &image,
+            );
             assert!(
                 agreeing as f64 >= 0.995 * checked as f64 && checked > width * height / 4,
                 "{}, frame {frame}: {agreeing} of {checked} covered pixels lie on the triangle \
@@ -292,20 +312,20 @@ fn from_the_flight_camera_each_pixel_shows_the_triangle_the_camera_projects_ther
 }
 
 /// Of the covered pixels whose triangle lies wholly in front of the near plane, how many have
-/// their centre within one pixel of that triangle as `Camera::project_camera` places it.
+/// their centre within one pixel of that triangle as `Camera::project_camera` places it. The
+/// triangles are the mesh visitor's, in its order (the order the geometry was built in).
 fn pixels_on_their_projected_triangle(
-    scene: &Scene,
-    lane: &roamsim::edge::preview::replay::LaneFrame,
+    hierarchy: &Hierarchy,
+    mesh: MeshOutput,
+    camera: &Camera,
     image: &TriangleIdImage,
 ) -> (usize, usize) {
-    let lattice = scene.hierarchy.lattice();
-    let field = scene.hierarchy.field();
+    let spacing = hierarchy.field().spacing();
     let mut projected: Vec<Option<[DVec2; 3]>> = Vec::new();
-    for_each_triangle(lattice, lane.mesh, |t| {
-        let corners = [t.apex, t.left, t.right].map(|p| {
-            let world = field.position(p.i as usize, p.j as usize);
-            lane.camera.project_camera(lane.camera.to_camera(world))
-        });
+    mesh.for_each_triangle(hierarchy, |t| {
+        let corners = t
+            .corners
+            .map(|c| camera.project_camera(camera.to_camera(c.local(spacing))));
         projected.push(match corners {
             [Some(a), Some(b), Some(c)] => Some([a, b, c]),
             _ => None,
@@ -360,6 +380,7 @@ fn roamsim_render_writes_the_asked_frames_with_ground_below_and_sky_above() {
         size: None,
         // The pixel checks below look at the top row, where the captions would be.
         captions: false,
+        roles: false,
     })
     .unwrap();
     let names: Vec<_> = written
@@ -408,6 +429,7 @@ fn captions_write_the_frames_statistics_in_the_panes_corner_and_nowhere_else() {
             wireframe: true,
             size: None,
             captions,
+            roles: false,
         })
         .unwrap();
         assert_eq!(written.len(), 1);
@@ -446,24 +468,6 @@ fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
 }
 
 #[test]
-fn the_base_triangles_are_level_zero_and_each_split_goes_one_level_down() {
-    let lattice = Lattice::new(4);
-    let [first, _] = base_triangles(&lattice);
-    assert_eq!(triangle_level(&lattice, &first), 0);
-    let mut triangle = first;
-    for level in 1..=2 * lattice.level() {
-        let mid = triangle.split_vertex().unwrap();
-        triangle = triangle.children(mid)[level as usize % 2];
-        assert_eq!(triangle_level(&lattice, &triangle), level);
-    }
-    assert_eq!(
-        triangle.split_vertex(),
-        None,
-        "the finest level has no split vertex"
-    );
-}
-
-#[test]
 fn panes_split_the_window_and_keep_the_views_aspect() {
     let window = Viewport {
         x: 0,
@@ -478,4 +482,255 @@ fn panes_split_the_window_and_keep_the_views_aspect() {
         (fitted.x, fitted.y, fitted.width, fitted.height),
         (600, 75, 600, 450)
     );
+}
+
+/// The test-only triangle-list algorithm as the render tests draw it: 8×8-cell patches with
+/// deep skirts (so that they show from the side), strip joins and geomorphing.
+fn patches_config() -> PatchConfig {
+    PatchConfig {
+        patch_level: 3,
+        borders: Borders::Skirts { depth_m: 200.0 },
+        morph: true,
+        strip_joins: true,
+        detail_distance_m: 100.0,
+    }
+}
+
+/// Runs the test-only patches over the small experiment's flight through the simulation's own
+/// runner (culling on, every mesh checked) and calls `check` at every frame of [`FRAMES`].
+fn patches_at_each_checked_frame(check: &mut dyn FnMut(&Hierarchy, &Patches, &FrameOutcome)) {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::load(&small_experiment(dir.path())).unwrap();
+    let hierarchy = &scene.hierarchy;
+    let inputs = RunInputs {
+        hierarchy,
+        view: &scene.experiment.view,
+        flight: &scene.experiment.flight,
+        violation_frames: &[],
+        effects: Effects {
+            audit: None,
+            culling: true,
+            check_meshes: true,
+        },
+    };
+    let mut patches = Patches::new(hierarchy, patches_config());
+    let mut runner = FrameRunner::new(&inputs);
+    while let Some(outcome) = runner.step("patches", &mut patches) {
+        let outcome = outcome.unwrap();
+        if FRAMES.contains(&outcome.stats.frame) {
+            check(hierarchy, &patches, &outcome);
+        }
+    }
+}
+
+fn pane_of<'a>(
+    viewport: Viewport,
+    view_projection: glam::Mat4,
+    mesh: &'a MeshGeometry,
+    lines: &'a [LineVertex],
+    options: DrawOptions,
+) -> Pane<'a> {
+    Pane {
+        viewport,
+        view_projection,
+        mesh,
+        lines,
+        options,
+    }
+}
+
+/// The overview's matrix over the whole image (the render's 5 % margin).
+fn overview(hierarchy: &Hierarchy, viewport: Viewport) -> glam::Mat4 {
+    overview_view_projection(hierarchy.field().extent(), 0.05, viewport.aspect())
+}
+
+#[test]
+fn a_triangle_list_seen_from_above_shows_exactly_its_surface_triangles() {
+    let Some(offscreen) = offscreen(OVERVIEW_SIZE, OVERVIEW_SIZE) else {
+        return;
+    };
+    patches_at_each_checked_frame(&mut |hierarchy, patches, outcome| {
+        let mut geometry = MeshGeometry::default();
+        geometry.rebuild(hierarchy, patches.mesh(), &outcome.camera);
+        let stats = &outcome.stats;
+        let counts = stats.mesh.unwrap();
+        assert_eq!(geometry.n_triangles(), stats.triangles);
+        let [surface, skirt, degenerate, _] = counts.triangles_by_role;
+        assert!(skirt > 0 && degenerate > 0 && counts.morphing_vertices > 0);
+        let in_view = geometry
+            .vertices()
+            .chunks_exact(3)
+            .filter(|t| t[0].in_view == 1.0)
+            .count() as u64;
+        assert_eq!(in_view, stats.triangles_rendered);
+        let image = offscreen
+            .render_triangle_ids(&Pane {
+                viewport: offscreen.viewport(),
+                view_projection: overview(hierarchy, offscreen.viewport()),
+                mesh: &geometry,
+                lines: &[],
+                options: PLAIN,
+            })
+            .unwrap();
+        let drawn = distinct_triangles(&image);
+        let roles: Vec<f32> = geometry
+            .vertices()
+            .chunks_exact(3)
+            .map(|t| t[0].role)
+            .collect();
+        let surface_role = TriangleRole::Surface.index() as f32;
+        assert!(
+            drawn.iter().all(|&id| roles[id as usize] == surface_role),
+            "frame {}: a skirt or degenerate triangle showed from straight above",
+            stats.frame
+        );
+        assert_eq!(
+            drawn.len() as u64,
+            surface,
+            "frame {}: distinct triangles drawn vs the frame's surface triangles",
+            stats.frame
+        );
+        let expected = (1.0 / 1.1f64).powi(2);
+        let covered = covered_fraction(&image.ids);
+        assert!((covered - expected).abs() < 0.01, "coverage {covered:.4}");
+        eprintln!(
+            "patches frame {}: {} surface triangles drawn of {} ({skirt} skirt, {degenerate} \
+             degenerate); coverage {covered:.4}",
+            stats.frame,
+            drawn.len(),
+            stats.triangles
+        );
+    });
+}
+
+#[test]
+fn from_the_flight_camera_each_pixel_of_a_triangle_list_lies_on_its_triangle() {
+    let Some(offscreen) = offscreen(FLIGHT_SIZE.0, FLIGHT_SIZE.1) else {
+        return;
+    };
+    patches_at_each_checked_frame(&mut |hierarchy, patches, outcome| {
+        let camera = &outcome.camera;
+        let mut geometry = MeshGeometry::default();
+        geometry.rebuild(hierarchy, patches.mesh(), camera);
+        let image = offscreen
+            .render_triangle_ids(&Pane {
+                viewport: offscreen.viewport(),
+                view_projection: flight_view_projection(camera, camera.settings.aspect()),
+                mesh: &geometry,
+                lines: &[],
+                options: PLAIN,
+            })
+            .unwrap();
+        let (width, height) = (image.width as usize, image.height as usize);
+        assert_eq!(covered_fraction(&image.ids[..width]), 0.0, "sky at the top");
+        let bottom = &image.ids[(height - 1) * width..];
+        assert_eq!(covered_fraction(bottom), 1.0, "ground at the bottom");
+        let (agreeing, checked) =
+            pixels_on_their_projected_triangle(hierarchy, patches.mesh(), camera, &image);
+        assert!(
+            agreeing as f64 >= 0.995 * checked as f64 && checked > width * height / 4,
+            "frame {}: {agreeing} of {checked} covered pixels on their projected triangle",
+            outcome.stats.frame
+        );
+    });
+}
+
+#[test]
+fn roles_tell_skirts_and_degenerate_triangles_apart_by_colour() {
+    let Some(offscreen) = offscreen(FLIGHT_SIZE.0, FLIGHT_SIZE.1) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::load(&small_experiment(dir.path())).unwrap();
+    let hierarchy = &scene.hierarchy;
+    let field = hierarchy.field();
+    // From the south, looking north along the ground, level with the lowest point of the
+    // south border: the skirts hung below that border face the camera.
+    let lowest = (0..field.side())
+        .map(|i| f64::from(field.height(i, 0)))
+        .fold(f64::INFINITY, f64::min);
+    let (width_m, _) = field.extent();
+    let camera = Camera::new(
+        &Pose {
+            position: DVec3::new(0.5 * width_m, -400.0, lowest - 20.0),
+            yaw: std::f64::consts::FRAC_PI_2,
+            pitch: 0.0,
+        },
+        scene.experiment.view,
+    );
+    let mut patches = Patches::new(hierarchy, patches_config());
+    common::step(&mut patches, 0, &camera, true);
+    let mut geometry = MeshGeometry::default();
+    geometry.rebuild(hierarchy, patches.mesh(), &camera);
+    let viewport = offscreen.viewport();
+    let side_view = flight_view_projection(&camera, camera.settings.aspect());
+    let pane = |options, lines| pane_of(viewport, side_view, &geometry, lines, options);
+    let ids = offscreen.render_triangle_ids(&pane(PLAIN, &[])).unwrap();
+    let roles: Vec<f32> = geometry
+        .vertices()
+        .chunks_exact(3)
+        .map(|t| t[0].role)
+        .collect();
+    let skirt = TriangleRole::Skirt.index() as f32;
+    let skirt_pixels: Vec<usize> = (0..ids.ids.len())
+        .filter(|&k| ids.ids[k] != 0 && roles[ids.ids[k] as usize - 1] == skirt)
+        .collect();
+    assert!(
+        skirt_pixels.len() > 1000,
+        "{} skirt pixels seen from the side",
+        skirt_pixels.len()
+    );
+    let plain = offscreen.render_colour(&[pane(PLAIN, &[])]).unwrap();
+    let with_roles = DrawOptions {
+        roles: true,
+        ..PLAIN
+    };
+    let coloured = offscreen.render_colour(&[pane(with_roles, &[])]).unwrap();
+    let rgb = |image: &roamsim::edge::preview::headless::RgbaImage, k: usize| {
+        [
+            image.pixels[4 * k],
+            image.pixels[4 * k + 1],
+            image.pixels[4 * k + 2],
+        ]
+    };
+    // Skirts: grey terrain shading without roles, cyan (blue and green well above red) with.
+    for &k in &skirt_pixels {
+        let [r, g, b] = rgb(&coloured, k);
+        assert!(
+            b > r.saturating_add(60) && g > r.saturating_add(40),
+            "pixel {k}: {r} {g} {b}"
+        );
+        let [r, _, b] = rgb(&plain, k);
+        assert!(r >= b, "pixel {k} is not terrain-grey without roles");
+    }
+    // Surface pixels look the same either way.
+    let surface = TriangleRole::Surface.index() as f32;
+    let surface_pixels = (0..ids.ids.len())
+        .filter(|&k| ids.ids[k] != 0 && roles[ids.ids[k] as usize - 1] == surface);
+    assert!(surface_pixels.clone().count() > 0);
+    for k in surface_pixels {
+        assert_eq!(rgb(&plain, k), rgb(&coloured, k), "surface pixel {k}");
+    }
+
+    // Degenerate triangles have no area: with roles on their edges are drawn as magenta lines.
+    let from_above = overview(hierarchy, viewport);
+    let overview_pane = |options, lines| pane_of(viewport, from_above, &geometry, lines, options);
+    let magenta = |image: &roamsim::edge::preview::headless::RgbaImage| {
+        (0..image.pixels.len() / 4)
+            .filter(|&k| {
+                let [r, g, b] = rgb(image, k);
+                r > 200 && g < 140 && b > 190
+            })
+            .count()
+    };
+    let lines = geometry.degenerate_lines();
+    assert!(!lines.is_empty());
+    let without = offscreen
+        .render_colour(&[overview_pane(PLAIN, &[])])
+        .unwrap();
+    let with = offscreen
+        .render_colour(&[overview_pane(with_roles, lines)])
+        .unwrap();
+    assert_eq!(magenta(&without), 0);
+    assert!(magenta(&with) > 100, "{} magenta pixels", magenta(&with));
 }

@@ -4,13 +4,16 @@
 
 mod common;
 
-use common::{bumpy_terrain, view_600};
+use common::algorithms::{roam_target as target, roam_tolerance as tolerance};
+use common::{bumpy_terrain, checked_step, extra, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::columns::roam::{
+    DEFERRED, OSCILLATION_GUARD_STOPS, REVALIDATIONS, TRIANGLES_PER_STRIP,
+};
 use roamsim::sim::algorithm::{
-    FrameInput, LodAlgorithm, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild,
+    LodAlgorithm, PriorityCheck, Roam, RoamConfig, RoamGoal, RoamRebuild,
 };
 use roamsim::sim::hierarchy::Hierarchy;
-use roamsim::sim::mesh::validate::validate_reported;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::view::{Camera, Pose};
 use roamsim::sim::zone::SpeedBound;
@@ -19,23 +22,6 @@ const SPEED: SpeedBound = SpeedBound {
     horizontal: 4.0,
     vertical: 2.0,
 };
-
-fn tolerance(tau_px: f64) -> RoamConfig {
-    RoamConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-        goal: RoamGoal::TolerancePx(tau_px),
-        deferral: false,
-        culling_flags: false,
-        strips: false,
-    }
-}
-
-fn target(triangles: u64) -> RoamConfig {
-    RoamConfig {
-        goal: RoamGoal::TargetTriangles(triangles),
-        ..tolerance(0.0)
-    }
-}
 
 /// A straight flight at 3 m per frame over a 33×33 (320 m) terrain, looking along +x, slightly
 /// down: the orientation never changes, so deferral can work.
@@ -75,7 +61,7 @@ fn turning_flight(frames: u64) -> Vec<Camera> {
         .collect()
 }
 
-/// One frame of any algorithm, checked with the shared mesh validator.
+/// One frame of any algorithm, checked as `--check` checks it.
 fn step(
     algorithm: &mut dyn LodAlgorithm,
     hierarchy: &Hierarchy,
@@ -83,37 +69,17 @@ fn step(
     camera: &Camera,
     speed_bound_broken: bool,
 ) -> FrameStats {
-    let mut stats = FrameStats {
+    let name = algorithm.name();
+    let stats = checked_step(
+        hierarchy,
+        algorithm,
         frame,
-        ..FrameStats::default()
-    };
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera,
-            speed_bound_broken,
-        },
-        &mut stats,
+        camera,
+        speed_bound_broken,
+        name,
     );
-    if let Err(error) = validate_reported(
-        hierarchy.lattice(),
-        algorithm.mesh(),
-        algorithm.triangle_count(),
-    ) {
-        panic!("{} frame {frame}: {error}", algorithm.name());
-    }
-    assert_eq!(stats.triangles, algorithm.triangle_count());
     assert_eq!(stats.extra.len(), algorithm.extra_columns().len());
     stats
-}
-
-fn extra(algorithm: &dyn LodAlgorithm, stats: &FrameStats, column: &str) -> f64 {
-    let k = algorithm
-        .extra_columns()
-        .iter()
-        .position(|c| *c == column)
-        .unwrap_or_else(|| panic!("no column {column}"));
-    stats.extra[k]
 }
 
 /// Flies `roam`, checking the mesh and the whole bintree (exact priorities) every frame.
@@ -172,7 +138,7 @@ fn a_target_flight_with_every_effect_stays_valid_and_within_budget() {
     let hierarchy = bumpy_terrain(5);
     let roam = Roam::new(&hierarchy, config, SPEED);
     let strips = &frames[10];
-    let per_strip = extra(&roam, strips, "triangles_per_strip");
+    let per_strip = extra(&roam, strips, TRIANGLES_PER_STRIP);
     assert!((1.0..=10.0).contains(&per_strip), "{per_strip}");
 }
 
@@ -242,11 +208,11 @@ fn deferral_never_lets_a_priority_cross_tau_unseen_and_gives_the_same_meshes() {
                 panic!("flags {culling_flags}, frame {frame}: {error}");
             }
             assert_eq!(
-                deferred.mesh(),
-                full.mesh(),
+                deferred.vertex_set(),
+                full.vertex_set(),
                 "flags {culling_flags}, frame {frame}"
             );
-            total_deferred += extra(&deferred, &stats, "deferred");
+            total_deferred += extra(&deferred, &stats, DEFERRED);
             recomputations.0 += stats.metric_evaluations;
             recomputations.1 += reference.metric_evaluations;
         }
@@ -282,10 +248,10 @@ fn a_speed_bound_violation_forces_a_revalidation() {
         step(&mut roam, &hierarchy, frame, &far, false);
     }
     let quiet = step(&mut roam, &hierarchy, 3, &far, false);
-    assert_eq!(extra(&roam, &quiet, "revalidations"), 0.0);
+    assert_eq!(extra(&roam, &quiet, REVALIDATIONS), 0.0);
     let jump = step(&mut roam, &hierarchy, 4, &near, true);
-    assert_eq!(extra(&roam, &jump, "revalidations"), 1.0);
-    assert_eq!(extra(&roam, &jump, "deferred"), 0.0);
+    assert_eq!(extra(&roam, &jump, REVALIDATIONS), 1.0);
+    assert_eq!(extra(&roam, &jump, DEFERRED), 0.0);
     roam.validate(&near, PriorityCheck::SameSideOf(1.0))
         .unwrap();
 
@@ -313,7 +279,7 @@ fn an_unreachable_budget_does_not_make_the_mesh_oscillate() {
         let mut roam = Roam::new(&hierarchy, target(budget), SPEED);
         let first = step(&mut roam, &hierarchy, 0, &camera, false);
         assert!(first.triangles <= budget && first.triangles + 8 >= budget.min(100));
-        let mesh = roam.mesh().clone();
+        let mesh = roam.vertex_set().clone();
         for frame in 1..5 {
             let stats = step(&mut roam, &hierarchy, frame, &camera, false);
             assert_eq!(
@@ -321,7 +287,7 @@ fn an_unreachable_budget_does_not_make_the_mesh_oscillate() {
                 (0, 0),
                 "budget {budget}, frame {frame}: the mesh changed under a still camera"
             );
-            assert_eq!(roam.mesh(), &mesh);
+            assert_eq!(roam.vertex_set(), &mesh);
         }
         roam.validate(&camera, PriorityCheck::Exact).unwrap();
     }
@@ -344,7 +310,7 @@ fn the_guard_refuses_to_undo_a_frame_s_swaps_while_turning() {
                 "frame {frame}: {stats:?}"
             );
         }
-        guard_stops += extra(&roam, &stats, "oscillation_guard_stops");
+        guard_stops += extra(&roam, &stats, OSCILLATION_GUARD_STOPS);
         roam.validate(camera, PriorityCheck::Exact).unwrap();
     }
     assert!(guard_stops > 0.0, "the guard never had to act");
@@ -360,7 +326,10 @@ fn the_rebuild_matches_the_incremental_mesh_at_a_fixed_tolerance() {
     for (frame, camera) in turning_flight(20).iter().enumerate() {
         step(&mut roam, &hierarchy, frame as u64, camera, false);
         step(&mut rebuild, &hierarchy, frame as u64, camera, false);
-        assert!(rebuild.mesh().is_subset(roam.mesh()), "frame {frame}");
+        assert!(
+            rebuild.vertex_set().is_subset(roam.vertex_set()),
+            "frame {frame}"
+        );
         assert!(roam.max_split_priority() <= 1.5);
         assert!(rebuild.max_split_priority() <= 1.5);
     }
@@ -445,8 +414,8 @@ fn a_turning_camera_revalidates_every_frame_under_deferral() {
     let mut roam = Roam::new(&hierarchy, config, SPEED);
     for (frame, camera) in turning_flight(10).iter().enumerate() {
         let stats = step(&mut roam, &hierarchy, frame as u64, camera, false);
-        assert_eq!(extra(&roam, &stats, "revalidations"), 1.0, "frame {frame}");
-        assert_eq!(extra(&roam, &stats, "deferred"), 0.0, "frame {frame}");
+        assert_eq!(extra(&roam, &stats, REVALIDATIONS), 1.0, "frame {frame}");
+        assert_eq!(extra(&roam, &stats, DEFERRED), 0.0, "frame {frame}");
         roam.validate(camera, PriorityCheck::Exact).unwrap();
     }
 }

@@ -11,31 +11,21 @@
 mod common;
 
 use common::algorithms::rottger;
-use common::{bumpy_terrain, view_600};
+use common::{bumpy_terrain, checked_step, extra, step, view_600};
 use glam::DVec3;
+use roamsim::sim::algorithm::columns::rottger::{
+    C_CLAMPED, CLIPPED_NODES, DESIRED_RESOLUTION_C, FAN_TRIANGLES, FAN_VERTICES, FANS,
+    FORCED_SPLITS, MESH_VERTICES, MORPHING_VERTICES, NODES_VISITED, SUBDIVIDED,
+};
 use roamsim::sim::algorithm::rottger::{
     Criterion, DESIRED_RESOLUTION_MAX, DESIRED_RESOLUTION_MIN, DistanceNorm, FromScratchView,
     LoadCount, LoadTarget, frame_from_scratch,
 };
-use roamsim::sim::algorithm::{AlgorithmConfig, FrameInput, LodAlgorithm, Rottger, RottgerConfig};
+use roamsim::sim::algorithm::{AlgorithmConfig, LodAlgorithm, Rottger, RottgerConfig};
 use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
-use roamsim::sim::mesh::validate::validate_reported;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose};
-
-/// The extra columns, in the order the algorithm declares them.
-const C_COLUMN: usize = 0;
-const C_CLAMPED: usize = 1;
-const FANS: usize = 2;
-const FAN_VERTICES: usize = 3;
-const FAN_TRIANGLES: usize = 4;
-const MESH_VERTICES: usize = 5;
-const NODES_VISITED: usize = 6;
-const SUBDIVIDED: usize = 7;
-const FORCED: usize = 8;
-const CLIPPED: usize = 9;
-const MORPHING: usize = 10;
 
 /// A pose at `eye` whose heading turns with `k`, looking slightly down: over a sweep of eyes the
 /// view points every way, so clipping sees everything from nothing to all.
@@ -71,21 +61,17 @@ impl<'h> Scene<'h> {
     /// counters add up, and returns the frame's statistics.
     fn frame_matches_brute_force(&mut self, pose: &Pose) -> FrameStats {
         let camera = Camera::new(pose, view_600());
-        let mut stats = FrameStats::default();
-        self.algorithm.update(
-            &FrameInput {
-                frame: self.frame,
-                camera: &camera,
-                speed_bound_broken: false,
-            },
-            &mut stats,
+        let context = format!("eye {:?}, {:?}", pose.position, self.config);
+        let stats = checked_step(
+            self.hierarchy,
+            &mut self.algorithm,
+            self.frame,
+            &camera,
+            false,
+            &context,
         );
         self.frame += 1;
-        let context = format!("eye {:?}, {:?}", pose.position, self.config);
         let lattice = self.hierarchy.lattice();
-        if let Err(error) = validate_reported(lattice, self.algorithm.mesh(), stats.triangles) {
-            panic!("{context}: {error}");
-        }
         if let Err(error) = self.algorithm.validate_frame() {
             panic!("{context}: {error}");
         }
@@ -101,9 +87,9 @@ impl<'h> Scene<'h> {
             clipping: self.config.clipping,
         });
         assert!(
-            self.algorithm.mesh() == &expected.mesh,
+            self.algorithm.vertex_set() == &expected.mesh,
             "{context}: {} vertices, brute force {}",
-            self.algorithm.mesh().len(),
+            self.algorithm.vertex_set().len(),
             expected.mesh.len()
         );
         for id in 0..lattice.n_vertices() as u32 {
@@ -119,38 +105,48 @@ impl<'h> Scene<'h> {
                 );
             }
         }
-        let extra = &stats.extra;
+        let column = |name: &str| extra(&self.algorithm, &stats, name);
         assert_eq!(
-            extra[SUBDIVIDED], expected.subdivided_by_criterion as f64,
+            column(SUBDIVIDED),
+            expected.subdivided_by_criterion as f64,
             "{context}"
         );
-        assert_eq!(extra[FORCED], expected.forced as f64, "{context}");
-        assert_eq!(extra[FANS], expected.fans.fans as f64, "{context}");
+        assert_eq!(column(FORCED_SPLITS), expected.forced as f64, "{context}");
+        assert_eq!(column(FANS), expected.fans.fans as f64, "{context}");
         assert_eq!(
-            extra[FAN_VERTICES], expected.fans.vertices as f64,
+            column(FAN_VERTICES),
+            expected.fans.vertices as f64,
             "{context}"
         );
         assert_eq!(
-            extra[FAN_TRIANGLES], expected.fans.triangles as f64,
+            column(FAN_TRIANGLES),
+            expected.fans.triangles as f64,
             "{context}"
         );
-        assert_eq!(extra[MORPHING], expected.morphing as f64, "{context}");
-        assert_eq!(extra[MESH_VERTICES], self.algorithm.mesh().len() as f64);
         assert_eq!(
-            extra[NODES_VISITED],
-            stats.metric_evaluations as f64 + extra[CLIPPED],
+            column(MORPHING_VERTICES),
+            expected.morphing as f64,
+            "{context}"
+        );
+        assert_eq!(
+            column(MESH_VERTICES),
+            self.algorithm.vertex_set().len() as f64
+        );
+        assert_eq!(
+            column(NODES_VISITED),
+            stats.metric_evaluations as f64 + column(CLIPPED_NODES),
             "{context}: every block reached is evaluated or clipped"
         );
         assert_eq!(
-            extra[FAN_VERTICES],
-            extra[FAN_TRIANGLES] + 2.0 * extra[FANS]
+            column(FAN_VERTICES),
+            column(FAN_TRIANGLES) + 2.0 * column(FANS)
         );
         if !self.config.clipping {
-            assert_eq!(extra[FAN_TRIANGLES], stats.triangles as f64, "{context}");
-            assert_eq!(extra[CLIPPED], 0.0);
+            assert_eq!(column(FAN_TRIANGLES), stats.triangles as f64, "{context}");
+            assert_eq!(column(CLIPPED_NODES), 0.0);
         }
-        assert_eq!(extra[C_COLUMN], self.config.desired_resolution);
-        assert_eq!(extra[C_CLAMPED], 0.0);
+        assert_eq!(column(DESIRED_RESOLUTION_C), self.config.desired_resolution);
+        assert_eq!(column(C_CLAMPED), 0.0);
         stats
     }
 }
@@ -183,23 +179,40 @@ fn eye_heights(hierarchy: &Hierarchy) -> Vec<f64> {
     ]
 }
 
+/// Columns an exhaustive run must see counted at least once.
+const SEEN_COLUMNS: [&str; 5] = [
+    FANS,
+    SUBDIVIDED,
+    FORCED_SPLITS,
+    CLIPPED_NODES,
+    MORPHING_VERTICES,
+];
+
 /// What the exhaustive runs saw, summed over every frame.
 #[derive(Debug, Default)]
 struct Seen {
     frames: u64,
     base_meshes: u64,
     full_meshes: u64,
-    extra: [f64; 11],
+    /// Sums of [`SEEN_COLUMNS`], in order.
+    sums: [f64; SEEN_COLUMNS.len()],
 }
 
 impl Seen {
-    fn add(&mut self, hierarchy: &Hierarchy, stats: &FrameStats) {
+    fn add(&mut self, hierarchy: &Hierarchy, algorithm: &dyn LodAlgorithm, stats: &FrameStats) {
         self.frames += 1;
         self.base_meshes += u64::from(stats.triangles == 2);
         let cells = hierarchy.lattice().cells() as u64;
         self.full_meshes += u64::from(stats.triangles == 2 * cells * cells);
-        for (sum, value) in self.extra.iter_mut().zip(&stats.extra) {
-            *sum += value;
+        for (sum, name) in self.sums.iter_mut().zip(SEEN_COLUMNS) {
+            *sum += extra(algorithm, stats, name);
+        }
+    }
+
+    /// Panics naming the first of [`SEEN_COLUMNS`] never counted.
+    fn assert_every_column_counted(&self) {
+        for (sum, name) in self.sums.iter().zip(SEEN_COLUMNS) {
+            assert!(*sum > 0.0, "{name} never counted: {self:?}");
         }
     }
 }
@@ -212,7 +225,7 @@ fn check_every_eye(level: u32, configs: &[RottgerConfig]) -> Seen {
         let mut scene = Scene::new(&hierarchy, *config);
         for pose in &poses {
             let stats = scene.frame_matches_brute_force(pose);
-            seen.add(&hierarchy, &stats);
+            seen.add(&hierarchy, &scene.algorithm, &stats);
         }
     }
     seen
@@ -243,12 +256,7 @@ fn every_eye_over_a_9_by_9_terrain_gives_the_brute_force_frame() {
         ..rottger(4.0, 60.0)
     });
     let seen = check_every_eye(3, &all);
-    for column in [FANS, SUBDIVIDED, FORCED, CLIPPED, MORPHING] {
-        assert!(
-            seen.extra[column] > 0.0,
-            "column {column} never counted: {seen:?}"
-        );
-    }
+    seen.assert_every_column_counted();
     assert!(seen.base_meshes > 0 && seen.full_meshes > 0, "{seen:?}");
 }
 
@@ -259,13 +267,7 @@ fn every_eye_over_a_17_by_17_terrain_gives_the_brute_force_frame() {
         d2_propagation: false,
         ..rottger(2.0, 2.0)
     });
-    let seen = check_every_eye(4, &all);
-    for column in [FANS, SUBDIVIDED, FORCED, CLIPPED, MORPHING] {
-        assert!(
-            seen.extra[column] > 0.0,
-            "column {column} never counted: {seen:?}"
-        );
-    }
+    check_every_eye(4, &all).assert_every_column_counted();
 }
 
 /// A rough terrain whose every block averages to exactly 100 m: heights repeat with period 3
@@ -299,8 +301,9 @@ fn where_every_block_averages_alike_propagation_alone_keeps_the_mesh_conforming(
                     let mut subdivided = 0.0;
                     for pose in &poses {
                         let stats = scene.frame_matches_brute_force(pose);
-                        assert_eq!(stats.extra[FORCED], 0.0, "{config:?} at {pose:?}");
-                        subdivided += stats.extra[SUBDIVIDED];
+                        let column = |name| extra(&scene.algorithm, &stats, name);
+                        assert_eq!(column(FORCED_SPLITS), 0.0, "{config:?} at {pose:?}");
+                        subdivided += column(SUBDIVIDED);
                     }
                     assert!(subdivided > 0.0);
                 }
@@ -327,7 +330,10 @@ fn on_rough_terrain_propagation_leaves_fewer_forced_splits_than_local_d2() {
             );
             poses
                 .iter()
-                .map(|pose| scene.frame_matches_brute_force(pose).extra[FORCED])
+                .map(|pose| {
+                    let stats = scene.frame_matches_brute_force(pose);
+                    extra(&scene.algorithm, &stats, FORCED_SPLITS)
+                })
                 .sum::<f64>()
         };
         let (with, without) = (forced(true), forced(false));
@@ -351,9 +357,13 @@ fn on_flat_terrain_the_mesh_depends_on_c_not_at_all_and_needs_no_forced_split() 
         for pose in &poses {
             let a = coarse.frame_matches_brute_force(pose);
             let b = rough.frame_matches_brute_force(pose);
-            assert!(coarse.algorithm.mesh() == rough.algorithm.mesh());
-            assert_eq!(a.extra[FORCED], 0.0);
-            assert_eq!(b.extra[MORPHING], 0.0, "a flat vertex never moves");
+            assert!(coarse.algorithm.vertex_set() == rough.algorithm.vertex_set());
+            assert_eq!(extra(&coarse.algorithm, &a, FORCED_SPLITS), 0.0);
+            assert_eq!(
+                extra(&rough.algorithm, &b, MORPHING_VERTICES),
+                0.0,
+                "a flat vertex never moves"
+            );
         }
     }
 }
@@ -366,16 +376,8 @@ fn fan_vertices_grow_with_the_minimum_resolution_c_about_quadratically() {
     let vertices_at = |minimum_resolution: f64| {
         let mut algorithm = Rottger::new(&hierarchy, rottger(minimum_resolution, 0.0));
         let camera = Camera::new(&pose(eye, 0), view_600());
-        let mut stats = FrameStats::default();
-        algorithm.update(
-            &FrameInput {
-                frame: 0,
-                camera: &camera,
-                speed_bound_broken: false,
-            },
-            &mut stats,
-        );
-        stats.extra[FAN_VERTICES]
+        let stats = step(&mut algorithm, 0, &camera, false);
+        extra(&algorithm, &stats, FAN_VERTICES)
     };
     let counts: Vec<f64> = [2.0, 4.0, 8.0, 16.0].map(vertices_at).to_vec();
     for pair in counts.windows(2) {
@@ -386,10 +388,15 @@ fn fan_vertices_grow_with_the_minimum_resolution_c_about_quadratically() {
     assert!((2.5..6.0).contains(&ratio), "{counts:?}");
 }
 
-/// Runs `config` over a circle around a 129 × 129 bumpy terrain; returns every frame's stats.
-fn fly_circle(hierarchy: &Hierarchy, config: RottgerConfig, frames: u64) -> Vec<FrameStats> {
+/// Runs `config` over a circle around a 129 × 129 bumpy terrain, checking every frame; returns
+/// every frame's stats and the algorithm (for its column names).
+fn fly_circle(
+    hierarchy: &Hierarchy,
+    config: RottgerConfig,
+    frames: u64,
+) -> (Vec<FrameStats>, Rottger<'_>) {
     let mut rottger = Rottger::new(hierarchy, config);
-    (0..frames)
+    let stats = (0..frames)
         .map(|frame| {
             let angle = frame as f64 * 0.01;
             let eye = DVec3::new(
@@ -405,31 +412,33 @@ fn fly_circle(hierarchy: &Hierarchy, config: RottgerConfig, frames: u64) -> Vec<
                 },
                 view_600(),
             );
-            let mut stats = FrameStats::default();
-            rottger.update(
-                &FrameInput {
-                    frame,
-                    camera: &camera,
-                    speed_bound_broken: false,
-                },
-                &mut stats,
-            );
-            validate_reported(hierarchy.lattice(), rottger.mesh(), stats.triangles).unwrap();
-            stats
+            checked_step(
+                hierarchy,
+                &mut rottger,
+                frame,
+                &camera,
+                false,
+                config_name(&config),
+            )
         })
-        .collect()
+        .collect();
+    (stats, rottger)
+}
+
+fn config_name(config: &RottgerConfig) -> String {
+    format!("{config:?}")
 }
 
 #[test]
 fn the_controller_holds_a_fan_vertex_target_and_records_c_every_frame() {
     let hierarchy = bumpy_terrain(7);
-    for (count, column) in [
+    for (count, count_column) in [
         (LoadCount::FanVertices, FAN_VERTICES),
         (LoadCount::Triangles, FAN_TRIANGLES),
     ] {
         for clipping in [false, true] {
             let target = 3000;
-            let frames = fly_circle(
+            let (frames, algorithm) = fly_circle(
                 &hierarchy,
                 RottgerConfig {
                     load: Some(LoadTarget { count, target }),
@@ -438,22 +447,27 @@ fn the_controller_holds_a_fan_vertex_target_and_records_c_every_frame() {
                 },
                 300,
             );
+            let column = |stats: &FrameStats, name| extra(&algorithm, stats, name);
             let settled = &frames[40..];
-            let mean = settled.iter().map(|s| s.extra[column]).sum::<f64>() / settled.len() as f64;
+            let mean =
+                settled.iter().map(|s| column(s, count_column)).sum::<f64>() / settled.len() as f64;
             assert!(
                 (mean / target as f64 - 1.0).abs() < 0.05,
                 "{count:?}, clipping {clipping}: mean {mean}"
             );
             for stats in settled {
-                let ratio = stats.extra[column] / target as f64;
+                let ratio = column(stats, count_column) / target as f64;
                 assert!(
                     (0.75..1.33).contains(&ratio),
                     "{count:?} frame {}: {ratio}",
                     stats.frame
                 );
-                assert_eq!(stats.extra[C_CLAMPED], 0.0);
+                assert_eq!(column(stats, C_CLAMPED), 0.0);
             }
-            let c: Vec<f64> = frames.iter().map(|s| s.extra[C_COLUMN]).collect();
+            let c: Vec<f64> = frames
+                .iter()
+                .map(|s| column(s, DESIRED_RESOLUTION_C))
+                .collect();
             assert_eq!(c[0], 1.0, "the first frame uses the starting c");
             assert!(c.windows(2).any(|w| w[0] != w[1]));
         }
@@ -468,7 +482,7 @@ fn an_unreachable_target_drives_c_to_its_bound_and_reports_the_clamp() {
         (1, DESIRED_RESOLUTION_MIN),
         (1_000_000, DESIRED_RESOLUTION_MAX),
     ] {
-        let frames = fly_circle(
+        let (frames, algorithm) = fly_circle(
             &hierarchy,
             RottgerConfig {
                 load: Some(LoadTarget {
@@ -480,8 +494,12 @@ fn an_unreachable_target_drives_c_to_its_bound_and_reports_the_clamp() {
             120,
         );
         let last = frames.last().unwrap();
-        assert_eq!(last.extra[C_COLUMN], bound, "target {target}");
-        assert_eq!(last.extra[C_CLAMPED], 1.0, "target {target}");
+        assert_eq!(
+            extra(&algorithm, last, DESIRED_RESOLUTION_C),
+            bound,
+            "target {target}"
+        );
+        assert_eq!(extra(&algorithm, last, C_CLAMPED), 1.0, "target {target}");
         if target > 1 {
             // Every block with any roughness subdivides at c = 2^40: the full grid.
             assert_eq!(last.triangles, 2 * u64::from(lattice.cells()).pow(2));
@@ -581,25 +599,25 @@ fn a_checked_run_of_the_real_tile_writes_the_rottger_columns_and_facts() {
     assert_eq!(rows.len(), 3);
     let c: Vec<f64> = rows
         .iter()
-        .map(|row| row[column("desired_resolution_c")].parse().unwrap())
+        .map(|row| row[column(DESIRED_RESOLUTION_C)].parse().unwrap())
         .collect();
     assert_eq!(c[0], 1.0);
     assert_eq!(c[1], 2.0, "far below the target, c doubles");
     for row in &rows {
         let value = |name: &str| row[column(name)].parse::<f64>().unwrap();
         assert_eq!(
-            value("fan_vertices"),
-            value("fan_triangles") + 2.0 * value("fans")
+            value(FAN_VERTICES),
+            value(FAN_TRIANGLES) + 2.0 * value(FANS)
         );
         assert!(
-            value("clipped_nodes") > 0.0,
+            value(CLIPPED_NODES) > 0.0,
             "the flight sees part of the tile"
         );
-        assert!(value("fan_triangles") < value("triangles"));
+        assert!(value(FAN_TRIANGLES) < value("triangles"));
     }
     for extension in ["png", "svg"] {
         assert!(
-            out.join(format!("plots/desired_resolution_c.{extension}"))
+            out.join(format!("plots/{DESIRED_RESOLUTION_C}.{extension}"))
                 .is_file()
         );
     }

@@ -115,6 +115,76 @@ fn a_run_writes_every_output_with_the_documented_columns() {
 }
 
 #[test]
+fn popping_mesh_exports_and_each_entrys_preprocessing_are_written_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(6);
+    experiment["effects"]["audit"]["popping"] = serde_json::json!(true);
+    experiment["outputs"] = serde_json::json!({"meshes": {"frames": [5, 0], "entries": ["wu"]}});
+    let path = save(dir.path(), "exports", &experiment);
+    let out = dir.path().join("out");
+    run_to(&path, &out, true);
+
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    for row in &rows {
+        let popping = row[column("popping_rmse_px")];
+        // Frame 0 has no previous frame; every later frame of the circle moves the surface.
+        assert_eq!(popping.is_empty(), row[1] == "0", "{row:?}");
+    }
+    assert!(
+        !header.contains(&"triangles_skirt"),
+        "4-8 meshes have no mesh columns"
+    );
+    assert!(!header.contains(&"audit_holes"), "nor coverage columns");
+
+    // wu τ=2px and wu budget=6000 (entries 2 and 3), frames 0 and 5: one PLY each, its faces
+    // the frame's triangles.
+    for (k, label) in [(2, "wu τ=2px"), (3, "wu budget=6000")] {
+        let folder = out
+            .join("meshes")
+            .join(format!("{k}-{}", label.replace(['τ', ' '], "-")));
+        for frame in [0, 5] {
+            let ply =
+                std::fs::read_to_string(folder.join(format!("frame-{frame:06}.ply"))).unwrap();
+            let row = rows
+                .iter()
+                .find(|r| r[0] == label && r[1] == frame.to_string())
+                .unwrap();
+            let faces = ply
+                .lines()
+                .find_map(|l| l.strip_prefix("element face "))
+                .unwrap();
+            assert_eq!(faces, row[column("triangles")], "{label}, frame {frame}");
+            assert!(ply.contains(&format!("entry {label}, frame {frame}")));
+        }
+    }
+    let exported: Vec<_> = std::fs::read_dir(out.join("meshes")).unwrap().collect();
+    assert_eq!(exported.len(), 2);
+
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["effects"]["audit"]["popping"], true);
+    for entry in summary["algorithms"].as_array().unwrap() {
+        let preprocessing = &entry["preprocessing"];
+        assert!(preprocessing["seconds"].as_f64().unwrap() >= 0.0);
+        assert!(
+            preprocessing["bytes_per_sample"].as_f64().unwrap() > 0.0,
+            "{entry}"
+        );
+        assert!(entry["columns"]["popping_max_m"]["max"].as_f64().unwrap() > 0.0);
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains("## Popping") && report.contains("## Preprocessing"),
+        "{report}"
+    );
+    assert!(out.join("plots/popping.png").exists());
+}
+
+#[test]
 fn the_reference_rendered_count_is_below_its_total_when_culling() {
     let dir = tempfile::tempdir().unwrap();
     let experiment = save(dir.path(), "short", &short_quickstart(3));
@@ -223,8 +293,10 @@ fn a_sweep_expands_into_labelled_entries_compared_in_the_report() {
     let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 5 * 6);
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    // The comparison table (before the preprocessing section, which lists the entries again).
+    let comparison = report.split("\n## ").next().unwrap();
     assert_eq!(
-        report
+        comparison
             .lines()
             .filter(|l| l.starts_with("| wu tau_px="))
             .count(),

@@ -11,15 +11,16 @@
 
 mod common;
 
-use common::{bumpy_terrain, camera_at, view_600};
+use common::algorithms::{reference, wu, wu_budget};
+use common::{bumpy_terrain, camera_at, checked_step, extra, step, view_600};
 use glam::DVec3;
 use proptest::prelude::*;
+use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
 use roamsim::sim::algorithm::{
-    BudgetConfig, FrameInput, LodAlgorithm, Reference, ReferenceConfig, SplitThreshold, Wu,
-    WuConfig,
+    LodAlgorithm, Reference, ReferenceConfig, SplitThreshold, Wu, WuConfig,
 };
 use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
-use roamsim::sim::mesh::validate::validate_reported;
+use roamsim::sim::mesh::MeshOutput;
 use roamsim::sim::metrics::view_angle_error_px;
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
@@ -30,30 +31,18 @@ const SPEED: SpeedBound = SpeedBound {
     vertical: 5.0,
 };
 
+/// Wu at a fixed τ with small wheels (16 links), so that overflow links are exercised.
 fn fixed_tau(tau_px: f64, zone: ZoneVariant) -> WuConfig {
     WuConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::Max,
-        tau_px: Some(tau_px),
-        budget: None,
-        zone,
-        block_priority: false,
-        depth_limit: None,
-        cone_culling: false,
         wheel_links: 16,
+        ..wu(tau_px, zone)
     }
 }
 
-/// One frame of `algorithm` with the eye at `eye` (within the speed bounds).
-fn step(algorithm: &mut dyn LodAlgorithm, frame: u64, eye: DVec3, stats: &mut FrameStats) {
-    let camera = camera_at(eye);
-    algorithm.update(
-        &FrameInput {
-            frame,
-            camera: &camera,
-            speed_bound_broken: false,
-        },
-        stats,
-    );
+/// One frame of Wu with the eye at `eye` (within the speed bounds), checked as `--check`
+/// checks it.
+fn wu_step(hierarchy: &Hierarchy, wu: &mut Wu, frame: u64, eye: DVec3) -> FrameStats {
+    checked_step(hierarchy, wu, frame, &camera_at(eye), false, "wu")
 }
 
 /// A scene: one terrain, the reference pair that sandwiches Wu, and Wu itself.
@@ -68,14 +57,12 @@ struct Sandwich<'h> {
 
 impl<'h> Sandwich<'h> {
     fn new(hierarchy: &'h Hierarchy, tau_px: f64, zone: ZoneVariant, speed: SpeedBound) -> Self {
-        let reference = |threshold| {
+        let from_scratch = |threshold| {
             Reference::new(
                 hierarchy,
                 ReferenceConfig {
-                    nesting: roamsim::sim::hierarchy::NestingRule::Max,
-                    tau_px,
-                    zone,
                     threshold,
+                    ..reference(tau_px, zone)
                 },
                 &view_600(),
                 speed,
@@ -84,8 +71,8 @@ impl<'h> Sandwich<'h> {
         Sandwich {
             hierarchy,
             wu: Wu::new(hierarchy, fixed_tau(tau_px, zone), &view_600(), speed),
-            lower: reference(SplitThreshold::LifeAtMost(0.0)),
-            upper: reference(SplitThreshold::LifeBelow(1.0)),
+            lower: from_scratch(SplitThreshold::LifeAtMost(0.0)),
+            upper: from_scratch(SplitThreshold::LifeBelow(1.0)),
             zone,
             frame: 0,
         }
@@ -95,33 +82,29 @@ impl<'h> Sandwich<'h> {
     fn fly_to(&mut self, eye: DVec3, broken: bool) -> FrameStats {
         let zones_nest = self.zone == ZoneVariant::Conservative;
         let camera = camera_at(eye);
-        let input = FrameInput {
-            frame: self.frame,
-            camera: &camera,
-            speed_bound_broken: broken,
-        };
+        let frame = self.frame;
         self.frame += 1;
-        let mut stats = FrameStats::default();
-        self.wu.update(&input, &mut stats);
-        let mut scratch = FrameStats::default();
-        self.lower.update(&input, &mut scratch);
-        self.upper.update(&input, &mut scratch);
-        let lattice = self.hierarchy.lattice();
-        if let Err(error) = validate_reported(lattice, self.wu.mesh(), stats.triangles) {
-            panic!("frame {}, eye {eye:?}: {error}", input.frame);
-        }
+        let context = format!("eye {eye:?}");
+        let stats = checked_step(
+            self.hierarchy,
+            &mut self.wu,
+            frame,
+            &camera,
+            broken,
+            &context,
+        );
+        step(&mut self.lower, frame, &camera, broken);
+        step(&mut self.upper, frame, &camera, broken);
         if let Err(error) = self.wu.validate_queues(true) {
-            panic!("frame {}, eye {eye:?}: {error}", input.frame);
+            panic!("frame {frame}, eye {eye:?}: {error}");
         }
         assert!(
-            self.lower.mesh().is_subset(self.wu.mesh()),
-            "frame {}, eye {eye:?}: a vertex the eye is inside the zone of is missing",
-            input.frame
+            self.lower.vertex_set().is_subset(self.wu.vertex_set()),
+            "frame {frame}, eye {eye:?}: a vertex the eye is inside the zone of is missing"
         );
         assert!(
-            !zones_nest || self.wu.mesh().is_subset(self.upper.mesh()),
-            "frame {}, eye {eye:?}: a vertex whose life is ≥ 1 is still active",
-            input.frame
+            !zones_nest || self.wu.vertex_set().is_subset(self.upper.vertex_set()),
+            "frame {frame}, eye {eye:?}: a vertex whose life is ≥ 1 is still active"
         );
         stats
     }
@@ -204,16 +187,10 @@ fn without_the_violation_flag_a_teleport_would_leave_stale_lives() {
     );
     let mut reference = Reference::new(
         &hierarchy,
-        ReferenceConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: 1.0,
-            zone: ZoneVariant::Conservative,
-            threshold: SplitThreshold::LifeAtMost(0.0),
-        },
+        reference(1.0, ZoneVariant::Conservative),
         &view,
         SPEED,
     );
-    let mut stats = FrameStats::default();
     for (frame, eye) in [
         DVec3::new(5000.0, 5000.0, 3000.0),
         DVec3::new(100.0, 100.0, 20.0),
@@ -222,15 +199,10 @@ fn without_the_violation_flag_a_teleport_would_leave_stale_lives() {
     .enumerate()
     {
         let camera = camera_at(eye);
-        let input = FrameInput {
-            frame: frame as u64,
-            camera: &camera,
-            speed_bound_broken: false,
-        };
-        wu.update(&input, &mut stats);
-        reference.update(&input, &mut stats);
+        step(&mut wu, frame as u64, &camera, false);
+        step(&mut reference, frame as u64, &camera, false);
     }
-    assert!(!reference.mesh().is_subset(wu.mesh()));
+    assert!(!reference.vertex_set().is_subset(wu.vertex_set()));
 }
 
 /// Terrain level, heights, walk steps, τ and whether to use the paper's zone.
@@ -286,7 +258,7 @@ fn with_the_conservative_zone_every_removed_vertex_error_subtends_at_most_tau() 
     let mut removed_checked = 0;
     for eye in serpentine(&hierarchy, 150.0, 10.0) {
         scene.fly_to(eye, false);
-        let mesh = scene.wu.mesh();
+        let mesh = scene.wu.vertex_set();
         for id in 0..lattice.n_vertices() as u32 {
             let p = lattice.point(id);
             if mesh.contains(id) || lattice.classify(p) == VertexClass::Corner {
@@ -323,20 +295,15 @@ fn max_nesting_does_not_bound_the_audited_surface_error_on_a_real_tile() {
         experiment.speed,
     );
     let camera = roamsim::sim::view::Camera::new(experiment.flight.pose(0), experiment.view);
-    let mut stats = FrameStats::default();
-    wu.update(
-        &FrameInput {
-            frame: 0,
-            camera: &camera,
-            speed_bound_broken: false,
-        },
-        &mut stats,
-    );
+    step(&mut wu, 0, &camera, false);
     let mut auditor = roamsim::sim::audit::Auditor::new(
         &hierarchy,
-        roamsim::sim::audit::AuditSettings { stride: 4 },
+        roamsim::sim::audit::AuditSettings {
+            stride: 4,
+            popping: false,
+        },
     );
-    let audit = auditor.audit(&hierarchy, wu.mesh(), &camera);
+    let audit = auditor.audit(&hierarchy, MeshOutput::lattice(wu.vertex_set()), &camera);
     let worst = audit.view_angle.unwrap().max;
     assert!(worst > 2.0, "worst audited view-angle error {worst} px");
 }
@@ -345,24 +312,17 @@ fn max_nesting_does_not_bound_the_audited_surface_error_on_a_real_tile() {
 fn an_unreachable_budget_keeps_b_clamped_and_reports_it() {
     let hierarchy = bumpy_terrain(4);
     let config = WuConfig {
-        tau_px: Some(1.0),
-        budget: Some(BudgetConfig {
-            triangles: 1_000_000,
-            dead_band: 0,
-            base_limit: 20,
-            initial_tau_k: 1.5,
-        }),
-        ..fixed_tau(1.0, ZoneVariant::Conservative)
+        wheel_links: 16,
+        ..wu_budget(1.0, 1_000_000, 20)
     };
     let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
     let mut stats = FrameStats::default();
     for frame in 0..60 {
-        step(&mut wu, frame, DVec3::new(80.0, 80.0, 400.0), &mut stats);
-        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+        stats = wu_step(&hierarchy, &mut wu, frame, DVec3::new(80.0, 80.0, 400.0));
         wu.validate_queues(false).unwrap();
     }
     assert_eq!(wu.base(), 20);
-    assert_eq!(stats.extra[1], 1.0, "base_clamped");
+    assert_eq!(extra(&wu, &stats, BASE_CLAMPED), 1.0);
     assert_eq!(
         stats.triangles,
         2 * 16 * 16,
@@ -379,9 +339,7 @@ fn fly_line(config: WuConfig, frames: u64, altitude: f64) -> (u64, u64, Vec<u64>
     let mut counts = Vec::new();
     for frame in 0..frames {
         let eye = DVec3::new(20.0 + 5.0 * frame as f64, 300.0, altitude);
-        let mut stats = FrameStats::default();
-        step(&mut wu, frame, eye, &mut stats);
-        validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+        let stats = wu_step(&hierarchy, &mut wu, frame, eye);
         wu.validate_queues(false).unwrap();
         lives += stats.metric_evaluations;
         counts.push(stats.triangles);
@@ -429,11 +387,10 @@ fn a_depth_limit_spreads_the_first_refinement_over_several_frames() {
     let hierarchy = bumpy_terrain(6);
     let run = |config: WuConfig| {
         let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
-        let mut stats = FrameStats::default();
         for frame in 0..20 {
-            step(&mut wu, frame, DVec3::new(20.0, 300.0, 150.0), &mut stats);
+            wu_step(&hierarchy, &mut wu, frame, DVec3::new(20.0, 300.0, 150.0));
         }
-        wu.mesh().clone()
+        wu.vertex_set().clone()
     };
     assert_eq!(
         run(WuConfig {
@@ -448,13 +405,9 @@ fn a_depth_limit_spreads_the_first_refinement_over_several_frames() {
 fn a_budget_holds_the_triangle_count_near_the_budget() {
     let config = WuConfig {
         tau_px: None,
-        budget: Some(BudgetConfig {
-            triangles: 1500,
-            dead_band: 0,
-            base_limit: 1000,
-            initial_tau_k: 1.5,
-        }),
-        ..fixed_tau(1.0, ZoneVariant::Paper)
+        zone: ZoneVariant::Paper,
+        wheel_links: 16,
+        ..wu_budget(1.0, 1500, 1000)
     };
     let (_, _, counts) = fly_line(config, 200, 150.0);
     let settled = &counts[100..];
@@ -471,26 +424,24 @@ fn a_million_frames_keep_the_wheels_valid_and_b_bounded() {
     // both ways for 10^6 frames; the frame counter, the wheel heads and b must not overflow.
     let hierarchy = bumpy_terrain(3);
     let config = WuConfig {
-        tau_px: Some(4.0),
-        budget: Some(BudgetConfig {
-            triangles: 40,
-            dead_band: 0,
-            base_limit: 50,
-            initial_tau_k: 1.5,
-        }),
-        ..fixed_tau(4.0, ZoneVariant::Conservative)
+        wheel_links: 16,
+        ..wu_budget(4.0, 40, 50)
     };
     let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
-    let mut stats = FrameStats::default();
     let (mut lowest, mut highest) = (i64::MAX, i64::MIN);
     for frame in 0..1_000_000u64 {
         let angle = frame as f64 * std::f64::consts::TAU / 4000.0;
         let eye = DVec3::new(40.0 + 60.0 * angle.cos(), 40.0 + 60.0 * angle.sin(), 30.0);
-        step(&mut wu, frame, eye, &mut stats);
+        step(&mut wu, frame, &camera_at(eye), false);
         lowest = lowest.min(wu.base());
         highest = highest.max(wu.base());
     }
-    validate_reported(hierarchy.lattice(), wu.mesh(), stats.triangles).unwrap();
+    wu_step(
+        &hierarchy,
+        &mut wu,
+        1_000_000,
+        DVec3::new(100.0, 40.0, 30.0),
+    );
     wu.validate_queues(false).unwrap();
     assert!(lowest < highest, "b never moved ({lowest})");
     assert!((-50..=50).contains(&lowest) && (-50..=50).contains(&highest));

@@ -15,6 +15,7 @@ use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::{StagedDir, check_destination};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::frames_csv::frames_csv;
+use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
 use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
 use crate::edge::output::run_plots::write_run_plots;
@@ -24,7 +25,7 @@ use crate::edge::output::sweep_outputs::{
     write_sweep_plots,
 };
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::run::{RunError, RunInputs, run_algorithm};
+use crate::sim::run::{RunError, RunInputs, run_algorithm_with};
 use crate::sim::stats::FrameStats;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -210,19 +211,28 @@ fn point_folder(choice: &[(String, serde_json::Value)]) -> String {
                 serde_json::Value::String(s) => s.clone(),
                 other => other.to_string(),
             };
-            format!("{parameter}={value}")
-                .chars()
-                .map(|c| {
-                    if c.is_ascii_alphanumeric() || ".=-+".contains(c) {
-                        c
-                    } else {
-                        '-'
-                    }
-                })
-                .collect::<String>()
+            file_name_part(&format!("{parameter}={value}"))
         })
         .collect::<Vec<_>>()
         .join("_")
+}
+
+/// `text` with anything but ASCII letters, digits and `.=-+` replaced by `-`.
+fn file_name_part(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || ".=-+".contains(c) {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+/// The folder of entry `k`'s exported meshes, under `meshes/`: its position and its label.
+fn mesh_folder(k: usize, label: &str) -> String {
+    format!("{k}-{}", file_name_part(label))
 }
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> RunFailure + use<> {
@@ -259,26 +269,60 @@ fn run_point(
     };
     let n_frames = experiment.flight.n_frames();
     progress.start(n_frames * experiment.algorithms.len() as u64);
-    let run_one = |spec: &AlgorithmSpec| -> Result<AlgorithmResult, RunError> {
+    let n_samples = experiment.field.n_samples() as f64;
+    let run_one = |(k, spec): (usize, &AlgorithmSpec)| -> Result<AlgorithmResult, RunError> {
+        let start = Instant::now();
         let mut algorithm = spec
             .config
             .build(&hierarchy, &experiment.view, experiment.speed);
+        let preprocessing = Preprocessing {
+            seconds: start.elapsed().as_secs_f64(),
+            bytes_per_sample: algorithm.memory_bytes() as f64 / n_samples,
+        };
+        let export_frames: &[u64] = match &experiment.mesh_exports {
+            Some(exports) if exports.entries.contains(&k) => &exports.frames,
+            _ => &[],
+        };
+        let mut meshes = Vec::new();
         let mut reported = 0;
-        let frames = run_algorithm(&inputs, &spec.label, algorithm.as_mut(), &mut |done| {
-            if done.is_multiple_of(16) || done == n_frames {
-                progress.advance(done - reported);
-                reported = done;
-            }
-        })?;
+        let frames = run_algorithm_with(
+            &inputs,
+            &spec.label,
+            algorithm.as_mut(),
+            &mut |outcome, algorithm| {
+                let frame = outcome.stats.frame;
+                if export_frames.binary_search(&frame).is_ok() {
+                    let header = PlyHeader {
+                        experiment: &experiment.name,
+                        entry: &spec.label,
+                        frame,
+                    };
+                    meshes.push((frame, mesh_ply(&hierarchy, algorithm.mesh(), &header)));
+                }
+                let done = frame + 1;
+                if done.is_multiple_of(16) || done == n_frames {
+                    progress.advance(done - reported);
+                    reported = done;
+                }
+            },
+        )?;
         Ok(AlgorithmResult {
             memory_bytes: algorithm.memory_bytes(),
+            preprocessing,
             frames,
             extra_columns: algorithm.extra_columns(),
             facts: algorithm.run_facts(),
+            meshes,
         })
     };
-    let results: Vec<Result<AlgorithmResult, RunError>> =
-        pool.install(|| experiment.algorithms.par_iter().map(run_one).collect());
+    let results: Vec<Result<AlgorithmResult, RunError>> = pool.install(|| {
+        experiment
+            .algorithms
+            .par_iter()
+            .enumerate()
+            .map(run_one)
+            .collect()
+    });
     progress.finish();
     let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
     Ok(PointRun {
@@ -292,9 +336,13 @@ fn run_point(
 /// One algorithm's run.
 struct AlgorithmResult {
     memory_bytes: usize,
+    /// Building the algorithm (its own tables and trees) before the first frame.
+    preprocessing: Preprocessing,
     frames: Vec<FrameStats>,
     extra_columns: &'static [&'static str],
     facts: Vec<(&'static str, f64)>,
+    /// Exported meshes: frame and PLY text.
+    meshes: Vec<(u64, String)>,
 }
 
 /// What the writers need besides the results.
@@ -340,6 +388,7 @@ fn write_outputs(
         .map(|s| s.config.name())
         .collect();
     let facts: Vec<_> = results.iter().map(|r| r.facts.clone()).collect();
+    let entry_preprocessing: Vec<Preprocessing> = results.iter().map(|r| r.preprocessing).collect();
     let summary = summary_json(
         experiment,
         preprocessing,
@@ -347,6 +396,7 @@ fn write_outputs(
         &parameters,
         &names,
         &facts,
+        &entry_preprocessing,
     );
     let summary_path = dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";
@@ -362,9 +412,22 @@ fn write_outputs(
         names: &names,
         bytes_per_sample: &bytes_per_sample,
         threads: context.threads,
+        terrain_preprocessing: preprocessing,
+        entry_preprocessing: &entry_preprocessing,
     });
     let report_path = dir.join("report.md");
     std::fs::write(&report_path, report).map_err(io_error(&report_path))?;
+    for (k, (spec, result)) in experiment.algorithms.iter().zip(results).enumerate() {
+        if result.meshes.is_empty() {
+            continue;
+        }
+        let folder = dir.join("meshes").join(mesh_folder(k, &spec.label));
+        std::fs::create_dir_all(&folder).map_err(io_error(&folder))?;
+        for (frame, text) in &result.meshes {
+            let path = folder.join(format!("frame-{frame:06}.ply"));
+            std::fs::write(&path, text).map_err(io_error(&path))?;
+        }
+    }
     if experiment.plots {
         let plots = dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;

@@ -1,20 +1,46 @@
-//! The audit (SPEC §7): the real error of a mesh against the full-resolution height field.
+//! The audit (SPEC §7): the real error of the drawn surface against the full-resolution height
+//! field, and (when asked) popping, its change from one frame to the next.
 //!
 //! For every audited sample (every `stride`-th column and row of the real data, padding
-//! excluded) the mesh height above or below it is found by rasterising the mesh's triangles over
-//! the sample lattice (exact integer inside tests, so a sample on a shared edge gets the same
-//! height from either side). The vertical segment between the sample and the mesh is then
-//! measured as projected screen-space pixels and as view-angle pixels from the current eye, over
-//! the samples inside the view volume. Per frame: max, mean and nearest-rank p95 of each; samples
-//! with zero error count (they are part of the mean).
+//! excluded) the height of the drawn surface above or below it is found by rasterising the
+//! mesh's triangles, read through the mesh visitor ([`MeshOutput::for_each_triangle`]), over the
+//! sample lattice ([`crate::sim::mesh::raster`]):
 //!
-//! Cost: O(audited samples + triangles) per frame; buffers are reused across frames.
+//! - a 4-8 mesh goes through the exact integer rasteriser the audit has always used (a sample
+//!   on a shared edge gets the same height from either side), with each corner at its drawn
+//!   height (morphed heights included): its figures are those of every earlier release, bit for
+//!   bit;
+//! - a triangle list goes through the general rasteriser with its tie rule (a sample on an edge
+//!   or a vertex belongs to exactly one triangle of a tiling). Only surface and stitch triangles
+//!   are surface; skirts and degenerate triangles never are. A sample no surface triangle covers
+//!   is a **hole** (counted, and left out of the error figures); where the triangles meeting at
+//!   a sample disagree on its height (a T-junction, heights that differ across a border) the
+//!   disagreement is a **crack gap**, counted and measured in metres and projected pixels.
+//!
+//! The vertical segment between the sample and the surface is measured as projected
+//! screen-space pixels and as view-angle pixels from the current eye, over the samples inside
+//! the view volume. Per frame: max, mean and nearest-rank p95 of each; samples with zero error
+//! count (they are part of the mean).
+//!
+//! **Popping** (the 2019 stitching-strips paper's measure, an effect the experiment switches
+//! on): at the same samples in view, the change of the drawn height since the previous frame,
+//! as RMSE and maximum in metres and in projected pixels from the current eye (a vertical
+//! segment of the change's length at the sample). Samples that were a hole in either frame are
+//! left out; the first frame has no previous one. Off, it keeps no previous frame.
+//!
+//! The truth is the field's samples ([`Auditor::audit`] reads them in one place); the lattice
+//! and the general rasteriser are written for samples at any fixed-point step, so a truth with
+//! more detail than the source (synthesised detail) would change only where the samples come
+//! from.
+//!
+//! Cost: O(audited samples + triangles) per frame; buffers are reused across frames, and those
+//! of the general path and of popping are allocated only when first needed.
 
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::VertexSet;
-use crate::sim::mesh::triangles::for_each_triangle;
+use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle};
+use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL};
 use crate::sim::metrics::{projected_error_px, view_angle_error_px};
-use crate::sim::stats::{AuditFrame, ErrorSummary};
+use crate::sim::stats::{AuditFrame, ErrorSummary, PoppingFrame, SurfaceCoverage};
 use crate::sim::view::Camera;
 use glam::DVec3;
 
@@ -23,6 +49,8 @@ use glam::DVec3;
 pub struct AuditSettings {
     /// Audit every `stride`-th sample along each axis (1 = every sample).
     pub stride: u32,
+    /// Also measure popping (the change of the drawn surface since the previous frame).
+    pub popping: bool,
 }
 
 /// Reusable audit state.
@@ -30,9 +58,21 @@ pub struct Auditor {
     stride: usize,
     /// Audited samples per side: the grid side subsampled by `stride`.
     lattice_side: usize,
+    /// The drawn height at every audited sample (NaN: a hole, triangle lists only).
     mesh_height: Vec<f32>,
+    /// The general path's crack bookkeeping, allocated at the first triangle list.
+    crack: Option<CrackHeights>,
+    /// The previous frame's `mesh_height`, when popping is measured (`None` before frame 0).
+    previous_height: Option<Vec<f32>>,
+    popping: bool,
     projected: Vec<f64>,
     view_angle: Vec<f64>,
+}
+
+/// The lowest and highest height any surface triangle draws at each audited sample.
+struct CrackHeights {
+    low: Vec<f32>,
+    high: Vec<f32>,
 }
 
 impl Auditor {
@@ -43,31 +83,69 @@ impl Auditor {
             stride,
             lattice_side,
             mesh_height: vec![0.0; lattice_side * lattice_side],
+            crack: None,
+            previous_height: None,
+            popping: settings.popping,
             projected: Vec::new(),
             view_angle: Vec::new(),
         }
     }
 
-    /// Measures one frame's mesh.
+    /// Measures one frame's mesh (and, with popping on, its change since the last call).
     pub fn audit(
         &mut self,
         hierarchy: &Hierarchy,
-        mesh: &VertexSet,
+        mesh: MeshOutput,
         camera: &Camera,
     ) -> AuditFrame {
-        self.rasterise(hierarchy, mesh);
+        let general = matches!(mesh, MeshOutput::Triangles(_));
+        if general {
+            self.rasterise_general(hierarchy, mesh);
+        } else {
+            self.rasterise_lattice(hierarchy, mesh);
+        }
         let field = hierarchy.field();
         let (stride, lattice_side) = (self.stride, self.lattice_side);
         let pixel_angle = camera.settings.pixel_angle();
         self.projected.clear();
         self.view_angle.clear();
+        let mut coverage = general.then_some(SurfaceCoverage {
+            holes: 0,
+            crack_samples: 0,
+            crack_gap_max_m: 0.0,
+            crack_gap_max_px: 0.0,
+        });
+        let mut popping = PoppingSums::default();
+        let previous = self.previous_height.as_deref();
         for j in (0..field.data_rows()).step_by(stride) {
             for i in (0..field.data_columns()).step_by(stride) {
+                // The truth: the field's sample.
                 let sample = field.position(i, j);
                 if !camera.sees(sample) {
                     continue;
                 }
-                let mesh_z = f64::from(self.mesh_height[(j / stride) * lattice_side + i / stride]);
+                let index = (j / stride) * lattice_side + i / stride;
+                let drawn = self.mesh_height[index];
+                if let (Some(coverage), Some(crack)) = (coverage.as_mut(), self.crack.as_ref()) {
+                    let (low, high) = (crack.low[index], crack.high[index]);
+                    if low < high {
+                        let gap = f64::from(high) - f64::from(low);
+                        coverage.crack_samples += 1;
+                        coverage.crack_gap_max_m = coverage.crack_gap_max_m.max(gap);
+                        let base = DVec3::new(sample.x, sample.y, f64::from(low));
+                        if let Some(px) = projected_error_px(camera, base, gap) {
+                            coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
+                        }
+                    }
+                    if drawn.is_nan() {
+                        coverage.holes += 1;
+                        continue;
+                    }
+                }
+                let mesh_z = f64::from(drawn);
+                if let Some(previous) = previous {
+                    popping.add(camera, sample, f64::from(previous[index]), mesh_z);
+                }
                 let base = DVec3::new(sample.x, sample.y, sample.z.min(mesh_z));
                 let length = (sample.z - mesh_z).abs();
                 if let Some(px) = projected_error_px(camera, base, length) {
@@ -77,64 +155,107 @@ impl Auditor {
                     .push(view_angle_error_px(camera.eye, base, length, pixel_angle));
             }
         }
+        let popping = popping.summary(previous.is_some());
+        if self.popping {
+            // Keep this frame's heights for the next; the old buffer becomes next frame's
+            // scratch (the lattice path overwrites every sample, the general path resets them).
+            let previous = self
+                .previous_height
+                .get_or_insert_with(|| vec![0.0; self.mesh_height.len()]);
+            std::mem::swap(previous, &mut self.mesh_height);
+        }
         AuditFrame {
             samples_in_view: self.view_angle.len() as u64,
             projected: summarise_in_place(&mut self.projected),
             view_angle: summarise_in_place(&mut self.view_angle),
+            coverage,
+            popping,
         }
     }
 
-    /// Fills `mesh_height` at every audited sample with the mesh surface's height.
-    fn rasterise(&mut self, hierarchy: &Hierarchy, mesh: &VertexSet) {
+    /// 4-8 meshes: the exact integer rasteriser, every sample written (a closed mesh covers
+    /// the whole domain).
+    fn rasterise_lattice(&mut self, hierarchy: &Hierarchy, mesh: MeshOutput) {
         let stride = self.stride as i64;
         let lattice_side = self.lattice_side;
         let mesh_height = &mut self.mesh_height;
-        for_each_triangle(hierarchy.lattice(), mesh, |triangle| {
-            let corners = [triangle.apex, triangle.left, triangle.right];
-            let xy = corners.map(|p| (i64::from(p.i), i64::from(p.j)));
-            let z = corners.map(|p| f64::from(hierarchy.height(p)));
-            let area2 = edge(xy[0], xy[1], xy[2]);
-            if area2 == 0 {
+        mesh.for_each_triangle(hierarchy, |triangle| {
+            rasterise_lattice_triangle(&triangle.corners, stride, lattice_side, mesh_height);
+        });
+    }
+
+    /// Triangle lists: the general rasteriser over the surface triangles; holes stay NaN.
+    fn rasterise_general(&mut self, hierarchy: &Hierarchy, mesh: MeshOutput) {
+        let n = self.mesh_height.len();
+        let crack = self.crack.get_or_insert_with(|| CrackHeights {
+            low: vec![0.0; n],
+            high: vec![0.0; n],
+        });
+        self.mesh_height.fill(f32::NAN);
+        crack.low.fill(f32::INFINITY);
+        crack.high.fill(f32::NEG_INFINITY);
+        let domain_max = i64::from(hierarchy.lattice().cells()) * SUBGRID_UNITS_PER_CELL;
+        let raster = SampleRaster::new(
+            self.stride as i64 * SUBGRID_UNITS_PER_CELL,
+            self.lattice_side,
+            domain_max,
+        );
+        let mesh_height = &mut self.mesh_height;
+        mesh.for_each_triangle(hierarchy, |triangle| {
+            if !triangle.info.role.is_surface() {
                 return;
             }
-            let (i_min, i_max) = (xy.iter().map(|c| c.0).min(), xy.iter().map(|c| c.0).max());
-            let (j_min, j_max) = (xy.iter().map(|c| c.1).min(), xy.iter().map(|c| c.1).max());
-            let (i_min, i_max, j_min, j_max) = (
-                i_min.unwrap_or(0),
-                i_max.unwrap_or(0),
-                j_min.unwrap_or(0),
-                j_max.unwrap_or(0),
-            );
-            let first = |low: i64| (low + stride - 1) / stride * stride;
-            let mut j = first(j_min);
-            while j <= j_max {
-                let mut i = first(i_min);
-                while i <= i_max {
-                    let w0 = edge(xy[1], xy[2], (i, j));
-                    let w1 = edge(xy[2], xy[0], (i, j));
-                    let w2 = edge(xy[0], xy[1], (i, j));
-                    let inside = if area2 > 0 {
-                        w0 >= 0 && w1 >= 0 && w2 >= 0
-                    } else {
-                        w0 <= 0 && w1 <= 0 && w2 <= 0
-                    };
-                    if inside {
-                        let height =
-                            (w0 as f64 * z[0] + w1 as f64 * z[1] + w2 as f64 * z[2]) / area2 as f64;
-                        let index = (j / stride) as usize * lattice_side + (i / stride) as usize;
-                        mesh_height[index] = height as f32;
-                    }
-                    i += stride;
+            raster.for_each_covered_sample(&triangle.corners, |sample| {
+                let height = sample.height as f32;
+                if sample.owned {
+                    mesh_height[sample.index] = height;
                 }
-                j += stride;
-            }
+                crack.low[sample.index] = crack.low[sample.index].min(height);
+                crack.high[sample.index] = crack.high[sample.index].max(height);
+            });
         });
     }
 }
 
-/// Twice the signed area of (a, b, c).
-fn edge(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> i64 {
-    (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+/// Running sums of one frame's popping.
+#[derive(Default)]
+struct PoppingSums {
+    samples: u64,
+    squares_m: f64,
+    max_m: f64,
+    px_samples: u64,
+    squares_px: f64,
+    max_px: f64,
+}
+
+impl PoppingSums {
+    /// Adds the change at one sample in view from `before` to `now` (either NaN: a hole, left
+    /// out).
+    fn add(&mut self, camera: &Camera, sample: DVec3, before: f64, now: f64) {
+        if before.is_nan() || now.is_nan() {
+            return;
+        }
+        let change = (now - before).abs();
+        self.samples += 1;
+        self.squares_m += change * change;
+        self.max_m = self.max_m.max(change);
+        let base = DVec3::new(sample.x, sample.y, before.min(now));
+        if let Some(px) = projected_error_px(camera, base, change) {
+            self.px_samples += 1;
+            self.squares_px += px * px;
+            self.max_px = self.max_px.max(px);
+        }
+    }
+
+    fn summary(&self, measured: bool) -> Option<PoppingFrame> {
+        (measured && self.samples > 0).then(|| PoppingFrame {
+            samples: self.samples,
+            rmse_m: (self.squares_m / self.samples as f64).sqrt(),
+            max_m: self.max_m,
+            rmse_px: (self.squares_px / self.px_samples.max(1) as f64).sqrt(),
+            max_px: self.max_px,
+        })
+    }
 }
 
 /// Max, mean and nearest-rank p95 (the same rule as [`crate::sim::stats::nearest_rank`]),
@@ -157,8 +278,16 @@ fn summarise_in_place(values: &mut [f64]) -> Option<ErrorSummary> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::hierarchy::Lattice;
+    use crate::sim::mesh::{
+        CrackPolicy, SubgridPoint, TriangleInfo, TriangleList, TriangleRole, VertexSet,
+    };
     use crate::sim::terrain::{Heightfield, Spacing};
     use crate::sim::view::{Pose, ViewSettings};
+
+    fn settings(stride: u32, popping: bool) -> AuditSettings {
+        AuditSettings { stride, popping }
+    }
 
     fn camera_above(hierarchy: &Hierarchy) -> Camera {
         let (w, h) = hierarchy.field().extent();
@@ -191,17 +320,19 @@ mod tests {
         let hierarchy = spike_field();
         let lattice = hierarchy.lattice();
         let camera = camera_above(&hierarchy);
-        let mut auditor = Auditor::new(&hierarchy, AuditSettings { stride: 1 });
+        let mut auditor = Auditor::new(&hierarchy, settings(1, true));
         let mut full = VertexSet::new(lattice);
         for id in 0..lattice.n_vertices() as u32 {
             full.insert(id);
         }
-        let exact = auditor.audit(&hierarchy, &full, &camera);
+        let exact = auditor.audit(&hierarchy, MeshOutput::lattice(&full), &camera);
         assert_eq!(exact.samples_in_view, 81);
         assert_eq!(exact.view_angle.unwrap().max, 0.0);
         assert_eq!(exact.projected.unwrap().max, 0.0);
+        assert_eq!((exact.coverage, exact.popping), (None, None));
 
-        let base = auditor.audit(&hierarchy, &VertexSet::base_mesh(lattice), &camera);
+        let base_mesh = VertexSet::base_mesh(lattice);
+        let base = auditor.audit(&hierarchy, MeshOutput::lattice(&base_mesh), &camera);
         let worst = base.view_angle.unwrap();
         // The spike (8 m, seen from 192 m straight above) is the only error.
         let expected = view_angle_error_px(
@@ -213,6 +344,88 @@ mod tests {
         assert!((worst.max - expected).abs() < 1e-9);
         assert!((worst.mean - expected / 81.0).abs() < 1e-9);
         assert_eq!(worst.p95, 0.0);
+        // From the full mesh to the base mesh only the spike's sample moved: 8 m of 81 samples.
+        let popping = base.popping.unwrap();
+        assert_eq!((popping.samples, popping.max_m), (81, 8.0));
+        assert!((popping.rmse_m - 8.0 / 9.0).abs() < 1e-12);
+        let spike_px = projected_error_px(&camera, DVec3::new(40.0, 40.0, 0.0), 8.0).unwrap();
+        assert!((popping.max_px - spike_px).abs() < 1e-9);
+    }
+
+    /// Over the spike field's 8×8 cells: the west half as two triangles, the east half as two
+    /// squares meeting at the spike (4, 4), so the west half's edge x = 4 has a T-junction
+    /// there; `drop_one` leaves out a triangle of the south-east square.
+    fn t_junction_list(drop_one: bool) -> TriangleList {
+        let mut list = TriangleList::new(&Lattice::new(3), CrackPolicy::Skirted);
+        let mut v = |i: u32, j: u32| {
+            let z = if (i, j) == (4, 4) { 8.0 } else { 0.0 };
+            list.add_vertex(SubgridPoint::grid(i, j), z)
+        };
+        let corners = [
+            [v(0, 0), v(4, 0), v(4, 8)],
+            [v(0, 0), v(4, 8), v(0, 8)],
+            [v(4, 0), v(8, 0), v(8, 4)],
+            [v(4, 0), v(8, 4), v(4, 4)],
+            [v(4, 4), v(8, 4), v(8, 8)],
+            [v(4, 4), v(8, 8), v(4, 8)],
+        ];
+        for (k, corners) in corners.into_iter().enumerate() {
+            if !(drop_one && k == 3) {
+                let info = TriangleInfo {
+                    role: TriangleRole::Surface,
+                    group: 0,
+                    level: 0,
+                };
+                list.add_triangle(corners, info);
+            }
+        }
+        list
+    }
+
+    #[test]
+    fn a_t_junction_is_a_crack_and_a_missing_triangle_leaves_holes() {
+        let hierarchy = spike_field();
+        let camera = camera_above(&hierarchy);
+        let mut auditor = Auditor::new(&hierarchy, settings(1, true));
+        let whole = t_junction_list(false);
+        let frame = auditor.audit(&hierarchy, MeshOutput::triangles(&whole), &camera);
+        let coverage = frame.coverage.unwrap();
+        // Along x = 4 the west half draws 0 m; the east half rises to the spike: 2, 4, 6, 8,
+        // 6, 4, 2 m at j = 1..=7.
+        assert_eq!(coverage.holes, 0);
+        assert_eq!((coverage.crack_samples, coverage.crack_gap_max_m), (7, 8.0));
+        assert!(coverage.crack_gap_max_px > 0.0);
+        assert_eq!(frame.samples_in_view, 81);
+
+        // The spike's sample belongs to the east half (the tie rule nudges it east), which draws
+        // it at 8 m: flattening the surface moves it by 8 m, more than any other sample.
+        let mut flat = TriangleList::new(&Lattice::new(3), CrackPolicy::Closed);
+        let corners = [(0, 0), (8, 0), (8, 8), (0, 8)]
+            .map(|(i, j)| flat.add_vertex(SubgridPoint::grid(i, j), 0.0));
+        let surface = TriangleInfo {
+            role: TriangleRole::Surface,
+            group: 0,
+            level: 0,
+        };
+        flat.add_triangle([corners[0], corners[1], corners[2]], surface);
+        flat.add_triangle([corners[0], corners[2], corners[3]], surface);
+        let frame = auditor.audit(&hierarchy, MeshOutput::triangles(&flat), &camera);
+        let popping = frame.popping.unwrap();
+        assert_eq!((popping.samples, popping.max_m), (81, 8.0));
+
+        let torn = t_junction_list(true);
+        let frame = auditor.audit(&hierarchy, MeshOutput::triangles(&torn), &camera);
+        let coverage = frame.coverage.unwrap();
+        // The missing triangle's three inner samples and the three on its west edge (which
+        // the tie rule gives to the east side); its diagonal belongs to its neighbour.
+        assert_eq!(coverage.holes, 6);
+        assert_eq!(frame.samples_in_view, 75);
+        assert_eq!(coverage.crack_samples, 4);
+        assert_eq!(
+            frame.popping.unwrap().samples,
+            75,
+            "holes are left out of popping"
+        );
     }
 
     #[test]
@@ -227,12 +440,9 @@ mod tests {
             },
             camera.settings,
         );
-        let mut auditor = Auditor::new(&hierarchy, AuditSettings { stride: 2 });
-        let frame = auditor.audit(
-            &hierarchy,
-            &VertexSet::base_mesh(hierarchy.lattice()),
-            &camera,
-        );
+        let mut auditor = Auditor::new(&hierarchy, settings(2, false));
+        let base_mesh = VertexSet::base_mesh(hierarchy.lattice());
+        let frame = auditor.audit(&hierarchy, MeshOutput::lattice(&base_mesh), &camera);
         assert_eq!(frame.samples_in_view, 0);
         assert_eq!(frame.view_angle, None);
     }

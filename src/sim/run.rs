@@ -2,15 +2,18 @@
 //!
 //! Per frame: the camera from the flight's pose → the algorithm's update (timed, nothing else
 //! inside the timed span) → optional effects in a fixed order: mesh validation (`check`),
-//! culling (triangles meeting the view volume), audit. An effect that is off costs nothing.
-//! Progress is reported through a callback; the runner itself does no IO.
+//! culling (triangles meeting the view volume), audit (with popping when asked). Every effect
+//! reads the mesh through its triangle visitor ([`MeshOutput::for_each_triangle`]), whatever
+//! its form. An effect that is off costs nothing. The mesh's role counts, draw batches and
+//! morphing vertices (triangle lists and morphed 4-8 meshes only) are read off the mesh in
+//! O(1). Progress is reported through a callback; the runner itself does no IO.
 
 use crate::sim::algorithm::{FrameInput, LodAlgorithm};
 use crate::sim::audit::{AuditSettings, Auditor};
 use crate::sim::flight::Flight;
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::triangles::for_each_triangle;
-use crate::sim::mesh::validate::{MeshError, validate_reported};
+use crate::sim::mesh::MeshOutput;
+use crate::sim::mesh::check::{MeshCheckError, MeshChecker};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
 use std::time::Instant;
@@ -22,7 +25,8 @@ pub struct Effects {
     /// Count the triangles that meet the view volume (`triangles_rendered`); when off, every
     /// triangle counts as rendered.
     pub culling: bool,
-    /// Validate the mesh and the algorithm's triangle count after every frame.
+    /// Validate the mesh, the algorithm's triangle count and its extra columns after every
+    /// frame.
     pub check_meshes: bool,
 }
 
@@ -43,7 +47,16 @@ pub struct RunInputs<'a> {
 pub struct RunError {
     pub algorithm: String,
     pub frame: u64,
-    pub error: MeshError,
+    pub error: CheckError,
+}
+
+/// What a checked frame found wrong.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CheckError {
+    #[error("{0}")]
+    Mesh(#[from] MeshCheckError),
+    #[error("the algorithm declares {declared} extra columns but filled {filled}")]
+    ExtraColumns { declared: usize, filled: usize },
 }
 
 /// Runs `algorithm` over the whole flight; `progress` is called after every frame with the
@@ -54,11 +67,25 @@ pub fn run_algorithm(
     algorithm: &mut dyn LodAlgorithm,
     progress: &mut dyn FnMut(u64),
 ) -> Result<Vec<FrameStats>, RunError> {
+    run_algorithm_with(inputs, label, algorithm, &mut |outcome, _| {
+        progress(outcome.stats.frame + 1)
+    })
+}
+
+/// [`run_algorithm`], calling `after_frame` after every frame with what the frame produced and
+/// the algorithm, whose mesh is that frame's (to export it, say).
+pub fn run_algorithm_with(
+    inputs: &RunInputs,
+    label: &str,
+    algorithm: &mut dyn LodAlgorithm,
+    after_frame: &mut dyn FnMut(&FrameOutcome, &dyn LodAlgorithm),
+) -> Result<Vec<FrameStats>, RunError> {
     let mut runner = FrameRunner::new(inputs);
     let mut frames = Vec::with_capacity(inputs.flight.n_frames() as usize);
     while let Some(outcome) = runner.step(label, algorithm) {
-        frames.push(outcome?.stats);
-        progress(runner.next_frame());
+        let outcome = outcome?;
+        after_frame(&outcome, algorithm);
+        frames.push(outcome.stats);
     }
     Ok(frames)
 }
@@ -69,6 +96,8 @@ pub fn run_algorithm(
 pub struct FrameRunner<'a> {
     inputs: RunInputs<'a>,
     auditor: Option<Auditor>,
+    /// The mesh checks' buffers, when meshes are checked.
+    checker: Option<MeshChecker>,
     /// Index into `inputs.violation_frames` of the first violation not yet reached.
     next_violation: usize,
     next_frame: u64,
@@ -91,6 +120,7 @@ impl<'a> FrameRunner<'a> {
                 .effects
                 .audit
                 .map(|settings| Auditor::new(inputs.hierarchy, settings)),
+            checker: inputs.effects.check_meshes.then(MeshChecker::new),
             next_violation: 0,
             next_frame: 0,
         }
@@ -115,7 +145,6 @@ impl<'a> FrameRunner<'a> {
         }
         self.next_frame += 1;
         let hierarchy = inputs.hierarchy;
-        let lattice = hierarchy.lattice();
         let pose = hierarchy.field().local_pose(inputs.flight.pose(frame));
         let camera = Camera::new(&pose, *inputs.view);
         let speed_bound_broken = inputs.violation_frames.get(self.next_violation) == Some(&frame);
@@ -134,8 +163,8 @@ impl<'a> FrameRunner<'a> {
         stats.update_ns = start.elapsed().as_nanos() as u64;
 
         let mesh = algorithm.mesh();
-        if inputs.effects.check_meshes
-            && let Err(error) = validate_reported(lattice, mesh, algorithm.triangle_count())
+        if let Some(checker) = self.checker.as_mut()
+            && let Err(error) = check_frame(checker, hierarchy, algorithm, mesh, &stats)
         {
             return Some(Err(RunError {
                 algorithm: label.to_string(),
@@ -144,19 +173,40 @@ impl<'a> FrameRunner<'a> {
             }));
         }
         stats.triangles_rendered = if inputs.effects.culling {
+            let spacing = hierarchy.field().spacing();
             let mut rendered = 0;
-            for_each_triangle(lattice, mesh, |t| {
-                let corners = [t.apex, t.left, t.right]
-                    .map(|p| hierarchy.field().position(p.i as usize, p.j as usize));
+            mesh.for_each_triangle(hierarchy, |t| {
+                let corners = t.corners.map(|c| c.local(spacing));
                 rendered += u64::from(camera.may_see_triangle(corners));
             });
             rendered
         } else {
             stats.triangles
         };
+        stats.mesh = mesh.counts(stats.triangles);
         if let Some(auditor) = self.auditor.as_mut() {
             stats.audit = Some(auditor.audit(hierarchy, mesh, &camera));
         }
         Some(Ok(FrameOutcome { stats, camera }))
     }
+}
+
+/// The checks of a checked frame: the mesh (and the algorithm's triangle count), and that the
+/// algorithm filled exactly the extra columns it declares.
+fn check_frame(
+    checker: &mut MeshChecker,
+    hierarchy: &Hierarchy,
+    algorithm: &dyn LodAlgorithm,
+    mesh: MeshOutput,
+    stats: &FrameStats,
+) -> Result<(), CheckError> {
+    checker.check(hierarchy, mesh, algorithm.triangle_count())?;
+    let declared = algorithm.extra_columns().len();
+    if stats.extra.len() != declared {
+        return Err(CheckError::ExtraColumns {
+            declared,
+            filled: stats.extra.len(),
+        });
+    }
+    Ok(())
 }

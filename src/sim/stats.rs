@@ -22,6 +22,54 @@ pub struct AuditFrame {
     pub projected: Option<ErrorSummary>,
     /// Wu's view-angle error; `None` when no sample was in view.
     pub view_angle: Option<ErrorSummary>,
+    /// Holes and cracks of a triangle-list mesh; `None` for a 4-8 mesh (closed by construction,
+    /// which its validator checks).
+    pub coverage: Option<SurfaceCoverage>,
+    /// The change of the drawn surface since the previous frame, when the experiment measures
+    /// popping; `None` on the first frame or when no sample in view was covered both times.
+    pub popping: Option<PoppingFrame>,
+}
+
+/// Where a triangle-list mesh's surface is missing or torn, over the audited samples in view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceCoverage {
+    /// Samples that no surface triangle covers (left out of the error figures).
+    pub holes: u64,
+    /// Samples where the surface triangles meeting there disagree on the height (a crack: a
+    /// T-junction, or heights that differ across a border).
+    pub crack_samples: u64,
+    /// The largest such disagreement, metres (0 without cracks).
+    pub crack_gap_max_m: f64,
+    /// The same gap as projected screen-space pixels (its largest; 0 without cracks or when
+    /// every crack is behind the near plane).
+    pub crack_gap_max_px: f64,
+}
+
+/// The change of the drawn surface height at the audited samples in view since the previous
+/// frame (the 2019 stitching-strips paper's popping measure).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PoppingFrame {
+    /// Samples in view covered by the surface in both frames.
+    pub samples: u64,
+    pub rmse_m: f64,
+    pub max_m: f64,
+    /// The changes as projected screen-space pixels from the current eye (a vertical segment
+    /// of the change's length); over the samples in front of the near plane.
+    pub rmse_px: f64,
+    pub max_px: f64,
+}
+
+/// What the mesh families beyond plain 4-8 meshes are counted by (the runner reads them off the
+/// mesh): triangles by role, draw batches, morphing vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshCounts {
+    /// Surface, skirt, degenerate and stitch triangles, in the order of
+    /// [`crate::sim::mesh::TriangleRole::ALL`].
+    pub triangles_by_role: [u64; 4],
+    /// Maximal runs of consecutive triangles of one group (one draw call each).
+    pub draw_batches: u64,
+    /// Vertices drawn at a morphed height.
+    pub morphing_vertices: u64,
 }
 
 /// One algorithm's statistics for one frame.
@@ -42,6 +90,12 @@ pub struct FrameStats {
     pub update_ns: u64,
     /// Values of the algorithm's extra columns, in the order it declares them.
     pub extra: Vec<f64>,
+    /// Vertices whose position or height changed since the previous frame (what a renderer
+    /// would upload again): filled by algorithms that draw triangle lists or morph; `None`
+    /// where it does not apply.
+    pub vertices_changed: Option<u64>,
+    /// Filled by the runner from the mesh, for triangle lists and morphed 4-8 meshes.
+    pub mesh: Option<MeshCounts>,
     pub audit: Option<AuditFrame>,
 }
 

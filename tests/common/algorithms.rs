@@ -1,50 +1,95 @@
-//! Every algorithm configuration the hard-case and invariance tests run, with the options that
-//! make each a pure function of the view (no budget). `rottger` has no τ: its configurations
-//! come separately ([`every_rottger`]).
+//! Algorithm configurations, written once: each algorithm with its plainest options (a pure
+//! function of the view where the algorithm allows it), for tests to vary with struct update
+//! syntax (`WuConfig { depth_limit: Some(2), ..wu(6.0, ZoneVariant::Conservative) }`), and every
+//! algorithm at one tolerance for the hard-case and invariance tests. `rottger` has no τ: its
+//! configurations come separately ([`every_rottger`]).
 
 use roamsim::sim::algorithm::rottger::DistanceNorm;
 use roamsim::sim::algorithm::{
-    AlgorithmConfig, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal, RottgerConfig,
-    SplitThreshold, WuConfig,
+    AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, RoamConfig, RoamGoal,
+    RottgerConfig, SplitThreshold, WuConfig,
 };
+use roamsim::sim::hierarchy::NestingRule;
 use roamsim::sim::zone::ZoneVariant;
+
+/// Wu's criterion from scratch: split iff ℓ ≤ 0, Wu's max nesting.
+pub fn reference(tau_px: f64, zone: ZoneVariant) -> ReferenceConfig {
+    ReferenceConfig {
+        nesting: NestingRule::Max,
+        tau_px,
+        zone,
+        threshold: SplitThreshold::LifeAtMost(0.0),
+    }
+}
+
+/// Wu at a fixed τ: no budget, no traversal options, no cone culling, 64 links per wheel.
+pub fn wu(tau_px: f64, zone: ZoneVariant) -> WuConfig {
+    WuConfig {
+        nesting: NestingRule::Max,
+        tau_px: Some(tau_px),
+        budget: None,
+        zone,
+        block_priority: false,
+        depth_limit: None,
+        cone_culling: false,
+        wheel_links: 64,
+    }
+}
+
+/// Wu held at `triangles` by base shifting (the paper's rule: no dead band, k = 1.5), starting
+/// from τ = `tau_px`, b within ±`base_limit`.
+pub fn wu_budget(tau_px: f64, triangles: u64, base_limit: i64) -> WuConfig {
+    WuConfig {
+        budget: Some(BudgetConfig {
+            triangles,
+            dead_band: 0,
+            base_limit,
+            initial_tau_k: 1.5,
+        }),
+        ..wu(tau_px, ZoneVariant::Conservative)
+    }
+}
+
+/// Lindstrom'96 with blocks of (2^block_level + 1)² samples, its max nesting.
+pub fn lindstrom(tau_px: f64, block_level: u32) -> LindstromConfig {
+    LindstromConfig {
+        nesting: NestingRule::Max,
+        tau_px,
+        block_level,
+    }
+}
+
+/// ROAM splitting while a priority exceeds τ, the paper's max-plus-own nesting, no effects.
+pub fn roam_tolerance(tau_px: f64) -> RoamConfig {
+    RoamConfig {
+        nesting: NestingRule::MaxPlusOwn,
+        goal: RoamGoal::TolerancePx(tau_px),
+        deferral: false,
+        culling_flags: false,
+        strips: false,
+    }
+}
+
+/// ROAM held at `triangles` by its dual-queue loop, no effects.
+pub fn roam_target(triangles: u64) -> RoamConfig {
+    RoamConfig {
+        goal: RoamGoal::TargetTriangles(triangles),
+        ..roam_tolerance(0.0)
+    }
+}
 
 /// Every algorithm at tolerance `tau_px`, with the options that make it a pure function of the
 /// view (no budget).
 pub fn every_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
     let mut configs = Vec::new();
     for zone in [ZoneVariant::Conservative, ZoneVariant::Paper] {
-        configs.push(AlgorithmConfig::Reference(ReferenceConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px,
-            zone,
-            threshold: SplitThreshold::LifeAtMost(0.0),
-        }));
-        configs.push(AlgorithmConfig::Wu(WuConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px: Some(tau_px),
-            budget: None,
-            zone,
-            block_priority: false,
-            depth_limit: None,
-            cone_culling: false,
-            wheel_links: 64,
-        }));
+        configs.push(AlgorithmConfig::Reference(reference(tau_px, zone)));
+        configs.push(AlgorithmConfig::Wu(wu(tau_px, zone)));
     }
     for block_level in [1, 3] {
-        configs.push(AlgorithmConfig::Lindstrom(LindstromConfig {
-            nesting: roamsim::sim::hierarchy::NestingRule::Max,
-            tau_px,
-            block_level,
-        }));
+        configs.push(AlgorithmConfig::Lindstrom(lindstrom(tau_px, block_level)));
     }
-    let roam = RoamConfig {
-        nesting: roamsim::sim::hierarchy::NestingRule::MaxPlusOwn,
-        goal: RoamGoal::TolerancePx(tau_px),
-        deferral: false,
-        culling_flags: false,
-        strips: false,
-    };
+    let roam = roam_tolerance(tau_px);
     configs.push(AlgorithmConfig::Roam(roam));
     configs.push(AlgorithmConfig::Roam(RoamConfig {
         deferral: true,

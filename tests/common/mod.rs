@@ -7,11 +7,79 @@
 
 pub mod algorithms;
 pub mod experiment;
+pub mod patches;
 
 use glam::DVec3;
+use roamsim::sim::algorithm::{FrameInput, LodAlgorithm};
 use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::VertexSet;
+use roamsim::sim::mesh::check::MeshChecker;
+use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose, ViewSettings};
+use std::fmt::Display;
+
+/// One frame of `algorithm`: its update for frame `frame` seen from `camera` (what the runner
+/// times), and the statistics it filled.
+pub fn step(
+    algorithm: &mut dyn LodAlgorithm,
+    frame: u64,
+    camera: &Camera,
+    speed_bound_broken: bool,
+) -> FrameStats {
+    let mut stats = FrameStats {
+        frame,
+        ..FrameStats::default()
+    };
+    algorithm.update(
+        &FrameInput {
+            frame,
+            camera,
+            speed_bound_broken,
+        },
+        &mut stats,
+    );
+    stats
+}
+
+/// [`step`], then what `roamsim run --check` runs after every frame: the mesh (either form)
+/// and the algorithm's own triangle count against it, and the statistics' count against both.
+/// Panics naming `context` and the frame.
+pub fn checked_step(
+    hierarchy: &Hierarchy,
+    algorithm: &mut dyn LodAlgorithm,
+    frame: u64,
+    camera: &Camera,
+    speed_bound_broken: bool,
+    context: impl Display,
+) -> FrameStats {
+    let stats = step(algorithm, frame, camera, speed_bound_broken);
+    if let Err(error) = MeshChecker::new().check(hierarchy, algorithm.mesh(), stats.triangles) {
+        panic!("{context}, frame {frame}: {error}");
+    }
+    assert_eq!(
+        algorithm.triangle_count(),
+        stats.triangles,
+        "{context}, frame {frame}: the algorithm's count and its statistics"
+    );
+    stats
+}
+
+/// The value of the algorithm-specific column `name` (a constant of
+/// `roamsim::sim::algorithm::columns`) in `stats`. Panics when the algorithm does not declare it
+/// (or it is no algorithm's column at all).
+pub fn extra(algorithm: &dyn LodAlgorithm, stats: &FrameStats, name: &str) -> f64 {
+    roamsim::sim::algorithm::columns::extra_value(algorithm.extra_columns(), stats, name)
+        .unwrap_or_else(|| panic!("{} declares no column {name:?}", algorithm.name()))
+}
+
+/// The 4-8 mesh of an algorithm that draws one.
+pub fn vertex_set(algorithm: &dyn LodAlgorithm) -> &VertexSet {
+    algorithm
+        .mesh()
+        .lattice_vertices()
+        .unwrap_or_else(|| panic!("{} draws a triangle list, not a 4-8 mesh", algorithm.name()))
+}
 
 /// A deterministic bumpy terrain of side 2^level + 1 with 10 m posts.
 pub fn bumpy_terrain(level: u32) -> Hierarchy {

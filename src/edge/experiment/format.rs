@@ -357,6 +357,9 @@ pub struct EffectsEntry {
 #[serde(deny_unknown_fields)]
 pub struct AuditEntry {
     pub stride: u32,
+    /// Also measure popping (default false).
+    #[serde(default)]
+    pub popping: bool,
 }
 
 #[derive(Debug, Deserialize)]
@@ -364,12 +367,28 @@ pub struct AuditEntry {
 pub struct OutputsEntry {
     #[serde(default = "yes")]
     pub plots: bool,
+    /// Meshes to export (default: none).
+    #[serde(default)]
+    pub meshes: Option<MeshesEntry>,
 }
 
 impl Default for OutputsEntry {
     fn default() -> OutputsEntry {
-        OutputsEntry { plots: true }
+        OutputsEntry {
+            plots: true,
+            meshes: None,
+        }
     }
+}
+
+/// `{"frames": [0, 120], "entries": ["wu τ=2px"]}`: each named entry's mesh at each frame, as a
+/// PLY file. Entries by label or algorithm name; absent: every entry.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshesEntry {
+    pub frames: Vec<u64>,
+    #[serde(default)]
+    pub entries: Option<Vec<String>>,
 }
 
 fn yes() -> bool {

@@ -12,7 +12,9 @@ mod validate;
 
 pub use format::FORMAT_VERSION;
 pub use sweep::{SweepChoice, choice_label};
-pub use validate::{AlgorithmSpec, Experiment, Plan, TerrainReport, check_bytes, load, plan};
+pub use validate::{
+    AlgorithmSpec, Experiment, MeshExports, Plan, TerrainReport, check_bytes, load, plan,
+};
 
 use std::fmt;
 use std::path::PathBuf;

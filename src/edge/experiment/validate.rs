@@ -7,9 +7,9 @@
 
 use super::format::{
     AlgorithmEntry, DistanceEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry,
-    InterpolationEntry, LindstromParameters, LookEntry, NestingEntry, PathEntry, RawSampleEntry,
-    ReferenceParameters, RoamParameters, RottgerParameters, TerrainEntry, TerrainFormatEntry,
-    WuParameters, ZoneEntry,
+    InterpolationEntry, LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry,
+    RawSampleEntry, ReferenceParameters, RoamParameters, RottgerParameters, TerrainEntry,
+    TerrainFormatEntry, WuParameters, ZoneEntry,
 };
 use super::sweep::{
     ExperimentPoint, MAX_SWEEP_POINTS, SweepChoice, cartesian, choice_label, expand_experiment,
@@ -68,8 +68,18 @@ pub struct Experiment {
     pub algorithms: Vec<AlgorithmSpec>,
     pub effects: Effects,
     pub plots: bool,
+    /// Meshes to write as PLY files (`outputs.meshes`); `None`: none.
+    pub mesh_exports: Option<MeshExports>,
     /// The point of the experiment's top-level sweep this is (`None` without a sweep).
     pub sweep_point: Option<SweepChoice>,
+}
+
+/// Which entries' meshes to export at which frames, checked: every frame inside the flight,
+/// every entry an index into [`Experiment::algorithms`]; both sorted, without repeats.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MeshExports {
+    pub frames: Vec<u64>,
+    pub entries: Vec<usize>,
 }
 
 /// One algorithm entry: its label, configuration and the parameters as written.
@@ -245,6 +255,18 @@ impl Plan {
         let (field, terrain) =
             load_terrain(path, folder, &parsed.terrain).map_err(prefix_errors)?;
         let flight = build_flight(path, folder, &parsed.flight).map_err(prefix_errors)?;
+        if let Some(exports) = &checked.mesh_exports
+            && let Some(&frame) = exports.frames.iter().find(|&&f| f >= flight.n_frames())
+        {
+            return Err(prefix_errors(ExperimentError::single(
+                path,
+                "outputs.meshes.frames",
+                format!(
+                    "{frame} is past the flight's last frame {}",
+                    flight.n_frames() - 1
+                ),
+            )));
+        }
         let violations = speed_violations(&flight, checked.speed);
         Ok(Experiment {
             name: parsed.name.clone(),
@@ -261,6 +283,7 @@ impl Plan {
             algorithms: checked.algorithms.clone(),
             effects: checked.effects,
             plots: parsed.outputs.plots,
+            mesh_exports: checked.mesh_exports.clone(),
             sweep_point: point.choice.clone(),
         })
     }
@@ -286,6 +309,7 @@ struct Checked {
     speed: SpeedBound,
     algorithms: Vec<AlgorithmSpec>,
     effects: Effects,
+    mesh_exports: Option<MeshExports>,
 }
 
 /// Stage 2: every semantic problem, with its field path.
@@ -353,6 +377,11 @@ fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, ExperimentError>
     if let Some(audit) = &file.effects.audit {
         problems.positive_int("effects.audit.stride", audit.stride);
     }
+    let mesh_exports = file
+        .outputs
+        .meshes
+        .as_ref()
+        .map(|meshes| check_mesh_exports(meshes, &algorithms, &mut problems));
     if !problems.list.is_empty() {
         return Err(ExperimentError {
             file: path.to_path_buf(),
@@ -373,15 +402,63 @@ fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, ExperimentError>
         },
         algorithms,
         effects: Effects {
-            audit: file
-                .effects
-                .audit
-                .as_ref()
-                .map(|a| AuditSettings { stride: a.stride }),
+            audit: file.effects.audit.as_ref().map(|a| AuditSettings {
+                stride: a.stride,
+                popping: a.popping,
+            }),
             culling: file.effects.culling,
             check_meshes: false,
         },
+        mesh_exports,
     })
+}
+
+/// `outputs.meshes`: at least one frame; entries by label or algorithm name (a name selects
+/// every entry of that algorithm). Frames past the flight are found when it is built.
+fn check_mesh_exports(
+    meshes: &MeshesEntry,
+    algorithms: &[AlgorithmSpec],
+    problems: &mut Problems,
+) -> MeshExports {
+    if meshes.frames.is_empty() {
+        problems.add(
+            "outputs.meshes.frames",
+            "empty: expected at least one frame",
+        );
+    }
+    let mut frames = meshes.frames.clone();
+    frames.sort_unstable();
+    frames.dedup();
+    let mut entries: Vec<usize> = match &meshes.entries {
+        None => (0..algorithms.len()).collect(),
+        Some(wanted) => {
+            let mut entries = Vec::new();
+            for (k, wanted) in wanted.iter().enumerate() {
+                let matching: Vec<usize> = algorithms
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, a)| a.label == *wanted || a.config.name() == wanted)
+                    .map(|(index, _)| index)
+                    .collect();
+                if matching.is_empty() {
+                    let labels: Vec<&str> = algorithms.iter().map(|a| a.label.as_str()).collect();
+                    problems.add(
+                        format!("outputs.meshes.entries[{k}]"),
+                        format!(
+                            "{wanted:?} names no algorithm entry: expected a label ({}) or an \
+                             algorithm name",
+                            labels.join(", ")
+                        ),
+                    );
+                }
+                entries.extend(matching);
+            }
+            entries
+        }
+    };
+    entries.sort_unstable();
+    entries.dedup();
+    MeshExports { frames, entries }
 }
 
 #[derive(Default)]

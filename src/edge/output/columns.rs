@@ -1,10 +1,17 @@
 //! The columns of `frames.csv` and `summary.json`, defined once.
 //!
-//! Order: `algorithm`, `frame`, the common counters, then every algorithm-specific column in the
+//! Order: `algorithm`, `frame`, the common counters, then the mesh columns when some run's mesh
+//! has them (triangle lists and morphed 4-8 meshes), then every algorithm-specific column in the
 //! order first declared by the run's algorithms (empty where an algorithm does not have it),
-//! then the audit columns when the audit ran.
+//! then the audit columns when the audit ran, its coverage columns when some run drew a
+//! triangle list, and the popping columns when popping was measured.
+//!
+//! Columns are looked up by name ([`value`]); a name that is no column at all is a bug and
+//! panics, so a misspelling can never read as an empty column. Algorithm-specific names are the
+//! constants of [`crate::sim::algorithm::columns`].
 
-use crate::sim::stats::{AuditFrame, ErrorSummary, FrameStats};
+use crate::sim::algorithm::columns::extra_value;
+use crate::sim::stats::{AuditFrame, ErrorSummary, FrameStats, PoppingFrame, SurfaceCoverage};
 
 /// The common counters, in order.
 pub const COMMON_COLUMNS: &[&str] = &[
@@ -18,6 +25,18 @@ pub const COMMON_COLUMNS: &[&str] = &[
     "update_ns",
 ];
 
+/// What the families beyond plain 4-8 meshes are counted by, in order (present when some run's
+/// frames have them).
+pub const MESH_COLUMNS: &[&str] = &[
+    "triangles_surface",
+    "triangles_skirt",
+    "triangles_degenerate",
+    "triangles_stitch",
+    "draw_batches",
+    "morphing_vertices",
+    "vertices_changed",
+];
+
 /// Audit columns, in order.
 pub const AUDIT_COLUMNS: &[&str] = &[
     "audit_samples_in_view",
@@ -27,6 +46,22 @@ pub const AUDIT_COLUMNS: &[&str] = &[
     "audit_view_angle_max_px",
     "audit_view_angle_mean_px",
     "audit_view_angle_p95_px",
+];
+
+/// Holes and cracks of triangle-list meshes, in order (present when some run drew one).
+pub const COVERAGE_COLUMNS: &[&str] = &[
+    "audit_holes",
+    "audit_crack_samples",
+    "audit_crack_gap_max_m",
+    "audit_crack_gap_max_px",
+];
+
+/// Popping columns, in order (present when popping was measured).
+pub const POPPING_COLUMNS: &[&str] = &[
+    "popping_rmse_m",
+    "popping_max_m",
+    "popping_rmse_px",
+    "popping_max_px",
 ];
 
 /// Columns whose values are wall-clock measurements (excluded from determinism comparisons).
@@ -41,7 +76,12 @@ pub struct RunColumns<'a> {
 
 /// The numeric columns of a run (everything but `algorithm` and `frame`).
 pub fn numeric_columns(runs: &[RunColumns], audited: bool) -> Vec<&'static str> {
+    let any_frame =
+        |has: &dyn Fn(&FrameStats) -> bool| runs.iter().any(|r| r.frames.iter().any(has));
     let mut names: Vec<&'static str> = COMMON_COLUMNS.to_vec();
+    if any_frame(&|f| f.mesh.is_some() || f.vertices_changed.is_some()) {
+        names.extend_from_slice(MESH_COLUMNS);
+    }
     for run in runs {
         for name in run.extra_columns {
             if !names.contains(name) {
@@ -51,13 +91,24 @@ pub fn numeric_columns(runs: &[RunColumns], audited: bool) -> Vec<&'static str> 
     }
     if audited {
         names.extend_from_slice(AUDIT_COLUMNS);
+        if any_frame(&|f| f.audit.is_some_and(|a| a.coverage.is_some())) {
+            names.extend_from_slice(COVERAGE_COLUMNS);
+        }
+        if any_frame(&|f| f.audit.is_some_and(|a| a.popping.is_some())) {
+            names.extend_from_slice(POPPING_COLUMNS);
+        }
     }
     names
 }
 
 /// The value of `column` in a frame of `run`, or `None` where it does not apply.
+///
+/// # Panics
+/// When `column` is no column of `frames.csv` (a misspelt name).
 pub fn value(run: &RunColumns, frame: &FrameStats, column: &str) -> Option<f64> {
     let count = |n: u64| Some(n as f64);
+    let mesh = frame.mesh.as_ref();
+    let audit = frame.audit.as_ref();
     match column {
         "triangles" => count(frame.triangles),
         "triangles_rendered" => count(frame.triangles_rendered),
@@ -67,32 +118,54 @@ pub fn value(run: &RunColumns, frame: &FrameStats, column: &str) -> Option<f64> 
         "vertices_deleted" => count(frame.vertices_deleted),
         "metric_evaluations" => count(frame.metric_evaluations),
         "update_ns" => count(frame.update_ns),
-        _ if column.starts_with("audit_") => audit_value(frame.audit.as_ref()?, column),
-        _ => {
-            let k = run.extra_columns.iter().position(|c| *c == column)?;
-            frame.extra.get(k).copied()
+        "triangles_surface" => mesh.map(|m| m.triangles_by_role[0] as f64),
+        "triangles_skirt" => mesh.map(|m| m.triangles_by_role[1] as f64),
+        "triangles_degenerate" => mesh.map(|m| m.triangles_by_role[2] as f64),
+        "triangles_stitch" => mesh.map(|m| m.triangles_by_role[3] as f64),
+        "draw_batches" => mesh.map(|m| m.draw_batches as f64),
+        "morphing_vertices" => mesh.map(|m| m.morphing_vertices as f64),
+        "vertices_changed" => frame.vertices_changed.map(|n| n as f64),
+        _ if column.starts_with("audit_") => audit_value(audit, column),
+        _ if column.starts_with("popping_") => {
+            popping_value(audit.and_then(|a| a.popping.as_ref()), column)
         }
+        _ => extra_value(run.extra_columns, frame, column),
     }
 }
 
-fn audit_value(audit: &AuditFrame, column: &str) -> Option<f64> {
-    let pick = |summary: Option<ErrorSummary>, field: &str| {
-        summary.map(|s| match field {
-            "max" => s.max,
-            "mean" => s.mean,
-            _ => s.p95,
-        })
-    };
+/// An `audit_*` column; panics on a name that is none.
+fn audit_value(audit: Option<&AuditFrame>, column: &str) -> Option<f64> {
+    let pick = |summary: Option<ErrorSummary>, field: fn(ErrorSummary) -> f64| summary.map(field);
+    let projected = audit.and_then(|a| a.projected);
+    let view_angle = audit.and_then(|a| a.view_angle);
+    let coverage =
+        |field: fn(&SurfaceCoverage) -> f64| audit.and_then(|a| a.coverage.as_ref()).map(field);
     match column {
-        "audit_samples_in_view" => Some(audit.samples_in_view as f64),
-        "audit_projected_max_px" => pick(audit.projected, "max"),
-        "audit_projected_mean_px" => pick(audit.projected, "mean"),
-        "audit_projected_p95_px" => pick(audit.projected, "p95"),
-        "audit_view_angle_max_px" => pick(audit.view_angle, "max"),
-        "audit_view_angle_mean_px" => pick(audit.view_angle, "mean"),
-        "audit_view_angle_p95_px" => pick(audit.view_angle, "p95"),
-        _ => None,
+        "audit_samples_in_view" => audit.map(|a| a.samples_in_view as f64),
+        "audit_projected_max_px" => pick(projected, |s| s.max),
+        "audit_projected_mean_px" => pick(projected, |s| s.mean),
+        "audit_projected_p95_px" => pick(projected, |s| s.p95),
+        "audit_view_angle_max_px" => pick(view_angle, |s| s.max),
+        "audit_view_angle_mean_px" => pick(view_angle, |s| s.mean),
+        "audit_view_angle_p95_px" => pick(view_angle, |s| s.p95),
+        "audit_holes" => coverage(|c| c.holes as f64),
+        "audit_crack_samples" => coverage(|c| c.crack_samples as f64),
+        "audit_crack_gap_max_m" => coverage(|c| c.crack_gap_max_m),
+        "audit_crack_gap_max_px" => coverage(|c| c.crack_gap_max_px),
+        _ => panic!("{column:?} is no audit column"),
     }
+}
+
+/// A `popping_*` column; panics on a name that is none.
+fn popping_value(popping: Option<&PoppingFrame>, column: &str) -> Option<f64> {
+    let field: fn(&PoppingFrame) -> f64 = match column {
+        "popping_rmse_m" => |p| p.rmse_m,
+        "popping_max_m" => |p| p.max_m,
+        "popping_rmse_px" => |p| p.rmse_px,
+        "popping_max_px" => |p| p.max_px,
+        _ => panic!("{column:?} is no popping column"),
+    };
+    popping.map(field)
 }
 
 /// A number as CSV text: whole numbers without a decimal point, others in Rust's shortest
@@ -102,5 +175,64 @@ pub fn format_number(value: f64) -> String {
         format!("{}", value as i64)
     } else {
         format!("{value}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::stats::MeshCounts;
+
+    fn run<'a>(frames: &'a [FrameStats]) -> RunColumns<'a> {
+        RunColumns {
+            label: "a",
+            extra_columns: &[],
+            frames,
+        }
+    }
+
+    #[test]
+    fn the_new_families_columns_appear_only_where_some_run_has_them() {
+        let plain = [FrameStats::default()];
+        assert_eq!(numeric_columns(&[run(&plain)], false), COMMON_COLUMNS);
+        let listed = [FrameStats {
+            mesh: Some(MeshCounts {
+                triangles_by_role: [10, 4, 2, 0],
+                draw_batches: 3,
+                morphing_vertices: 1,
+            }),
+            ..FrameStats::default()
+        }];
+        let names = numeric_columns(&[run(&plain), run(&listed)], false);
+        assert_eq!(names[COMMON_COLUMNS.len()..], *MESH_COLUMNS);
+        assert_eq!(
+            value(&run(&listed), &listed[0], "triangles_skirt"),
+            Some(4.0)
+        );
+        assert_eq!(value(&run(&plain), &plain[0], "triangles_skirt"), None);
+    }
+
+    #[test]
+    fn every_listed_column_has_a_value_rule_and_a_misspelt_one_panics() {
+        let frames = [FrameStats::default()];
+        for name in COMMON_COLUMNS
+            .iter()
+            .chain(MESH_COLUMNS)
+            .chain(AUDIT_COLUMNS)
+            .chain(COVERAGE_COLUMNS)
+            .chain(POPPING_COLUMNS)
+        {
+            // No panic: each name is known (its value may not apply to this frame).
+            let _ = value(&run(&frames), &frames[0], name);
+        }
+        for misspelt in ["triangle", "audit_holess", "popping_rms_m", "base_bb"] {
+            let result = std::panic::catch_unwind(|| value(&run(&frames), &frames[0], misspelt));
+            let message = result.expect_err(misspelt);
+            let message = message
+                .downcast_ref::<String>()
+                .cloned()
+                .unwrap_or_default();
+            assert!(message.contains(misspelt), "{message}");
+        }
     }
 }

@@ -1,9 +1,11 @@
-//! Output writers: `frames.csv`, `summary.json`, plots, and the all-or-nothing output folder.
+//! Output writers: `frames.csv`, `summary.json`, `report.md`, plots, exported meshes (PLY), and
+//! the all-or-nothing output folder.
 
 pub mod atomic_dir;
 pub mod columns;
 pub mod frames_csv;
 pub mod label_placement;
+pub mod mesh_ply;
 pub mod plots;
 pub mod report_md;
 pub mod run_plots;

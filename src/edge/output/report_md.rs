@@ -2,10 +2,13 @@
 //!
 //! One row per algorithm entry (sweep points included): triangles, the audited error, update
 //! time, operations per frame and per split or merge, and memory per sample; then the entries on
-//! the accuracy-versus-time Pareto front. Every figure comes from `frames.csv`'s columns; the
-//! definitions are under the table.
+//! the accuracy-versus-time Pareto front; then, where they apply, popping and the triangle-list
+//! figures (holes, cracks, triangles by role); last, the preprocessing: the shared terrain's and
+//! each entry's own. Every figure comes from `frames.csv`'s columns or the run's measurements;
+//! the definitions are under the tables.
 
 use super::columns::{RunColumns, value};
+use super::summary_json::Preprocessing;
 use crate::edge::experiment::Experiment;
 use crate::sim::stats::{pareto_front, summarise};
 use std::fmt::Write;
@@ -17,6 +20,10 @@ pub struct ReportInputs<'a> {
     pub names: &'a [&'a str],
     pub bytes_per_sample: &'a [f64],
     pub threads: usize,
+    /// The shared terrain's preprocessing.
+    pub terrain_preprocessing: &'a Preprocessing,
+    /// Each entry's own preprocessing, in the order of `runs`.
+    pub entry_preprocessing: &'a [Preprocessing],
 }
 
 /// One entry's figures, as its report row shows them.
@@ -156,5 +163,183 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
          shared preprocessed terrain (heights and Wu's node table above the finest level, 5 B/sample) plus the \
          algorithm's own state at the end of the run, per height sample."
     );
+    write_popping(&mut out, inputs.runs);
+    write_triangle_lists(&mut out, inputs.runs);
+    write_preprocessing(&mut out, inputs);
     out
+}
+
+/// The mean over frames of `column` in `run`, when it has values.
+fn mean_of(run: &RunColumns, column: &str) -> Option<f64> {
+    let values: Vec<f64> = run
+        .frames
+        .iter()
+        .filter_map(|f| value(run, f, column))
+        .collect();
+    summarise(&values).map(|s| s.mean)
+}
+
+/// The largest value of `column` in `run`, when it has values.
+fn max_of(run: &RunColumns, column: &str) -> Option<f64> {
+    run.frames
+        .iter()
+        .filter_map(|f| value(run, f, column))
+        .reduce(f64::max)
+}
+
+/// A figure with `digits` decimals, or a dash where there is none.
+fn cell(value: Option<f64>, digits: usize) -> String {
+    value.map_or("—".to_string(), |v| format!("{v:.digits$}"))
+}
+
+/// Popping per entry, when it was measured.
+fn write_popping(out: &mut String, runs: &[RunColumns]) {
+    if !runs.iter().any(|r| mean_of(r, "popping_rmse_m").is_some()) {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\n## Popping\n\n| entry | RMSE (m) | max (m) | RMSE (px) | max (px) |\n|---|---|---|---|---|"
+    );
+    for run in runs {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} |",
+            run.label.replace('|', "\\|"),
+            cell(mean_of(run, "popping_rmse_m"), 4),
+            cell(max_of(run, "popping_max_m"), 3),
+            cell(mean_of(run, "popping_rmse_px"), 3),
+            cell(max_of(run, "popping_max_px"), 2),
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nThe change of the drawn surface's height at the audited samples in view since the \
+         previous frame: RMSE (mean over frames) and largest change (over the flight), in metres \
+         and in projected pixels from the current eye."
+    );
+}
+
+/// Triangles by role, draw batches, holes and cracks, for entries that draw triangle lists or
+/// morph.
+fn write_triangle_lists(out: &mut String, runs: &[RunColumns]) {
+    let listed: Vec<&RunColumns> = runs
+        .iter()
+        .filter(|r| mean_of(r, "triangles_surface").is_some())
+        .collect();
+    if listed.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\n## Meshes beyond the 4-8 family\n\n| entry | surface | skirt | degenerate | stitch | draw batches | morphing vertices | vertices changed | holes | crack samples | crack gap max (m) |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for run in listed {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            run.label.replace('|', "\\|"),
+            cell(mean_of(run, "triangles_surface"), 0),
+            cell(mean_of(run, "triangles_skirt"), 0),
+            cell(mean_of(run, "triangles_degenerate"), 0),
+            cell(mean_of(run, "triangles_stitch"), 0),
+            cell(mean_of(run, "draw_batches"), 1),
+            cell(mean_of(run, "morphing_vertices"), 0),
+            cell(mean_of(run, "vertices_changed"), 0),
+            cell(max_of(run, "audit_holes"), 0),
+            cell(mean_of(run, "audit_crack_samples"), 1),
+            cell(max_of(run, "audit_crack_gap_max_m"), 3),
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nMeans per frame, except *holes* (the most audited samples in view that no surface \
+         triangle covered, in any frame) and *crack gap* (the largest height disagreement \
+         between surface triangles meeting at a sample, over the flight)."
+    );
+}
+
+/// The shared terrain's preprocessing and each entry's own.
+fn write_preprocessing(out: &mut String, inputs: &ReportInputs) {
+    let terrain = inputs.terrain_preprocessing;
+    let _ = writeln!(
+        out,
+        "\n## Preprocessing\n\nShared terrain (heights and Wu's node table): {:.3} s, {:.2} B/sample.\n\n| entry | algorithm | own preprocessing (s) | own bytes per sample after it |\n|---|---|---|---|",
+        terrain.seconds, terrain.bytes_per_sample
+    );
+    for (k, (run, own)) in inputs
+        .runs
+        .iter()
+        .zip(inputs.entry_preprocessing)
+        .enumerate()
+    {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.4} | {:.3} |",
+            run.label.replace('|', "\\|"),
+            inputs.names[k],
+            own.seconds,
+            own.bytes_per_sample
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::stats::{AuditFrame, FrameStats, MeshCounts, SurfaceCoverage};
+
+    fn frame(frame: u64, holes: u64, gap: f64) -> FrameStats {
+        FrameStats {
+            frame,
+            triangles: 16,
+            mesh: Some(MeshCounts {
+                triangles_by_role: [10, 4, 2, 0],
+                draw_batches: 3,
+                morphing_vertices: 5,
+            }),
+            vertices_changed: Some(frame * 2),
+            audit: Some(AuditFrame {
+                samples_in_view: 100,
+                projected: None,
+                view_angle: None,
+                coverage: Some(SurfaceCoverage {
+                    holes,
+                    crack_samples: 4,
+                    crack_gap_max_m: gap,
+                    crack_gap_max_px: 1.0,
+                }),
+                popping: None,
+            }),
+            ..FrameStats::default()
+        }
+    }
+
+    #[test]
+    fn triangle_list_entries_get_their_roles_holes_and_cracks_and_4_8_entries_no_row() {
+        let listed = [frame(0, 2, 0.5), frame(1, 7, 1.25)];
+        let plain = [FrameStats::default()];
+        let runs = [
+            RunColumns {
+                label: "patches",
+                extra_columns: &[],
+                frames: &listed,
+            },
+            RunColumns {
+                label: "wu",
+                extra_columns: &[],
+                frames: &plain,
+            },
+        ];
+        let mut out = String::new();
+        write_triangle_lists(&mut out, &runs);
+        let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| ")).collect();
+        assert_eq!(
+            rows[1..],
+            ["| patches | 10 | 4 | 2 | 0 | 3.0 | 5 | 1 | 7 | 4.0 | 1.250 |"]
+        );
+        let mut none = String::new();
+        write_triangle_lists(&mut none, &runs[1..]);
+        assert!(none.is_empty());
+    }
 }

@@ -1,17 +1,20 @@
-//! The standard plots of a run: triangles per frame, update time per frame, and the audited
-//! error per frame (when the audit ran). One line per algorithm label.
+//! The standard plots of a run: triangles per frame, update time per frame, the audited error
+//! per frame (when the audit ran), popping per frame (when it was measured). One line per
+//! algorithm label.
 
 use super::columns::{RunColumns, value};
 use super::plots::{
     LineChart, Marker, PlotError, ScatterChart, ScatterPoint, Series, write_line_chart,
     write_scatter_chart,
 };
+use crate::sim::algorithm::columns::rottger::DESIRED_RESOLUTION_C;
+use crate::sim::algorithm::columns::wu::BASE_B;
 use crate::sim::stats::{pareto_front, summarise};
 use std::path::Path;
 
-/// Writes `triangles`, `update_time`, `error` and `accuracy_vs_time` (when audited), `base_b`
-/// (when an algorithm reports Wu's base) and `desired_resolution_c` (when one reports Röttger's
-/// c) as PNG and SVG into `dir`.
+/// Writes `triangles`, `update_time`, `error` and `accuracy_vs_time` (when audited), `popping`
+/// (when some frame measured it), `base_b` (when an algorithm reports Wu's base) and
+/// `desired_resolution_c` (when one reports Röttger's c) as PNG and SVG into `dir`.
 pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result<(), PlotError> {
     let series_of = |column: &str, scale: f64| -> Vec<Series> {
         runs.iter()
@@ -62,6 +65,24 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
                 markers: &[],
             },
         )?;
+        let popped = runs.iter().any(|r| {
+            r.frames
+                .iter()
+                .any(|f| f.audit.is_some_and(|a| a.popping.is_some()))
+        });
+        if popped {
+            write_line_chart(
+                dir,
+                "popping",
+                &LineChart {
+                    title: "Popping: RMSE of the drawn surface's change since the previous frame",
+                    x_label: "frame",
+                    y_label: "popping RMSE (projected px)",
+                    series: &series_of("popping_rmse_px", 1.0),
+                    markers: &[],
+                },
+            )?;
+        }
     }
     Ok(())
 }
@@ -71,11 +92,11 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
 fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
     let mut series = Vec::new();
     let mut figures = Vec::new();
-    for run in runs.iter().filter(|r| r.extra_columns.contains(&"base_b")) {
+    for run in runs.iter().filter(|r| r.extra_columns.contains(&BASE_B)) {
         let points: Vec<(f64, f64)> = run
             .frames
             .iter()
-            .filter_map(|f| value(run, f, "base_b").map(|b| (f.frame as f64, b)))
+            .filter_map(|f| value(run, f, BASE_B).map(|b| (f.frame as f64, b)))
             .collect();
         let values: Vec<f64> = points.iter().map(|p| p.1).collect();
         let Some(summary) = summarise(&values) else {
@@ -131,14 +152,14 @@ fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
 fn write_desired_resolution_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
     let series: Vec<Series> = runs
         .iter()
-        .filter(|r| r.extra_columns.contains(&"desired_resolution_c"))
+        .filter(|r| r.extra_columns.contains(&DESIRED_RESOLUTION_C))
         .map(|run| Series {
             label: run.label.to_string(),
             points: run
                 .frames
                 .iter()
                 .filter_map(|f| {
-                    value(run, f, "desired_resolution_c")
+                    value(run, f, DESIRED_RESOLUTION_C)
                         .filter(|c| *c > 0.0)
                         .map(|c| (f.frame as f64, c.log10()))
                 })
@@ -151,7 +172,7 @@ fn write_desired_resolution_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), 
     }
     write_line_chart(
         dir,
-        "desired_resolution_c",
+        DESIRED_RESOLUTION_C,
         &LineChart {
             title: "Röttger's desired resolution c per frame",
             x_label: "frame",

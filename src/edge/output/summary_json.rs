@@ -1,5 +1,6 @@
-//! `summary.json`: per algorithm, mean/p50/p95/max of every numeric column, plus the run's
-//! metadata. Format version 1 is documented in `docs/output-formats.md`.
+//! `summary.json`: per algorithm, mean/p50/p95/max of every numeric column and its own
+//! preprocessing, plus the run's metadata. Format version 1 is documented in
+//! `docs/output-formats.md`.
 
 use super::columns::{RunColumns, numeric_columns, value};
 use crate::edge::experiment::Experiment;
@@ -12,7 +13,9 @@ pub const SUMMARY_FORMAT_VERSION: u32 = 1;
 /// Most speed violations listed one by one (the count is always exact).
 pub const MAX_LISTED_VIOLATIONS: usize = 10_000;
 
-/// Facts measured while preparing the run.
+/// Facts measured while preparing the run: the shared terrain's preprocessing, or one
+/// algorithm entry's (building its own tables and trees before the first frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Preprocessing {
     pub seconds: f64,
     pub bytes_per_sample: f64,
@@ -26,6 +29,7 @@ pub fn summary_json(
     parameters: &[Value],
     names: &[&str],
     facts: &[Vec<(&'static str, f64)>],
+    entry_preprocessing: &[Preprocessing],
 ) -> Value {
     let audited = experiment.effects.audit.is_some();
     let columns = numeric_columns(runs, audited);
@@ -34,7 +38,8 @@ pub fn summary_json(
         .zip(parameters)
         .zip(names)
         .zip(facts)
-        .map(|(((run, parameters), name), facts)| {
+        .zip(entry_preprocessing)
+        .map(|((((run, parameters), name), facts), preprocessing)| {
             let mut summaries = Map::new();
             for column in &columns {
                 let values: Vec<f64> = run
@@ -54,6 +59,10 @@ pub fn summary_json(
                 "name": name,
                 "parameters": parameters,
                 "facts": facts.iter().map(|(k, v)| (k.to_string(), json!(v))).collect::<Map<String, Value>>(),
+                "preprocessing": {
+                    "seconds": preprocessing.seconds,
+                    "bytes_per_sample": preprocessing.bytes_per_sample,
+                },
                 "frames": run.frames.len(),
                 "columns": summaries,
             })
@@ -113,7 +122,10 @@ pub fn summary_json(
             "speed_violations": violations,
         },
         "effects": {
-            "audit": experiment.effects.audit.map(|a| json!({"stride": a.stride})),
+            "audit": experiment
+                .effects
+                .audit
+                .map(|a| json!({"stride": a.stride, "popping": a.popping})),
             "culling": experiment.effects.culling,
         },
         "algorithms": algorithms,

@@ -1,15 +1,17 @@
 //! What the GPU draws, built on the CPU: one frame's mesh as a triangle list, the view frustum
 //! as lines, and the two cameras' matrices (the flight's, and an overview from above).
 //!
-//! Pure: no GPU, no IO, so it is tested without an adapter. Positions are terrain-local metres
-//! (`Heightfield::position`) in `f32`, which is what the screen needs; the simulation keeps its
-//! own `f64` arithmetic. The triangle list is not indexed: vertex `3k..3k+3` is triangle `k`,
-//! the order [`for_each_triangle`] visits, so a shader recovers a triangle's number from its
-//! vertex index and the id pass can count what was drawn.
+//! Pure: no GPU, no IO, so it is tested without an adapter. The mesh is read through its
+//! triangle visitor ([`MeshOutput::for_each_triangle`]), whatever its form: corners at their
+//! drawn heights (morphed ones included), each triangle's role and level. Positions are
+//! terrain-local metres in `f32`, which is what the screen needs; the simulation keeps its own
+//! `f64` arithmetic. The triangle list is not indexed: vertex `3k..3k+3` is triangle `k`, the
+//! order the visitor visits, so a shader recovers a triangle's number from its vertex index and
+//! the id pass can count what was drawn. Degenerate triangles have no area to draw: their edges
+//! are kept as lines, shown when roles are shown.
 
-use crate::sim::hierarchy::{Hierarchy, Lattice};
-use crate::sim::mesh::VertexSet;
-use crate::sim::mesh::triangles::{Triangle, for_each_triangle};
+use crate::sim::hierarchy::Hierarchy;
+use crate::sim::mesh::{MeshOutput, TriangleRole};
 use crate::sim::view::Camera;
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3, Mat4};
@@ -25,11 +27,17 @@ pub struct MeshVertex {
     /// (1,0,0), (0,1,0), (0,0,1) at the three corners: the fragment shader draws the wireframe
     /// where one coordinate nears zero.
     pub barycentric: [f32; 3],
-    /// The triangle's refinement level: its depth in the bintree (0 for the two base triangles).
+    /// The triangle's refinement level: a 4-8 triangle's depth in the bintree (0 for the two
+    /// base triangles), a triangle list's level as its algorithm numbers it.
     pub level: f32,
     /// 1 when the triangle may meet the view volume (`Camera::may_see_triangle`), 0 when culled.
     pub in_view: f32,
+    /// The triangle's role, [`TriangleRole::index`]: 0 surface, 1 skirt, 2 degenerate, 3 stitch.
+    pub role: f32,
 }
+
+/// The colour degenerate triangles' edges are drawn in when roles are shown: magenta.
+pub const DEGENERATE_COLOUR: [f32; 3] = [0.9, 0.1, 0.8];
 
 /// A frame's mesh as a triangle list. The vertex buffer is kept and refilled frame after frame
 /// ([`MeshGeometry::rebuild`] allocates only when the mesh outgrows it); building is O(T).
@@ -37,22 +45,34 @@ pub struct MeshVertex {
 pub struct MeshGeometry {
     vertices: Vec<MeshVertex>,
     max_level: u32,
+    /// The edges of the degenerate triangles, as a line list.
+    degenerate_lines: Vec<LineVertex>,
 }
 
 impl MeshGeometry {
     /// Refills the triangle list from `mesh`; `camera` decides which triangles are in view.
-    pub fn rebuild(&mut self, hierarchy: &Hierarchy, mesh: &VertexSet, camera: &Camera) {
-        let lattice = hierarchy.lattice();
-        let field = hierarchy.field();
+    pub fn rebuild(&mut self, hierarchy: &Hierarchy, mesh: MeshOutput, camera: &Camera) {
+        let spacing = hierarchy.field().spacing();
         self.vertices.clear();
+        self.degenerate_lines.clear();
         self.max_level = 0;
-        for_each_triangle(lattice, mesh, |triangle| {
-            let corners = [triangle.apex, triangle.left, triangle.right]
-                .map(|p| field.position(p.i as usize, p.j as usize));
-            let level = triangle_level(lattice, triangle);
+        mesh.for_each_triangle(hierarchy, |triangle| {
+            let corners = triangle.corners.map(|c| c.local(spacing));
+            let level = triangle.info.level;
             self.max_level = self.max_level.max(level);
             let in_view = f32::from(u8::from(camera.may_see_triangle(corners)));
             let normal = face_normal(corners).as_vec3().to_array();
+            let role = triangle.info.role;
+            if role == TriangleRole::Degenerate {
+                for k in 0..3 {
+                    for corner in [corners[k], corners[(k + 1) % 3]] {
+                        self.degenerate_lines.push(LineVertex {
+                            position: corner.as_vec3().to_array(),
+                            colour: DEGENERATE_COLOUR,
+                        });
+                    }
+                }
+            }
             for (k, corner) in corners.iter().enumerate() {
                 let mut barycentric = [0.0; 3];
                 barycentric[k] = 1.0;
@@ -62,6 +82,7 @@ impl MeshGeometry {
                     barycentric,
                     level: level as f32,
                     in_view,
+                    role: role.index() as f32,
                 });
             }
         });
@@ -80,15 +101,11 @@ impl MeshGeometry {
     pub fn max_level(&self) -> u32 {
         self.max_level
     }
-}
 
-/// A triangle's depth in the bintree: the base triangles (hypotenuse² = 2·4^n in grid units)
-/// are level 0 and each split halves the squared hypotenuse.
-pub fn triangle_level(lattice: &Lattice, triangle: &Triangle) -> u32 {
-    let di = triangle.left.i.abs_diff(triangle.right.i) as u64;
-    let dj = triangle.left.j.abs_diff(triangle.right.j) as u64;
-    let hypotenuse_squared = di * di + dj * dj;
-    2 * lattice.level() + 1 - hypotenuse_squared.ilog2()
+    /// The edges of the mesh's degenerate triangles, as a line list in [`DEGENERATE_COLOUR`].
+    pub fn degenerate_lines(&self) -> &[LineVertex] {
+        &self.degenerate_lines
+    }
 }
 
 /// The unit normal of a triangle, oriented up (+z); a degenerate triangle gets +z.

@@ -357,6 +357,10 @@ impl FramePanes {
                 ViewChoice::Flight => Vec::new(),
                 ViewChoice::Overview => frustum_lines(lane.camera, terrain_diagonal(hierarchy)),
             };
+            if options.roles {
+                let degenerate = self.geometries[k].degenerate_lines();
+                self.lines[k].extend_from_slice(degenerate);
+            }
             specs.push((viewport, view_projection));
         }
         Some(
@@ -423,6 +427,9 @@ pub struct RenderRequest {
     pub size: Option<(u32, u32)>,
     /// Write each pane's statistics into its top left corner.
     pub captions: bool,
+    /// Tell triangle roles apart (skirts, stitches, degenerate triangles); see
+    /// [`DrawOptions::roles`].
+    pub roles: bool,
 }
 
 /// Why `roamsim render` wrote nothing more.
@@ -486,6 +493,7 @@ pub fn render_experiment(request: &RenderRequest) -> Result<Vec<RenderedFrame>, 
     let options = DrawOptions {
         wireframe: request.wireframe,
         tint_culled: request.view == ViewChoice::Overview,
+        roles: request.roles,
     };
     let mut replay = Replay::new(&scene, &entries);
     let all_lanes: Vec<usize> = (0..entries.len()).collect();

@@ -1,7 +1,8 @@
 //! The wgpu drawing shared by the window and the offscreen target.
 //!
 //! Three pipelines over one uniform block (`shader.wgsl`): the shaded mesh with its wireframe
-//! coloured by refinement level (culled triangles optionally tinted), the flat triangle-id pass
+//! coloured by refinement level (culled triangles optionally tinted, skirts and stitches
+//! optionally coloured by role), the flat triangle-id pass
 //! (triangle k written as k + 1 into an `R32Uint` target, 0 is background), and coloured lines
 //! (the view frustum, drawn over everything). Depth is reversed (cleared to 0, nearer is
 //! greater). The renderer owns no target: the caller passes the views to draw into, so the
@@ -34,6 +35,10 @@ pub struct DrawOptions {
     pub wireframe: bool,
     /// Darken the triangles outside the view volume (the culling view).
     pub tint_culled: bool,
+    /// Tell roles apart: skirts in cyan, stitches in violet, degenerate triangles as magenta
+    /// lines (the pane's lines must then hold them, see `MeshGeometry::degenerate_lines`).
+    /// Off, every triangle is shaded as terrain, as a renderer would draw it.
+    pub roles: bool,
 }
 
 /// One pane of a frame: a viewport, a camera and what to draw in it.
@@ -97,7 +102,8 @@ impl Renderer {
             immediate_size: 0,
         });
         let mesh_attributes = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32, 4 => Float32
+            0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32, 4 => Float32,
+            5 => Float32
         ];
         let mesh_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<MeshVertex>() as wgpu::BufferAddress,
@@ -254,7 +260,7 @@ impl Renderer {
                 flag(pane.options.wireframe),
                 flag(pane.options.tint_culled),
                 pane.mesh.max_level() as f32,
-                0.0,
+                flag(pane.options.roles),
             ],
         };
         let uniform_buffer = self

@@ -6,7 +6,7 @@
 use crate::edge::experiment::{self, Experiment, ExperimentError};
 use crate::sim::algorithm::LodAlgorithm;
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::VertexSet;
+use crate::sim::mesh::MeshOutput;
 use crate::sim::run::{FrameOutcome, FrameRunner, RunError, RunInputs};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::Camera;
@@ -94,7 +94,7 @@ struct Lane<'s> {
 /// What one lane shows after a step.
 pub struct LaneFrame<'a> {
     pub label: &'a str,
-    pub mesh: &'a VertexSet,
+    pub mesh: MeshOutput<'a>,
     pub stats: &'a FrameStats,
     /// The camera the algorithm saw (terrain-local).
     pub camera: &'a Camera,

@@ -1,12 +1,13 @@
-// The preview's shaders: the shaded mesh with its wireframe coloured by refinement level, the
-// flat triangle-id pass, and coloured lines (the view frustum). See renderer.rs.
+// The preview's shaders: the shaded mesh with its wireframe coloured by refinement level (and
+// skirts and stitches coloured by role on demand), the flat triangle-id pass, and coloured lines
+// (the view frustum, degenerate triangles' edges). See renderer.rs.
 
 struct Uniforms {
     view_projection: mat4x4<f32>,
     // xyz: unit direction towards the sun.
     sun: vec4<f32>,
     // x: wireframe on (1) or off (0); y: tint the triangles outside the view volume;
-    // z: the deepest level in the mesh (the end of the colour scale).
+    // z: the deepest level in the mesh (the end of the colour scale); w: colour by role.
     options: vec4<f32>,
 };
 
@@ -19,6 +20,7 @@ struct MeshVarying {
     @location(2) @interpolate(flat) level: f32,
     @location(3) @interpolate(flat) in_view: f32,
     @location(4) @interpolate(flat) triangle: u32,
+    @location(5) @interpolate(flat) role: f32,
 };
 
 @vertex
@@ -29,6 +31,7 @@ fn mesh_vertex(
     @location(2) barycentric: vec3<f32>,
     @location(3) level: f32,
     @location(4) in_view: f32,
+    @location(5) role: f32,
 ) -> MeshVarying {
     var out: MeshVarying;
     out.clip = uniforms.view_projection * vec4<f32>(position, 1.0);
@@ -36,6 +39,7 @@ fn mesh_vertex(
     out.barycentric = barycentric;
     out.level = level;
     out.in_view = in_view;
+    out.role = role;
     // The list is not indexed: vertices 3k, 3k+1, 3k+2 are triangle k.
     out.triangle = vertex_index / 3u;
     return out;
@@ -62,6 +66,13 @@ fn shaded_fragment(in: MeshVarying) -> @location(0) vec4<f32> {
     var colour = vec3<f32>(0.62, 0.60, 0.52) * (0.3 + 0.7 * lambert);
     if uniforms.options.y > 0.5 && in.in_view < 0.5 {
         colour = colour * vec3<f32>(0.75, 0.35, 0.35);
+    }
+    // Roles (0 surface, 1 skirt, 2 degenerate, 3 stitch): skirts cyan, stitches violet.
+    if uniforms.options.w > 0.5 && in.role > 0.5 && in.role < 1.5 {
+        colour = vec3<f32>(0.1, 0.75, 0.85) * (0.5 + 0.5 * lambert);
+    }
+    if uniforms.options.w > 0.5 && in.role > 2.5 {
+        colour = vec3<f32>(0.55, 0.3, 0.9) * (0.5 + 0.5 * lambert);
     }
     if uniforms.options.x > 0.5 {
         let width = fwidth(in.barycentric);

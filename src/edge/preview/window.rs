@@ -6,7 +6,8 @@
 //!
 //! Keys: Space pause/play · → or N one frame (paused) · A / B next algorithm in the left /
 //! right pane · S split screen on/off · W wireframe on/off · C culling view (the overview from
-//! above with the frustum and the culled triangles darkened) on/off · Esc or Q quit.
+//! above with the frustum and the culled triangles darkened) on/off · R roles (skirts cyan,
+//! stitches violet, degenerate triangles as magenta lines) on/off · Esc or Q quit.
 //!
 //! This file is only the event loop and the swap chain; the drawing is [`super::renderer`]'s.
 
@@ -85,6 +86,7 @@ pub fn run_preview(request: &PreviewRequest) -> Result<PreviewSummary, PreviewFa
         playing: true,
         view: ViewChoice::Flight,
         wireframe: true,
+        roles: false,
         quit_after_frames: request.quit_after_frames,
         frames_drawn: 0,
         panes: FramePanes::new(),
@@ -114,6 +116,7 @@ struct App<'s> {
     playing: bool,
     view: ViewChoice,
     wireframe: bool,
+    roles: bool,
     quit_after_frames: Option<u64>,
     frames_drawn: u64,
     panes: FramePanes,
@@ -173,6 +176,7 @@ impl App<'_> {
             }
             Key::Character("s") => self.split = !self.split && self.shown.len() > 1,
             Key::Character("w") => self.wireframe = !self.wireframe,
+            Key::Character("r") => self.roles = !self.roles,
             Key::Character("c") => {
                 self.view = match self.view {
                     ViewChoice::Flight => ViewChoice::Overview,
@@ -274,6 +278,7 @@ impl App<'_> {
         let options = DrawOptions {
             wireframe: self.wireframe,
             tint_culled: self.view == ViewChoice::Overview,
+            roles: self.roles,
         };
         let Some(panes) = self
             .panes

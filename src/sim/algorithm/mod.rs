@@ -1,9 +1,12 @@
 //! The LOD algorithms, behind one small trait, chosen at run time from the experiment.
 //!
 //! Each algorithm owns its own data structure and is driven one frame at a time through
-//! [`LodAlgorithm::update`]. It exposes its mesh as the shared [`VertexSet`] so the runner can
-//! validate, cull and audit every algorithm the same way. No algorithm reads another's state.
+//! [`LodAlgorithm::update`]. It hands its mesh to the runner as a [`MeshOutput`]: a 4-8
+//! `VertexSet` (optionally with morphed heights), or a general triangle list. The runner
+//! validates, culls and audits every algorithm the same way, through the mesh's triangle
+//! visitor. No algorithm reads another's state.
 
+pub mod columns;
 pub mod lindstrom;
 mod reference;
 mod roam;
@@ -17,7 +20,7 @@ pub use rottger::{Rottger, RottgerConfig};
 pub use wu::{BudgetConfig, Wu, WuConfig, initial_tau_px};
 
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::VertexSet;
+use crate::sim::mesh::MeshOutput;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
 use crate::sim::zone::SpeedBound;
@@ -32,7 +35,7 @@ pub struct FrameInput<'a> {
     pub speed_bound_broken: bool,
 }
 
-/// A view-dependent LOD algorithm over the shared 4-8 mesh family.
+/// A view-dependent terrain LOD algorithm.
 pub trait LodAlgorithm {
     /// The algorithm's name as the experiment file spells it.
     fn name(&self) -> &'static str;
@@ -42,8 +45,8 @@ pub trait LodAlgorithm {
     /// (`triangles`, splits, merges, vertices, metric evaluations, `extra`); the runner fills the
     /// rest (timing, culling, audit).
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats);
-    /// The current mesh.
-    fn mesh(&self) -> &VertexSet;
+    /// The current mesh, in whichever form the algorithm draws (see [`MeshOutput`]).
+    fn mesh(&self) -> MeshOutput<'_>;
     /// The algorithm's own triangle count (validated against the mesh in checked runs).
     fn triangle_count(&self) -> u64;
     /// Heap bytes of the algorithm's own state (not the shared preprocessed terrain).

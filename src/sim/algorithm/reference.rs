@@ -16,6 +16,7 @@
 
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, NestingRule, VertexClass};
+use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::stats::FrameStats;
@@ -106,6 +107,13 @@ impl<'h> Reference<'h> {
     }
 }
 
+impl Reference<'_> {
+    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
+    pub fn vertex_set(&self) -> &VertexSet {
+        self.mesh.mesh()
+    }
+}
+
 impl LodAlgorithm for Reference<'_> {
     fn name(&self) -> &'static str {
         NAME
@@ -180,8 +188,8 @@ impl LodAlgorithm for Reference<'_> {
         stats.metric_evaluations = evaluations;
     }
 
-    fn mesh(&self) -> &VertexSet {
-        self.mesh.mesh()
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::lattice(self.mesh.mesh())
     }
 
     fn triangle_count(&self) -> u64 {

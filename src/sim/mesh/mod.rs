@@ -1,13 +1,32 @@
-//! A mesh of the 4-8 family: a set of active vertices closed under parents.
+//! Meshes: what an algorithm draws, in the two forms of [`MeshOutput`], and what checks them.
 //!
-//! [`VertexSet`] is the shared representation every algorithm exposes: one bit per grid vertex
-//! (2^28 vertices of a 16385² grid take 32 MiB) plus a count. Triangles are not stored; they
-//! follow from the set ([`triangles::for_each_triangle`]). [`validate::validate`] checks what
-//! makes a set a mesh.
+//! - The 4-8 form: [`VertexSet`], a set of active vertices closed under parents, one bit per
+//!   grid vertex (2^28 vertices of a 16385² grid take 32 MiB) plus a count. Triangles are not
+//!   stored; they follow from the set ([`triangles::for_each_triangle`]). [`validate::validate`]
+//!   checks what makes a set a mesh. Optional [`MorphedHeights`] draw some vertices at heights
+//!   of their own ([`morph`]).
+//! - The general form: [`TriangleList`] ([`triangle_list`]), positions ([`position`]) and
+//!   heights of its own, a role, group and level per triangle, a declared [`CrackPolicy`];
+//!   [`list_validate`] checks it.
+//! - [`check`]: what `--check` runs on either form.
+//! - [`output`]: [`MeshOutput`], the one type algorithms hand the runner, and its triangle
+//!   visitor; [`raster`]: the rasterisers the audit and the validators share.
 
+pub mod check;
+pub mod list_validate;
+pub mod morph;
+pub mod output;
+pub mod position;
+pub mod raster;
 pub mod rebuilt;
+pub mod triangle_list;
 pub mod triangles;
 pub mod validate;
+
+pub use morph::MorphedHeights;
+pub use output::{DrawnTriangle, LatticeMesh, MeshOutput};
+pub use position::{SUBGRID_BITS, SUBGRID_UNITS_PER_CELL, SubgridPoint, SurfacePoint};
+pub use triangle_list::{CrackPolicy, TriangleInfo, TriangleList, TriangleRole};
 
 use crate::sim::hierarchy::{GridPoint, Lattice};
 

@@ -23,6 +23,15 @@ impl Triangle {
         (si % 2 == 0 && sj % 2 == 0).then(|| GridPoint::new(si / 2, sj / 2))
     }
 
+    /// The triangle's depth in the bintree: the base triangles (hypotenuse² = 2·4^n in grid
+    /// units) are level 0 and each split halves the squared hypotenuse.
+    pub fn level(&self, lattice: &Lattice) -> u32 {
+        let di = u64::from(self.left.i.abs_diff(self.right.i));
+        let dj = u64::from(self.left.j.abs_diff(self.right.j));
+        let hypotenuse_squared = di * di + dj * dj;
+        2 * lattice.level() + 1 - hypotenuse_squared.ilog2()
+    }
+
     /// The two halves when split at `mid` (the hypotenuse midpoint).
     pub fn children(&self, mid: GridPoint) -> [Triangle; 2] {
         [
@@ -77,4 +86,27 @@ pub fn count_triangles(lattice: &Lattice, set: &VertexSet) -> u64 {
     let mut count = 0;
     for_each_triangle(lattice, set, |_| count += 1);
     count
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_base_triangles_are_level_zero_and_each_split_goes_one_level_down() {
+        let lattice = Lattice::new(4);
+        let [first, _] = base_triangles(&lattice);
+        assert_eq!(first.level(&lattice), 0);
+        let mut triangle = first;
+        for level in 1..=2 * lattice.level() {
+            let mid = triangle.split_vertex().unwrap();
+            triangle = triangle.children(mid)[level as usize % 2];
+            assert_eq!(triangle.level(&lattice), level);
+        }
+        assert_eq!(
+            triangle.split_vertex(),
+            None,
+            "the finest level has no split vertex"
+        );
+    }
 }

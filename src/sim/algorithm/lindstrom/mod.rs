@@ -59,8 +59,10 @@ pub use brute_force::{FromScratchView, mesh_from_scratch};
 pub use coarse::{INTERVAL_MARGIN, ProjectionBounds};
 pub use validate::BlockTreeError;
 
+use super::columns::lindstrom as columns;
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{Hierarchy, NestingRule};
+use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::stats::FrameStats;
@@ -75,12 +77,12 @@ use crate::sim::metrics::vertical_projection_error_px;
 pub(super) const NAME: &str = "lindstrom";
 
 const EXTRA_COLUMNS: &[&str] = &[
-    "blocks_coarsest",
-    "blocks_finest",
-    "blocks_partial",
-    "vertices_evaluated",
-    "vertices_by_interval",
-    "forced_activations",
+    columns::BLOCKS_COARSEST,
+    columns::BLOCKS_FINEST,
+    columns::BLOCKS_PARTIAL,
+    columns::VERTICES_EVALUATED,
+    columns::VERTICES_BY_INTERVAL,
+    columns::FORCED_ACTIVATIONS,
 ];
 
 /// Parameters of Lindstrom's algorithm.
@@ -159,6 +161,13 @@ impl<'h> Lindstrom<'h> {
     }
 }
 
+impl Lindstrom<'_> {
+    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
+    pub fn vertex_set(&self) -> &VertexSet {
+        self.mesh.mesh()
+    }
+}
+
 impl LodAlgorithm for Lindstrom<'_> {
     fn name(&self) -> &'static str {
         NAME
@@ -201,8 +210,8 @@ impl LodAlgorithm for Lindstrom<'_> {
         ];
     }
 
-    fn mesh(&self) -> &VertexSet {
-        self.mesh.mesh()
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::lattice(self.mesh.mesh())
     }
 
     fn triangle_count(&self) -> u64 {

@@ -162,10 +162,11 @@ fn the_algorithm_matches_the_brute_force_mesh_along_a_low_flight_for_every_block
                 tau_px: config.tau_px,
             });
             assert!(
-                lindstrom.mesh() == &expected,
+                lindstrom.vertex_set() == &expected,
                 "k = {block_level}, frame {frame}"
             );
-            validate_reported(hierarchy.lattice(), lindstrom.mesh(), stats.triangles).unwrap();
+            validate_reported(hierarchy.lattice(), lindstrom.vertex_set(), stats.triangles)
+                .unwrap();
             assert_eq!(
                 stats.extra[3] + stats.extra[4],
                 (33 * 33 - 4) as f64,

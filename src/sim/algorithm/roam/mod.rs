@@ -67,6 +67,7 @@ pub use validate::{BintreeError, PriorityCheck};
 
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{Hierarchy, NestingRule};
+use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::Camera;
@@ -600,20 +601,28 @@ impl<'h> Core<'h> {
     }
 
     /// The extra columns' values in the order of [`columns`].
+    ///
+    /// # Panics
+    /// On a column this function does not know (a list in [`columns`] that grew without it):
+    /// loudly, never as a silent NaN.
     fn extras(&mut self, columns: &[&str]) -> Vec<f64> {
+        use super::columns::roam::{
+            DEFERRED, FORCED_SPLITS, MERGE_QUEUE, OSCILLATION_GUARD_STOPS, PRIORITY_RECOMPUTATIONS,
+            REVALIDATIONS, SPLIT_QUEUE, TRIANGLES_PER_STRIP,
+        };
         let counters = self.counters;
         columns
             .iter()
             .map(|&column| match column {
-                "forced_splits" => counters.forced as f64,
-                "split_queue" => self.queues.split.len() as f64,
-                "merge_queue" => self.queues.merge.len() as f64,
-                "priority_recomputations" => counters.evaluations as f64,
-                "oscillation_guard_stops" => counters.guard_stops as f64,
-                "deferred" => counters.deferred as f64,
-                "revalidations" => counters.revalidations as f64,
-                "triangles_per_strip" => self.triangles_per_strip(),
-                _ => f64::NAN,
+                FORCED_SPLITS => counters.forced as f64,
+                SPLIT_QUEUE => self.queues.split.len() as f64,
+                MERGE_QUEUE => self.queues.merge.len() as f64,
+                PRIORITY_RECOMPUTATIONS => counters.evaluations as f64,
+                OSCILLATION_GUARD_STOPS => counters.guard_stops as f64,
+                DEFERRED => counters.deferred as f64,
+                REVALIDATIONS => counters.revalidations as f64,
+                TRIANGLES_PER_STRIP => self.triangles_per_strip(),
+                other => unreachable!("ROAM fills no column {other:?}"),
             })
             .collect()
     }
@@ -642,49 +651,53 @@ fn diamond_priority_fresh(
 
 /// The extra columns of a run: the base ones, then those of the effects that are on.
 fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
+    use super::columns::roam::{
+        DEFERRED, FORCED_SPLITS, MERGE_QUEUE, OSCILLATION_GUARD_STOPS, PRIORITY_RECOMPUTATIONS,
+        REVALIDATIONS, SPLIT_QUEUE, TRIANGLES_PER_STRIP,
+    };
     const INCREMENTAL: [&[&str]; 4] = [
         &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
+            FORCED_SPLITS,
+            SPLIT_QUEUE,
+            MERGE_QUEUE,
+            PRIORITY_RECOMPUTATIONS,
+            OSCILLATION_GUARD_STOPS,
         ],
         &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
-            "deferred",
-            "revalidations",
+            FORCED_SPLITS,
+            SPLIT_QUEUE,
+            MERGE_QUEUE,
+            PRIORITY_RECOMPUTATIONS,
+            OSCILLATION_GUARD_STOPS,
+            DEFERRED,
+            REVALIDATIONS,
         ],
         &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
-            "triangles_per_strip",
+            FORCED_SPLITS,
+            SPLIT_QUEUE,
+            MERGE_QUEUE,
+            PRIORITY_RECOMPUTATIONS,
+            OSCILLATION_GUARD_STOPS,
+            TRIANGLES_PER_STRIP,
         ],
         &[
-            "forced_splits",
-            "split_queue",
-            "merge_queue",
-            "priority_recomputations",
-            "oscillation_guard_stops",
-            "deferred",
-            "revalidations",
-            "triangles_per_strip",
+            FORCED_SPLITS,
+            SPLIT_QUEUE,
+            MERGE_QUEUE,
+            PRIORITY_RECOMPUTATIONS,
+            OSCILLATION_GUARD_STOPS,
+            DEFERRED,
+            REVALIDATIONS,
+            TRIANGLES_PER_STRIP,
         ],
     ];
     const REBUILD: [&[&str]; 2] = [
-        &["forced_splits", "split_queue", "priority_recomputations"],
+        &[FORCED_SPLITS, SPLIT_QUEUE, PRIORITY_RECOMPUTATIONS],
         &[
-            "forced_splits",
-            "split_queue",
-            "priority_recomputations",
-            "triangles_per_strip",
+            FORCED_SPLITS,
+            SPLIT_QUEUE,
+            PRIORITY_RECOMPUTATIONS,
+            TRIANGLES_PER_STRIP,
         ],
     ];
     let strips = usize::from(config.strips);
@@ -744,6 +757,13 @@ impl<'h> Roam<'h> {
     }
 }
 
+impl Roam<'_> {
+    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
+    pub fn vertex_set(&self) -> &VertexSet {
+        self.core.bintree.mesh()
+    }
+}
+
 impl LodAlgorithm for Roam<'_> {
     fn memory_bytes(&self) -> usize {
         self.core.memory_bytes()
@@ -786,8 +806,8 @@ impl LodAlgorithm for Roam<'_> {
         stats.extra = core.extras(columns(&core.config, true));
     }
 
-    fn mesh(&self) -> &VertexSet {
-        self.core.bintree.mesh()
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::lattice(self.core.bintree.mesh())
     }
 
     fn triangle_count(&self) -> u64 {
@@ -825,6 +845,13 @@ impl<'h> RoamRebuild<'h> {
     /// The priority of the last triangle this frame's rebuild chose to split.
     pub fn last_split_priority(&self) -> Option<f64> {
         self.core.last_split.map(|k| k.value)
+    }
+}
+
+impl RoamRebuild<'_> {
+    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
+    pub fn vertex_set(&self) -> &VertexSet {
+        self.core.bintree.mesh()
     }
 }
 
@@ -875,8 +902,8 @@ impl LodAlgorithm for RoamRebuild<'_> {
         stats.extra = core.extras(columns(&core.config, false));
     }
 
-    fn mesh(&self) -> &VertexSet {
-        self.core.bintree.mesh()
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::lattice(self.core.bintree.mesh())
     }
 
     fn triangle_count(&self) -> u64 {
@@ -940,6 +967,42 @@ mod tests {
             validate::validate(&core.bintree, &core.queues, &context, PriorityCheck::Exact)
         {
             panic!("{error}");
+        }
+    }
+
+    #[test]
+    fn every_combination_of_options_fills_exactly_its_declared_columns() {
+        let hierarchy = bumpy(4);
+        let view = camera(40.0, 30.0, 0.7);
+        for (goal, deferral, strips) in [
+            (RoamGoal::TolerancePx(2.0), false, false),
+            (RoamGoal::TolerancePx(2.0), true, false),
+            (RoamGoal::TolerancePx(2.0), false, true),
+            (RoamGoal::TolerancePx(2.0), true, true),
+            (RoamGoal::TargetTriangles(100), false, true),
+        ] {
+            let options = RoamConfig {
+                goal,
+                deferral,
+                strips,
+                ..config(false)
+            };
+            let input = FrameInput {
+                frame: 0,
+                camera: &view,
+                speed_bound_broken: true,
+            };
+            let algorithms: [Box<dyn LodAlgorithm>; 2] = [
+                Box::new(Roam::new(&hierarchy, options, STILL)),
+                Box::new(RoamRebuild::new(&hierarchy, options, STILL)),
+            ];
+            for mut algorithm in algorithms {
+                let mut stats = FrameStats::default();
+                algorithm.update(&input, &mut stats);
+                let declared = algorithm.extra_columns();
+                assert_eq!(stats.extra.len(), declared.len(), "{options:?}");
+                assert!(declared.iter().all(|c| super::super::columns::is_known(c)));
+            }
         }
     }
 

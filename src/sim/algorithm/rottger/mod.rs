@@ -121,27 +121,28 @@ pub use matrix::{D2Scale, QuadtreeMatrix};
 pub use roughness::{adjacent_finer_blocks, local_d2};
 pub use validate::RottgerStateError;
 
+use super::columns::rottger as columns;
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
-use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::rebuilt::RebuiltMesh;
+use crate::sim::mesh::{MeshOutput, VertexSet};
 use crate::sim::stats::FrameStats;
 use refine::{GenerationInput, GenerationState, add_drawn_midpoints, subdivide_top_down};
 
 pub(super) const NAME: &str = "rottger";
 
 const EXTRA_COLUMNS: &[&str] = &[
-    "desired_resolution_c",
-    "c_clamped",
-    "fans",
-    "fan_vertices",
-    "fan_triangles",
-    "mesh_vertices",
-    "nodes_visited",
-    "subdivided",
-    "forced_splits",
-    "clipped_nodes",
-    "morphing_vertices",
+    columns::DESIRED_RESOLUTION_C,
+    columns::C_CLAMPED,
+    columns::FANS,
+    columns::FAN_VERTICES,
+    columns::FAN_TRIANGLES,
+    columns::MESH_VERTICES,
+    columns::NODES_VISITED,
+    columns::SUBDIVIDED,
+    columns::FORCED_SPLITS,
+    columns::CLIPPED_NODES,
+    columns::MORPHING_VERTICES,
 ];
 
 /// Parameters of Röttger's algorithm.
@@ -216,6 +217,11 @@ impl<'h> Rottger<'h> {
 
     pub fn config(&self) -> &RottgerConfig {
         &self.config
+    }
+
+    /// This frame's mesh: the vertices of its fans.
+    pub fn vertex_set(&self) -> &VertexSet {
+        self.mesh.mesh()
     }
 
     /// The quadtree matrix (d2 codes, this frame's blend bytes).
@@ -356,8 +362,8 @@ impl LodAlgorithm for Rottger<'_> {
         ];
     }
 
-    fn mesh(&self) -> &VertexSet {
-        self.mesh.mesh()
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::lattice(self.mesh.mesh())
     }
 
     fn triangle_count(&self) -> u64 {

@@ -179,7 +179,8 @@ fn frames_along_a_flight_equal_the_brute_force_and_pass_the_validators() {
                 );
                 let camera = camera(eye);
                 let stats = step(&mut rottger, frame, &camera);
-                validate_reported(hierarchy.lattice(), rottger.mesh(), stats.triangles).unwrap();
+                validate_reported(hierarchy.lattice(), rottger.vertex_set(), stats.triangles)
+                    .unwrap();
                 rottger.validate_frame().unwrap();
                 let expected = frame_from_scratch(&FromScratchView {
                     hierarchy: &hierarchy,
@@ -193,7 +194,7 @@ fn frames_along_a_flight_equal_the_brute_force_and_pass_the_validators() {
                     clipping,
                 });
                 assert!(
-                    rottger.mesh() == &expected.mesh,
+                    rottger.vertex_set() == &expected.mesh,
                     "{config:?}, frame {frame}"
                 );
                 assert_eq!(stats.extra[2], expected.fans.fans as f64);
@@ -216,7 +217,7 @@ fn a_shared_midpoint_morphs_with_the_smaller_blend_of_its_two_blocks() {
     let camera = camera(DVec3::new(50.0, 70.0, 60.0));
     step(&mut rottger, 0, &camera);
     let mut checked = 0;
-    for id in rottger.mesh().iter() {
+    for id in rottger.vertex_set().iter() {
         let p = lattice.point(id);
         let VertexClass::Rotated { .. } = lattice.classify(p) else {
             continue;
@@ -273,7 +274,7 @@ fn without_geomorphing_vertices_are_drawn_at_their_samples_and_none_morph() {
     );
     let stats = step(&mut rottger, 0, &camera(DVec3::new(80.0, 80.0, 180.0)));
     assert_eq!(stats.extra[10], 0.0);
-    for id in rottger.mesh().iter() {
+    for id in rottger.vertex_set().iter() {
         let p = lattice.point(id);
         assert_eq!(rottger.drawn_height(p), f64::from(hierarchy.height(p)));
     }
@@ -284,7 +285,10 @@ fn the_base_mesh_is_one_fan_of_two_triangles() {
     let hierarchy = bumpy(9);
     let mut rottger = Rottger::new(&hierarchy, config(8.0, 10.0));
     let stats = step(&mut rottger, 0, &camera(DVec3::new(0.0, 0.0, 1e9)));
-    assert_eq!(rottger.mesh(), &VertexSet::base_mesh(&Lattice::new(3)));
+    assert_eq!(
+        rottger.vertex_set(),
+        &VertexSet::base_mesh(&Lattice::new(3))
+    );
     assert_eq!(stats.triangles, 2);
     assert_eq!(&stats.extra[2..5], &[1.0, 4.0, 2.0]);
     rottger.validate_frame().unwrap();

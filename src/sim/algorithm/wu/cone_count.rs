@@ -347,7 +347,7 @@ mod tests {
                 &mut stats,
             );
             let hierarchical = *stats.extra.last().unwrap() as u64;
-            let enumerated = cone_rendered_triangles(hierarchy, wu.mesh(), &camera);
+            let enumerated = cone_rendered_triangles(hierarchy, wu.vertex_set(), &camera);
             assert_eq!(hierarchical, enumerated, "frame {frame}");
             any_partly_visible |= enumerated > 0 && enumerated < wu.triangle_count();
             wu.validate_queues(false).unwrap();

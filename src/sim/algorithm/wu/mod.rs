@@ -55,8 +55,10 @@ mod wheel;
 
 pub use budget::initial_tau_px;
 
+use super::columns::wu as columns;
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, NestingRule};
+use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
@@ -112,21 +114,21 @@ struct Counters {
 }
 
 const COLUMNS: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
+    columns::BASE_B,
+    columns::BASE_CLAMPED,
+    columns::SPLITTABLE,
+    columns::MERGEABLE,
+    columns::LIFE_RECOMPUTATIONS,
+    columns::FORCED_SPLITS,
 ];
 const COLUMNS_WITH_CONE: &[&str] = &[
-    "base_b",
-    "base_clamped",
-    "splittable",
-    "mergeable",
-    "life_recomputations",
-    "forced_splits",
-    "cone_rendered",
+    columns::BASE_B,
+    columns::BASE_CLAMPED,
+    columns::SPLITTABLE,
+    columns::MERGEABLE,
+    columns::LIFE_RECOMPUTATIONS,
+    columns::FORCED_SPLITS,
+    columns::CONE_RENDERED,
 ];
 
 /// Wu's algorithm over one terrain.
@@ -376,6 +378,13 @@ impl<'h> Wu<'h> {
     }
 }
 
+impl Wu<'_> {
+    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
+    pub fn vertex_set(&self) -> &VertexSet {
+        &self.mesh
+    }
+}
+
 impl LodAlgorithm for Wu<'_> {
     fn name(&self) -> &'static str {
         NAME
@@ -462,8 +471,8 @@ impl LodAlgorithm for Wu<'_> {
         }
     }
 
-    fn mesh(&self) -> &VertexSet {
-        &self.mesh
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::lattice(&self.mesh)
     }
 
     fn triangle_count(&self) -> u64 {

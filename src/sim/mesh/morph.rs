@@ -1,0 +1,88 @@
+//! Morphed heights of a 4-8 mesh: the vertices an algorithm draws at a height of its own (a
+//! geomorph between two levels) instead of their sample's height.
+//!
+//! Sparse: only the morphing vertices are held, by vertex id, so a mesh that morphs nothing
+//! costs nothing and one that morphs k vertices costs O(k). Lookups are O(1) (a hash map with a
+//! fixed hasher: no iteration order is exposed, and none of the results depends on one).
+//! Clearing keeps the capacity, so a frame-after-frame rebuild stops allocating.
+
+use std::collections::HashMap;
+use std::collections::hash_map::DefaultHasher;
+use std::hash::BuildHasherDefault;
+
+/// Heights of morphing vertices, by vertex id (the other vertices of the mesh keep their
+/// sample's height). Heights are finite (`set` refuses others).
+#[derive(Clone, Debug, Default)]
+pub struct MorphedHeights {
+    heights: HashMap<u32, f32, BuildHasherDefault<DefaultHasher>>,
+}
+
+impl MorphedHeights {
+    pub fn new() -> MorphedHeights {
+        MorphedHeights::default()
+    }
+
+    /// Forgets every morph (keeps the capacity).
+    pub fn clear(&mut self) {
+        self.heights.clear();
+    }
+
+    /// Draws vertex `id` at height `z` (terrain-local metres).
+    ///
+    /// # Panics
+    /// When `z` is not finite: an algorithm that computes such a height has a bug.
+    pub fn set(&mut self, id: u32, z: f32) {
+        assert!(z.is_finite(), "morphed height {z} of vertex {id}");
+        self.heights.insert(id, z);
+    }
+
+    /// Stops morphing vertex `id`.
+    pub fn remove(&mut self, id: u32) {
+        self.heights.remove(&id);
+    }
+
+    /// The height vertex `id` is drawn at, when it morphs.
+    pub fn get(&self, id: u32) -> Option<f32> {
+        self.heights.get(&id).copied()
+    }
+
+    /// The number of morphing vertices.
+    pub fn len(&self) -> usize {
+        self.heights.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.heights.is_empty()
+    }
+
+    /// Morphing vertex ids in increasing order (allocates; for validators and hashes).
+    pub fn sorted_ids(&self) -> Vec<u32> {
+        let mut ids: Vec<u32> = self.heights.keys().copied().collect();
+        ids.sort_unstable();
+        ids
+    }
+
+    /// Heap bytes held (the table's slots and control bytes).
+    pub fn memory_bytes(&self) -> usize {
+        self.heights.capacity() * (std::mem::size_of::<(u32, f32)>() + 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_morph_is_found_until_it_is_removed_or_cleared() {
+        let mut morphed = MorphedHeights::new();
+        morphed.set(7, 1.5);
+        morphed.set(3, -2.0);
+        assert_eq!(morphed.get(7), Some(1.5));
+        assert_eq!(morphed.get(8), None);
+        assert_eq!(morphed.sorted_ids(), vec![3, 7]);
+        morphed.remove(7);
+        assert_eq!(morphed.len(), 1);
+        morphed.clear();
+        assert!(morphed.is_empty());
+    }
+}

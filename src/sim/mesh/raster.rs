@@ -1,0 +1,344 @@
+//! Rasterising drawn triangles over a lattice of samples: which samples a triangle covers, and
+//! the height it draws there. Shared by the audit (mesh heights at audited samples) and the
+//! triangle-list validator (every sample covered exactly once).
+//!
+//! Two rasterisers, both with exact integer inside tests:
+//!
+//! - [`rasterise_lattice_triangle`], the 4-8 fast path: corners on grid samples, a sample on an
+//!   edge counts as inside (a closed 4-8 mesh has no T-junction, so both triangles of a shared
+//!   edge give it the same height up to rounding, and the last one drawn writes it). This is
+//!   the audit's arithmetic since the first release, kept bit for bit.
+//! - [`SampleRaster`], the general path: corners anywhere (fixed-point [`super::SubgridPoint`]s), with a
+//!   **tie rule** that gives every sample of a tiling to exactly one triangle: a sample on an edge
+//!   or a vertex belongs to the triangle it would fall in if nudged by an infinitesimal step east
+//!   (west on the domain's east border) and an infinitely smaller step north (south on the
+//!   north border). This is the top-left rule of GPU rasterisers, written as the perturbation it
+//!   is; it needs no shared vertices, so T-junctions and stitches are handled alike. Heights are
+//!   interpolated inside the triangle; on an edge, from the edge's two ends only, in a canonical
+//!   order of the ends, so two triangles with the same edge give a sample on it bit-identical
+//!   heights and a crack gap is exactly zero where there is no crack; on a vertex, the vertex's
+//!   own height.
+//!
+//! Samples are the points (i·step, j·step) in fixed-point units, i and j below the lattice's
+//! side: the audit's every `stride`-th grid sample has step = stride cells; a finer lattice
+//! (a truth surface with more detail than the source samples) would have a step below one cell.
+
+use super::position::{SUBGRID_BITS, SurfacePoint};
+
+/// The 4-8 fast path: writes into `heights` (row-major, `lattice_side` per row) the height the
+/// triangle draws at every `stride`-th grid sample inside it or on its edges. The corners must
+/// be grid samples. Zero-area triangles write nothing.
+pub fn rasterise_lattice_triangle(
+    corners: &[SurfacePoint; 3],
+    stride: i64,
+    lattice_side: usize,
+    heights: &mut [f32],
+) {
+    let xy = corners.map(|c| {
+        let (x, y) = c.position.raw();
+        (x >> SUBGRID_BITS, y >> SUBGRID_BITS)
+    });
+    let z = corners.map(|c| f64::from(c.z));
+    let area2 = edge(xy[0], xy[1], xy[2]);
+    if area2 == 0 {
+        return;
+    }
+    let (i_min, i_max) = (xy.iter().map(|c| c.0).min(), xy.iter().map(|c| c.0).max());
+    let (j_min, j_max) = (xy.iter().map(|c| c.1).min(), xy.iter().map(|c| c.1).max());
+    let (i_min, i_max, j_min, j_max) = (
+        i_min.unwrap_or(0),
+        i_max.unwrap_or(0),
+        j_min.unwrap_or(0),
+        j_max.unwrap_or(0),
+    );
+    let first = |low: i64| (low + stride - 1) / stride * stride;
+    let mut j = first(j_min);
+    while j <= j_max {
+        let mut i = first(i_min);
+        while i <= i_max {
+            let w0 = edge(xy[1], xy[2], (i, j));
+            let w1 = edge(xy[2], xy[0], (i, j));
+            let w2 = edge(xy[0], xy[1], (i, j));
+            let inside = if area2 > 0 {
+                w0 >= 0 && w1 >= 0 && w2 >= 0
+            } else {
+                w0 <= 0 && w1 <= 0 && w2 <= 0
+            };
+            if inside {
+                let height =
+                    (w0 as f64 * z[0] + w1 as f64 * z[1] + w2 as f64 * z[2]) / area2 as f64;
+                let index = (j / stride) as usize * lattice_side + (i / stride) as usize;
+                heights[index] = height as f32;
+            }
+            i += stride;
+        }
+        j += stride;
+    }
+}
+
+/// Twice the signed area of (a, b, c), grid units.
+fn edge(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> i64 {
+    (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+}
+
+/// A square lattice of samples in the terrain's plane, for the general rasteriser.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampleRaster {
+    /// Fixed-point units between neighbouring samples (positive).
+    step: i64,
+    /// Samples per side.
+    side: usize,
+    /// The domain's largest coordinate, fixed-point: samples on it are nudged back inside.
+    domain_max: i64,
+}
+
+/// One sample a triangle covers (edges and vertices included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoveredSample {
+    /// Row-major index into the lattice.
+    pub index: usize,
+    /// The triangle's height there, metres.
+    pub height: f64,
+    /// Whether the tie rule gives the sample to this triangle (always, for a sample strictly
+    /// inside).
+    pub owned: bool,
+}
+
+impl SampleRaster {
+    /// Samples every `step` fixed-point units, `side` per side, over a domain whose largest
+    /// coordinate is `domain_max`.
+    ///
+    /// # Panics
+    /// When `step` is not positive.
+    pub fn new(step: i64, side: usize, domain_max: i64) -> SampleRaster {
+        assert!(step > 0, "sample step {step}");
+        SampleRaster {
+            step,
+            side,
+            domain_max,
+        }
+    }
+
+    pub fn side(&self) -> usize {
+        self.side
+    }
+
+    /// Calls `visit` for every sample of the lattice inside the closed triangle, in row-major
+    /// order. Zero-area triangles cover nothing. O(samples in the bounding box).
+    pub fn for_each_covered_sample(
+        &self,
+        corners: &[SurfacePoint; 3],
+        mut visit: impl FnMut(CoveredSample),
+    ) {
+        let point = |k: usize| {
+            let (x, y) = corners[k].position.raw();
+            (i128::from(x), i128::from(y))
+        };
+        let (a, mut b, mut c) = (point(0), point(1), point(2));
+        let (za, mut zb, mut zc) = (corners[0].z, corners[1].z, corners[2].z);
+        let area2 = cross(sub(b, a), sub(c, a));
+        if area2 == 0 {
+            return;
+        }
+        if area2 < 0 {
+            std::mem::swap(&mut b, &mut c);
+            std::mem::swap(&mut zb, &mut zc);
+        }
+        let area2 = area2.abs() as f64;
+        let step = i128::from(self.step);
+        let last = self.side as i128 - 1;
+        let range = |low: i128, high: i128| {
+            let first = ((low + step - 1).div_euclid(step)).max(0);
+            let last = high.div_euclid(step).min(last);
+            (first, last)
+        };
+        let (i_first, i_last) = range(a.0.min(b.0).min(c.0), a.0.max(b.0).max(c.0));
+        let (j_first, j_last) = range(a.1.min(b.1).min(c.1), a.1.max(b.1).max(c.1));
+        let domain_max = i128::from(self.domain_max);
+        // Counter-clockwise: the interior is on the left of a→b, b→c, c→a.
+        let edges = [(b, c), (c, a), (a, b)];
+        for j in j_first..=j_last {
+            let y = j * step;
+            for i in i_first..=i_last {
+                let s = (i * step, y);
+                let w = edges.map(|(p, q)| cross(sub(q, p), sub(s, p)));
+                if w.iter().any(|&w| w < 0) {
+                    continue;
+                }
+                let nudge = (
+                    if s.0 >= domain_max { -1 } else { 1 },
+                    if s.1 >= domain_max { -1 } else { 1 },
+                );
+                let owned = edges
+                    .iter()
+                    .zip(&w)
+                    .all(|(&(p, q), &w)| w > 0 || owns_edge(sub(q, p), nudge));
+                let zeros = w.iter().filter(|&&w| w == 0).count();
+                let height = match zeros {
+                    0 => {
+                        (w[0] as f64 * f64::from(za)
+                            + w[1] as f64 * f64::from(zb)
+                            + w[2] as f64 * f64::from(zc))
+                            / area2
+                    }
+                    1 => {
+                        let k = w.iter().position(|&w| w == 0).unwrap_or(0);
+                        let ends = [(b, zb), (c, zc), (a, za)];
+                        let (p, q) = (ends[k], ends[(k + 1) % 3]);
+                        along_edge(p, q, s)
+                    }
+                    // On two edges: the vertex they share (the edge opposite to the one
+                    // that is not zero).
+                    _ => {
+                        let k = w.iter().position(|&w| w != 0).unwrap_or(0);
+                        f64::from([za, zb, zc][k])
+                    }
+                };
+                visit(CoveredSample {
+                    index: j as usize * self.side + i as usize,
+                    height,
+                    owned,
+                });
+            }
+        }
+    }
+}
+
+/// The height at `s` on the segment between `p` and `q` (their heights interpolated), computed
+/// from the ends in a fixed order whatever order they come in.
+fn along_edge(p: ((i128, i128), f32), q: ((i128, i128), f32), s: (i128, i128)) -> f64 {
+    let (from, to) = if p.0 <= q.0 { (p, q) } else { (q, p) };
+    let d = sub(to.0, from.0);
+    let t = dot(sub(s, from.0), d) as f64 / dot(d, d) as f64;
+    let (z0, z1) = (f64::from(from.1), f64::from(to.1));
+    z0 + (z1 - z0) * t
+}
+
+/// Whether a counter-clockwise triangle's edge of direction `d` owns the samples on it, for a
+/// sample nudged by (nudge.0 · ε, nudge.1 · ε²): the nudged sample is inside exactly when
+/// cross(d, nudge) > 0.
+fn owns_edge(d: (i128, i128), nudge: (i128, i128)) -> bool {
+    if d.1 != 0 {
+        -d.1 * nudge.0 > 0
+    } else {
+        d.0 * nudge.1 > 0
+    }
+}
+
+fn sub(a: (i128, i128), b: (i128, i128)) -> (i128, i128) {
+    (a.0 - b.0, a.1 - b.1)
+}
+
+fn cross(a: (i128, i128), b: (i128, i128)) -> i128 {
+    a.0 * b.1 - a.1 * b.0
+}
+
+fn dot(a: (i128, i128), b: (i128, i128)) -> i128 {
+    a.0 * b.0 + a.1 * b.1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::mesh::position::SubgridPoint;
+
+    fn corner(x: f64, y: f64, z: f32) -> SurfacePoint {
+        SurfacePoint {
+            position: SubgridPoint::from_grid_units(x, y).unwrap(),
+            z,
+        }
+    }
+
+    /// Owners per sample of a 5×5 lattice (unit step) over the triangles.
+    fn owners(raster: &SampleRaster, triangles: &[[SurfacePoint; 3]]) -> Vec<u32> {
+        let mut owners = vec![0; raster.side() * raster.side()];
+        for t in triangles {
+            raster.for_each_covered_sample(t, |s| owners[s.index] += u32::from(s.owned));
+        }
+        owners
+    }
+
+    fn unit_raster() -> SampleRaster {
+        SampleRaster::new(1 << SUBGRID_BITS, 5, 4 << SUBGRID_BITS)
+    }
+
+    #[test]
+    fn two_triangles_of_a_square_own_every_sample_once_whatever_their_orientation() {
+        let (sw, se, nw, ne) = (
+            corner(0.0, 0.0, 0.0),
+            corner(4.0, 0.0, 0.0),
+            corner(0.0, 4.0, 0.0),
+            corner(4.0, 4.0, 0.0),
+        );
+        for triangles in [[[sw, se, ne], [sw, ne, nw]], [[se, sw, ne], [nw, ne, sw]]] {
+            assert_eq!(owners(&unit_raster(), &triangles), vec![1; 25]);
+        }
+    }
+
+    #[test]
+    fn a_t_junction_gives_each_sample_on_the_long_edge_to_one_side() {
+        // Left: one triangle pair over [0,2]×[0,4]; right: four triangles over [2,4]×[0,4]
+        // with a vertex at (2, 2) in the middle of the left side's edge.
+        let c = |x: f64, y: f64| corner(x, y, 0.0);
+        let triangles = [
+            [c(0.0, 0.0), c(2.0, 0.0), c(2.0, 4.0)],
+            [c(0.0, 0.0), c(2.0, 4.0), c(0.0, 4.0)],
+            [c(2.0, 0.0), c(4.0, 0.0), c(2.0, 2.0)],
+            [c(4.0, 0.0), c(4.0, 2.0), c(2.0, 2.0)],
+            [c(2.0, 2.0), c(4.0, 2.0), c(2.0, 4.0)],
+            [c(4.0, 2.0), c(4.0, 4.0), c(2.0, 4.0)],
+        ];
+        assert_eq!(owners(&unit_raster(), &triangles), vec![1; 25]);
+    }
+
+    #[test]
+    fn fractional_corners_tile_too() {
+        // A fan around (1.3, 2.7) over the square [0,4]².
+        let centre = corner(1.3, 2.7, 0.0);
+        let ring = [
+            corner(0.0, 0.0, 0.0),
+            corner(4.0, 0.0, 0.0),
+            corner(4.0, 4.0, 0.0),
+            corner(0.0, 4.0, 0.0),
+        ];
+        let triangles: Vec<[SurfacePoint; 3]> = (0..4)
+            .map(|k| [centre, ring[k], ring[(k + 1) % 4]])
+            .collect();
+        // A finer lattice: quarter-cell steps.
+        let raster = SampleRaster::new(1 << (SUBGRID_BITS - 2), 17, 4 << SUBGRID_BITS);
+        let mut owners = vec![0; 17 * 17];
+        for t in &triangles {
+            raster.for_each_covered_sample(t, |s| owners[s.index] += u32::from(s.owned));
+        }
+        assert_eq!(owners, vec![1; 17 * 17]);
+    }
+
+    #[test]
+    fn a_sample_on_an_edge_gets_the_same_height_from_both_sides_and_a_vertex_its_own() {
+        let (a, b) = (corner(0.0, 0.0, 1.0), corner(3.0, 3.0, 10.0));
+        let left = [a, b, corner(0.0, 3.0, 7.0)];
+        let right = [b, a, corner(3.0, 0.0, -4.0)];
+        let raster = SampleRaster::new(1 << SUBGRID_BITS, 4, 3 << SUBGRID_BITS);
+        let mut heights = vec![Vec::new(); 16];
+        for t in [&left, &right] {
+            raster.for_each_covered_sample(t, |s| heights[s.index].push(s.height.to_bits()));
+        }
+        // (1, 1) and (2, 2) lie on the shared diagonal.
+        for index in [5, 10] {
+            assert_eq!(heights[index].len(), 2);
+            assert_eq!(heights[index][0], heights[index][1]);
+        }
+        assert!((f64::from_bits(heights[5][0]) - 4.0).abs() < 1e-12);
+        assert_eq!(heights[15], vec![10f64.to_bits(), 10f64.to_bits()]);
+    }
+
+    #[test]
+    fn zero_area_triangles_cover_nothing() {
+        let degenerate = [
+            corner(0.0, 0.0, 0.0),
+            corner(2.0, 2.0, 0.0),
+            corner(4.0, 4.0, 0.0),
+        ];
+        assert_eq!(owners(&unit_raster(), &[degenerate]), vec![0; 25]);
+    }
+}
