@@ -615,6 +615,10 @@ fn a_run_killed_while_it_writes_its_outputs_leaves_the_previous_output_whole() {
         "{names:?}"
     );
     let frames = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let entries = common::experiment::quickstart()["algorithms"]
+        .as_array()
+        .unwrap()
+        .len();
     assert_eq!(
         frames.lines().count(),
         1 + 40 * entries,
