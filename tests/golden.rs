@@ -1,12 +1,15 @@
 //! Golden determinism: every quickstart entry over the first 60 frames of its flight, hashed —
 //! every per-frame count and algorithm column (never the timings) and every frame's mesh — must
-//! equal the hash pinned in `tests/golden/quickstart-60.sha256`, whatever the thread count. The
-//! test-only triangle-list and morphed-lattice algorithms (`tests/common/patches.rs`) are pinned
-//! the same way in `tests/golden/patches-40.sha256`.
+//! equal the hash pinned for it in `tests/golden/quickstart-60.sha256`, whatever the thread
+//! count. The test-only triangle-list and morphed-lattice algorithms (`tests/common/patches.rs`)
+//! are pinned the same way in `tests/golden/patches-40.sha256`.
 //!
-//! Beside each hash, `*.frames.tsv` pins every entry's frames one per line (counts, the
-//! algorithm's columns as bits, a digest of the mesh), so that a mismatch names the first entry
-//! and frame that diverge and what differs there, not only that the hash moved.
+//! Each `.sha256` file holds one line per entry: the entry's hash, two spaces, its label. So a
+//! change to one algorithm re-pins its own entries' lines and leaves the others alone, and a new
+//! entry adds a line. Beside it, `*.frames.tsv` pins every entry's frames one per line (counts,
+//! the algorithm's columns as bits, a digest of the mesh), so that a mismatch names each entry
+//! that moved, the first frame where it diverges and what differs there, not only that a hash
+//! moved.
 //!
 //! A 4-8 mesh is hashed by its active vertex ids (and the heights of morphing vertices, when
 //! it has any); a triangle list through the mesh visitor, triangle by triangle (corner positions
@@ -150,13 +153,18 @@ fn hex_to_bytes(text: &str) -> Vec<u8> {
         .collect()
 }
 
-/// The hash of every entry's bytes, in order.
-fn hash_of(entries: &[EntryRecord]) -> String {
-    let mut hash = Sha256::new();
-    for entry in entries {
-        hash.update(entry.hash_bytes());
-    }
-    hex(&hash.finalize())
+/// Every entry's line of the `.sha256` file: the hash of its bytes, two spaces, its label.
+fn hash_lines(entries: &[EntryRecord]) -> Vec<String> {
+    entries
+        .iter()
+        .map(|entry| {
+            format!(
+                "{}  {}",
+                hex(&Sha256::digest(entry.hash_bytes())),
+                entry.label
+            )
+        })
+        .collect()
 }
 
 /// The records as the `.frames.tsv` file holds them.
@@ -182,11 +190,22 @@ fn frames_tsv(entries: &[EntryRecord]) -> String {
     text
 }
 
+/// The header and the lines of entry `label` in a `.frames.tsv` text.
+fn entry_frames(frames_tsv: &str, label: &str) -> String {
+    let mut lines = frames_tsv.lines();
+    let mut text = format!("{}\n", lines.next().unwrap_or(""));
+    for line in lines.filter(|line| line.split('\t').next() == Some(label)) {
+        text.push_str(line);
+        text.push('\n');
+    }
+    text
+}
+
 /// The first line of `actual` that differs from `pinned`, described: entry, frame, and each
 /// field that moved with its pinned value.
 fn first_divergence(pinned: &str, actual: &str) -> String {
     let header: Vec<&str> = actual.lines().next().unwrap_or("").split('\t').collect();
-    for (line, (was, now)) in pinned.lines().zip(actual.lines()).enumerate().skip(1) {
+    for (was, now) in pinned.lines().zip(actual.lines()).skip(1) {
         if was == now {
             continue;
         }
@@ -205,8 +224,7 @@ fn first_divergence(pinned: &str, actual: &str) -> String {
             })
             .collect();
         return format!(
-            "first divergence at line {}: entry {:?}, frame {}: {}",
-            line + 1,
+            "first divergence: entry {:?}, frame {}: {}",
             now.first().unwrap_or(&"?"),
             now.get(1).unwrap_or(&"?"),
             moved.join("; ")
@@ -217,33 +235,72 @@ fn first_divergence(pinned: &str, actual: &str) -> String {
         "every frame matches the pinned frames file, so the pinned hash itself is out of date"
             .to_string()
     } else {
-        format!("the pinned frames file has {pinned_lines} lines, this run {actual_lines}")
+        format!(
+            "{} frames pinned, {} in this run",
+            pinned_lines.saturating_sub(1),
+            actual_lines.saturating_sub(1)
+        )
     }
 }
 
-/// Compares a run with its pinned hash (`<stem>.sha256`) and frames (`<stem>.frames.tsv`);
-/// with `ROAMSIM_BLESS` set, pins this run first.
+/// Compares a run with its pinned hashes (`<stem>.sha256`, a line per entry) and frames
+/// (`<stem>.frames.tsv`); with `ROAMSIM_BLESS` set, pins this run first. Fails naming every
+/// entry whose hash moved (with its first diverging frame), every entry not pinned, and every
+/// pinned entry the run no longer has.
 fn check_pinned(stem: &str, entries: &[EntryRecord]) {
     let dir = repository().join("tests/golden");
     let hash_path = dir.join(format!("{stem}.sha256"));
     let frames_path = dir.join(format!("{stem}.frames.tsv"));
-    let hash = hash_of(entries);
+    let lines = hash_lines(entries);
     let frames = frames_tsv(entries);
     if std::env::var_os("ROAMSIM_BLESS").is_some() {
-        std::fs::write(&hash_path, format!("{hash}\n")).unwrap();
+        std::fs::write(&hash_path, format!("{}\n", lines.join("\n"))).unwrap();
         std::fs::write(&frames_path, &frames).unwrap();
     }
     let pinned = std::fs::read_to_string(&hash_path).unwrap();
-    if hash != pinned.trim() {
-        let where_ = match std::fs::read_to_string(&frames_path) {
-            Ok(pinned_frames) => first_divergence(&pinned_frames, &frames),
-            Err(_) => format!("({} is missing: no frame to name)", display(&frames_path)),
-        };
-        panic!(
-            "{stem}: a decision changed; {where_}. If intended, re-pin with ROAMSIM_BLESS=1 (see \
-             the module docs)"
-        );
+    let pinned_frames = std::fs::read_to_string(&frames_path).ok();
+    let pinned_hash = |label: &str| {
+        pinned
+            .lines()
+            .filter_map(|line| line.split_once("  "))
+            .find(|(_, pinned_label)| *pinned_label == label)
+            .map(|(hash, _)| hash)
+    };
+    let mut problems = Vec::new();
+    for (entry, line) in entries.iter().zip(&lines) {
+        let label = entry.label.as_str();
+        let (hash, _) = line.split_once("  ").unwrap();
+        match pinned_hash(label) {
+            Some(pinned) if pinned == hash => {}
+            Some(_) => {
+                let where_ = match &pinned_frames {
+                    Some(pinned_frames) => first_divergence(
+                        &entry_frames(pinned_frames, label),
+                        &entry_frames(&frames, label),
+                    ),
+                    None => format!("({} is missing: no frame to name)", display(&frames_path)),
+                };
+                problems.push(format!("entry {label:?}: a decision changed; {where_}"));
+            }
+            None => problems.push(format!("entry {label:?} is not pinned")),
+        }
     }
+    for (_, label) in pinned.lines().filter_map(|line| line.split_once("  ")) {
+        if !entries.iter().any(|entry| entry.label == label) {
+            problems.push(format!("pinned entry {label:?} is no longer run"));
+        }
+    }
+    if problems.is_empty() && pinned_frames.as_deref() != Some(frames.as_str()) {
+        problems.push(format!(
+            "every hash matches but {} does not: it is out of date",
+            display(&frames_path)
+        ));
+    }
+    assert!(
+        problems.is_empty(),
+        "{stem}:\n{}\nIf intended, re-pin with ROAMSIM_BLESS=1 (see the module docs)",
+        problems.join("\n")
+    );
 }
 
 fn display(path: &Path) -> String {
@@ -281,7 +338,7 @@ fn quickstart_records(
 }
 
 #[test]
-fn the_quickstart_counts_and_meshes_match_the_pinned_hash_on_one_and_four_threads() {
+fn the_quickstart_counts_and_meshes_match_the_pinned_hashes_on_one_and_four_threads() {
     let dir = tempfile::tempdir().unwrap();
     let path = save(dir.path(), "golden", &short_quickstart(FRAMES));
     let experiment = experiment::load(&path).unwrap();
@@ -297,7 +354,7 @@ fn the_quickstart_counts_and_meshes_match_the_pinned_hash_on_one_and_four_thread
 }
 
 #[test]
-fn the_test_only_triangle_list_and_morphing_algorithms_match_their_pinned_hash() {
+fn the_test_only_triangle_list_and_morphing_algorithms_match_their_pinned_hashes() {
     let hierarchy = bumpy_terrain(6);
     let cameras: Vec<Camera> = (0..40)
         .map(|k| {
@@ -364,7 +421,17 @@ fn a_divergence_is_named_by_entry_frame_and_field() {
     let actual = "entry\tframe\ttriangles\tmesh\nwu\t0\t10\taa\nwu\t1\t14\tcc\n";
     assert_eq!(
         first_divergence(pinned, actual),
-        "first divergence at line 3: entry \"wu\", frame 1: triangles 14 (pinned 12); mesh cc \
+        "first divergence: entry \"wu\", frame 1: triangles 14 (pinned 12); mesh cc \
          (pinned bb)"
     );
+}
+
+#[test]
+fn an_entry_s_frames_are_cut_from_the_frames_file_with_its_header() {
+    let frames = "entry\tframe\tmesh\nwu\t0\taa\nroam\t0\tbb\nwu\t1\tcc\n";
+    assert_eq!(
+        entry_frames(frames, "wu"),
+        "entry\tframe\tmesh\nwu\t0\taa\nwu\t1\tcc\n"
+    );
+    assert_eq!(entry_frames(frames, "lindstrom"), "entry\tframe\tmesh\n");
 }

@@ -6,8 +6,8 @@
 mod common;
 
 use common::algorithms::{
-    every_algorithm, every_block_algorithm, reference, reference_in_view, roam_target, wu,
-    wu_budget,
+    every_algorithm, every_block_algorithm, every_rottger, reference, reference_in_view,
+    roam_target, rottger, wu, wu_budget,
 };
 use common::{checked_step, extra, vertex_set, view_600};
 use glam::DVec3;
@@ -120,6 +120,15 @@ fn final_mesh_from(
     vertex_set(algorithm.as_ref()).clone()
 }
 
+/// `every_algorithm(tau_px)` and every Röttger configuration: for the cases whose right answer
+/// (identical meshes, the vertex under the eye, a valid mesh) does not depend on τ. Röttger's
+/// criterion has no τ; its own right answers are in the `rottger_…` tests below.
+fn with_rottger(tau_px: f64) -> Vec<AlgorithmConfig> {
+    let mut configs = every_algorithm(tau_px);
+    configs.extend(every_rottger());
+    configs
+}
+
 fn full_grid(hierarchy: &Hierarchy) -> VertexSet {
     let mut set = VertexSet::new(hierarchy.lattice());
     for id in 0..hierarchy.lattice().n_vertices() as u32 {
@@ -196,7 +205,7 @@ fn eyes_on_a_vertex_on_a_block_centre_inside_and_below_the_terrain_keep_the_vert
     let cases = [(8, 8, 0.0), (4, 8, 0.0), (5, 11, -10.0), (12, 3, -1000.0)];
     for (i, j, below) in cases {
         let eye = field.position(i, j) + DVec3::new(0.0, 0.0, below);
-        for config in every_algorithm(1.0) {
+        for config in with_rottger(1.0) {
             let mesh = final_mesh(&hierarchy, &config, view_600(), SPEED, &[eye]);
             let p = GridPoint::new(i as u32, j as u32);
             // Far below, the right answer is the mirrored scene's mesh (see
@@ -248,7 +257,7 @@ fn scaling_terrain_flight_and_speed_bounds_together_changes_no_mesh() {
             vertical: SPEED.vertical * scale,
             rotation: SPEED.rotation,
         };
-        for config in every_algorithm(2.0) {
+        for config in with_rottger(2.0) {
             let a = final_mesh(&small, &config, view, SPEED, &eyes);
             let b = final_mesh(&scaled, &config, scaled_view, scaled_speed, &scaled_eyes);
             assert_eq!(a, b, "{config:?} at scale {scale}");
@@ -265,7 +274,7 @@ fn zero_and_huge_speed_bounds_change_no_fixed_tau_mesh() {
     let eyes: Vec<DVec3> = (0..25)
         .map(|f| DVec3::new(10.0 + 6.0 * f as f64, 100.0, 60.0))
         .collect();
-    for config in every_algorithm(2.0) {
+    for config in with_rottger(2.0) {
         let normal = final_mesh(&hierarchy, &config, view_600(), SPEED, &eyes);
         let huge = SpeedBound {
             horizontal: 1e12,
@@ -292,7 +301,7 @@ fn extreme_views_keep_valid_meshes() {
             near: 0.1,
             far: 1e5,
         };
-        for config in every_algorithm(1.0) {
+        for config in with_rottger(1.0) {
             final_mesh(&hierarchy, &config, view, SPEED, &[eye, eye + DVec3::X]);
         }
     }
@@ -315,7 +324,7 @@ fn translating_terrain_and_flight_by_a_million_metres_changes_no_mesh() {
         .map(|f| DVec3::new(20.0 + 7.0 * f as f64, 50.0 + 3.0 * f as f64, 70.0))
         .collect();
     let moved: Vec<DVec3> = eyes.iter().map(|e| *e + far_away).collect();
-    for config in every_algorithm(2.0) {
+    for config in with_rottger(2.0) {
         for frames in [1, eyes.len()] {
             let a = final_mesh(&near, &config, view_600(), SPEED, &eyes[..frames]);
             let b = final_mesh(&far, &config, view_600(), SPEED, &moved[..frames]);
@@ -433,7 +442,7 @@ fn an_eye_below_the_terrain_sees_what_the_mirrored_eye_above_the_mirrored_terrai
             yaw: 0.7,
             pitch: -0.4,
         };
-        for config in every_algorithm(1.0) {
+        for config in with_rottger(1.0) {
             let under = final_mesh_from(&terrain_up, &config, view_600(), SPEED, &[below]);
             let over = final_mesh_from(&terrain_down, &config, view_600(), SPEED, &[mirrored]);
             assert_eq!(under, over, "{config:?}, {depth} m below");
@@ -460,6 +469,12 @@ fn a_one_pixel_window_gives_the_meshes_of_a_512_pixel_window_at_512_times_tau() 
             let b = final_mesh(&hierarchy, &many, view(512), SPEED, &eyes);
             assert_eq!(a, b, "{one:?}");
         }
+    }
+    // Röttger's criterion counts no pixels: the same configuration, the same meshes.
+    for config in every_rottger() {
+        let a = final_mesh(&hierarchy, &config, view(1), SPEED, &eyes);
+        let b = final_mesh(&hierarchy, &config, view(512), SPEED, &eyes);
+        assert_eq!(a, b, "{config:?}");
     }
 }
 
@@ -587,7 +602,7 @@ fn ten_kilometre_heights_give_the_meshes_of_sea_level() {
             .iter()
             .map(|e| *e + DVec3::Z * f64::from(offset))
             .collect();
-        for config in every_algorithm(1.0) {
+        for config in with_rottger(1.0) {
             let a = final_mesh(&sea_level, &config, view_600(), SPEED, &eyes);
             let b = final_mesh(&shifted, &config, view_600(), SPEED, &lifted);
             assert_eq!(a, b, "{config:?} at {offset} m");
@@ -650,7 +665,7 @@ fn a_zero_speed_bound_changes_no_fixed_tau_mesh_when_its_violations_are_flagged(
         .collect();
     let still = vec![DVec3::new(120.0, 150.0, 50.0); 5];
     for eyes in [&moving, &still] {
-        for config in every_algorithm(2.0) {
+        for config in with_rottger(2.0) {
             let frozen = final_mesh(&hierarchy, &config, view_600(), zero, eyes);
             if let AlgorithmConfig::Wu(wu) = config
                 && wu.refine == Refinement::InView
@@ -1341,5 +1356,224 @@ fn block_algorithm_targets_below_the_coarsest_and_above_the_finest_mesh() {
                 assert!(block.is_finest(), "{config:?}, target {target}");
             }
         }
+    }
+}
+
+// Röttger's own right answers. Its criterion has a minimum resolution C (blocks closer than C
+// times their size always subdivide, flat or not) and a desired resolution c (roughness d2
+// refines further where c·d2 > 1), and no τ: full resolution comes from a huge C or c, the base
+// mesh from an eye far beyond C times the terrain's size.
+
+/// The Röttger mesh at (C, c) with the paper's options, after the poses.
+fn rottger_mesh(
+    hierarchy: &Hierarchy,
+    minimum_resolution: f64,
+    desired_resolution: f64,
+    poses: &[Pose],
+) -> VertexSet {
+    let config = AlgorithmConfig::Rottger(rottger(minimum_resolution, desired_resolution));
+    final_mesh_from(hierarchy, &config, view_600(), SPEED, poses)
+}
+
+fn looking_down_from(position: DVec3) -> Pose {
+    Pose {
+        position,
+        yaw: 0.0,
+        pitch: -std::f64::consts::FRAC_PI_2,
+    }
+}
+
+#[test]
+fn rottger_on_flat_terrain_gives_the_minimum_resolution_mesh_whatever_c() {
+    // d2 = 0 everywhere: max(c·d2, 1) = 1, so c changes nothing; a far eye sees the base mesh,
+    // an eye on the surface the full resolution around it.
+    let flat = terrain(33, 10.0, |_, _| 123.0);
+    let lattice = flat.lattice();
+    for eye in [
+        DVec3::new(160.0, 160.0, 123.0),
+        DVec3::new(20.0, 300.0, 200.0),
+        DVec3::new(-50.0, 30.0, 500.0),
+    ] {
+        let poses = [pose(eye)];
+        let plain = rottger_mesh(&flat, 4.0, 0.0, &poses);
+        assert_eq!(plain, rottger_mesh(&flat, 4.0, 1e9, &poses), "from {eye:?}");
+        assert!(plain.len() > 5, "C = 4 refines near {eye:?}");
+    }
+    let on_surface = rottger_mesh(&flat, 2.0, 0.0, &[pose(DVec3::new(160.0, 160.0, 123.0))]);
+    for (i, j) in [(16, 16), (15, 15), (15, 16), (17, 17)] {
+        assert!(on_surface.contains_point(lattice, GridPoint::new(i, j)));
+    }
+    let far = rottger_mesh(&flat, 8.0, 1e9, &[pose(DVec3::new(0.0, 0.0, 1e6))]);
+    assert_eq!(far, VertexSet::base_mesh(lattice));
+}
+
+#[test]
+fn rottger_at_a_huge_minimum_resolution_gives_full_resolution_and_from_afar_the_base_mesh() {
+    // C = 10^9: every block is closer than C times its size: the full grid, on tiny terrains
+    // too. C = 2, c = 0, from 10^9 m: not even the root subdivides.
+    for (side, spacing, amplitude) in [(17, 10.0, 50.0), (3, 1.0, 5.0), (5, 1.0, 5.0)] {
+        let hierarchy = rough(side, spacing, amplitude);
+        let above = [looking_down_from(DVec3::new(80.0, 80.0, 1000.0))];
+        assert_eq!(
+            rottger_mesh(&hierarchy, 1e9, 0.0, &above),
+            full_grid(&hierarchy),
+            "{side}×{side}"
+        );
+        let far = [pose(DVec3::new(0.0, 0.0, 1e9))];
+        assert_eq!(
+            rottger_mesh(&hierarchy, 2.0, 0.0, &far),
+            VertexSet::base_mesh(hierarchy.lattice())
+        );
+    }
+}
+
+#[test]
+fn rottger_with_an_eye_exactly_at_f_equal_one_does_not_subdivide_and_one_step_closer_does() {
+    // Flat at 0, c = 0: the root (centre (80, 80), d = 160 m) has f = l / (160 · 8). Due east at
+    // the root's average elevation, l = 1280 m gives f = 1 exactly: no subdivision (f < 1 is
+    // strict); the next representable eye to the west gives f < 1.
+    let flat = terrain(17, 10.0, |_, _| 0.0);
+    let root = GridPoint::new(8, 8);
+    let at_one = DVec3::new(80.0 + 1280.0, 80.0, 0.0);
+    let looking_west = |position| Pose {
+        position,
+        yaw: std::f64::consts::PI,
+        pitch: 0.0,
+    };
+    let on = rottger_mesh(&flat, 8.0, 0.0, &[looking_west(at_one)]);
+    assert_eq!(on, VertexSet::base_mesh(flat.lattice()));
+    let inside = DVec3::new(at_one.x.next_down(), at_one.y, at_one.z);
+    let subdivided = rottger_mesh(&flat, 8.0, 0.0, &[looking_west(inside)]);
+    assert!(subdivided.contains_point(flat.lattice(), root));
+}
+
+#[test]
+fn rottger_reproduces_spikes_and_cliffs_exactly_at_a_huge_c_and_keeps_flat_parts_coarse() {
+    // c = 10^12: every block with any roughness (and, by propagation, every block above it)
+    // subdivides; flat blocks 5 km below the eye do not (C = 2). The mesh holds every vertex
+    // with an error, so the audit finds none.
+    let cliff = terrain(17, 10.0, |i, _| if i < 7 { 0.0 } else { 1000.0 });
+    let above = looking_down_from(DVec3::new(80.0, 80.0, 5000.0));
+    for hierarchy in [spike(100.0), spike(-100.0), cliff] {
+        let mesh = rottger_mesh(&hierarchy, 2.0, 1e12, &[above]);
+        let error = audited_max_px(&hierarchy, &mesh, above.position);
+        assert!(error < 1e-3, "{error} px");
+        assert!(mesh.len() < hierarchy.lattice().n_vertices());
+    }
+}
+
+#[test]
+fn rottger_ignores_millimetre_relief_at_c_zero_and_refines_it_fully_at_a_huge_c() {
+    // d2 is a slope, so 1 mm of relief on 10 m posts is 5·10^-5: below c = 0's reach (the mesh
+    // of a flat terrain), far above 1 at c = 10^12 (the full grid).
+    let millimetres = rough(17, 10.0, 0.001);
+    let flat = terrain(17, 10.0, |_, _| 0.0);
+    // Off the round distances where a block of the flat terrain sits exactly at f = 1 (there a
+    // millimetre decides).
+    let poses = [pose(DVec3::new(63.7, 21.3, 41.9))];
+    assert_eq!(
+        rottger_mesh(&millimetres, 4.0, 0.0, &poses),
+        rottger_mesh(&flat, 4.0, 0.0, &poses)
+    );
+    assert_eq!(
+        rottger_mesh(&millimetres, 2.0, 1e12, &poses),
+        full_grid(&millimetres)
+    );
+}
+
+#[test]
+fn rottger_without_clipping_gives_the_same_mesh_at_every_field_of_view() {
+    // The criterion measures distances, not pixels: only clipping looks at the frustum.
+    let hierarchy = rough(17, 10.0, 30.0);
+    let eye = DVec3::new(30.0, 40.0, 80.0);
+    let mesh_at = |fovy_deg: f64| {
+        let view = ViewSettings {
+            fovy: fovy_deg.to_radians(),
+            ..view_600()
+        };
+        let config = AlgorithmConfig::Rottger(rottger(8.0, 20.0));
+        final_mesh(&hierarchy, &config, view, SPEED, &[eye])
+    };
+    let normal = mesh_at(60.0);
+    assert_eq!(mesh_at(0.001), normal);
+    assert_eq!(mesh_at(179.9), normal);
+    assert!(normal.len() > 5);
+}
+
+#[test]
+fn rottger_at_ten_kilometres_of_relief_refines_fully_at_a_huge_c_and_shows_the_base_mesh_from_afar()
+{
+    let alps = rough(17, 100.0, 10_000.0);
+    let high_above = [looking_down_from(DVec3::new(800.0, 800.0, 3e4))];
+    assert_eq!(
+        rottger_mesh(&alps, 2.0, 1e12, &high_above),
+        full_grid(&alps)
+    );
+    assert_eq!(
+        rottger_mesh(&alps, 8.0, 20.0, &[pose(DVec3::new(0.0, 0.0, 1e12))]),
+        VertexSet::base_mesh(alps.lattice())
+    );
+}
+
+#[test]
+fn rottger_reproduces_a_padded_terrain_exactly_at_a_huge_c() {
+    // 18×18 samples in the 33×33 field (replicated border): at c = 10^12 every vertex with an
+    // error is in the mesh, so the real samples are reproduced exactly.
+    let side = 18;
+    let heights: Vec<f32> = (0..side * side)
+        .map(|k| 25.0 * noise(k % side, k / side) as f32)
+        .collect();
+    let grid = SampleGrid::new(side, side, heights, Vec::new()).unwrap();
+    let (field, _) = embed(&grid, Fit::Pad, Spacing { dx: 10.0, dy: 10.0 }).unwrap();
+    let hierarchy = Hierarchy::new(field);
+    let above = looking_down_from(DVec3::new(160.0, 160.0, 2000.0));
+    let mesh = rottger_mesh(&hierarchy, 2.0, 1e12, &[above]);
+    assert!(audited_max_px(&hierarchy, &mesh, above.position) < 1e-3);
+    assert_eq!(
+        rottger_mesh(&hierarchy, 8.0, 20.0, &[pose(DVec3::new(0.0, 0.0, 1e9))]),
+        VertexSet::base_mesh(hierarchy.lattice())
+    );
+}
+
+#[test]
+fn rottger_load_targets_below_the_base_mesh_and_above_the_full_mesh_end_at_the_bounds_of_c() {
+    // A target of 1 triangle drives c to its smallest value: the mesh of c → 0 (C's alone). A
+    // target of 10^6 drives it to its largest: every rough block subdivides, the full grid. Both
+    // frames report the clamp.
+    use roamsim::sim::algorithm::columns::rottger::{C_CLAMPED, DESIRED_RESOLUTION_C};
+    use roamsim::sim::algorithm::rottger::{
+        DESIRED_RESOLUTION_MAX, DESIRED_RESOLUTION_MIN, LoadCount, LoadTarget,
+    };
+    let hierarchy = rough(33, 10.0, 20.0);
+    let eyes: Vec<DVec3> = (0..120)
+        .map(|f| DVec3::new(60.0 + 0.5 * f as f64, 80.0, 50.0))
+        .collect();
+    for (target, bound) in [
+        (1, DESIRED_RESOLUTION_MIN),
+        (1_000_000, DESIRED_RESOLUTION_MAX),
+    ] {
+        let config = AlgorithmConfig::Rottger(roamsim::sim::algorithm::RottgerConfig {
+            load: Some(LoadTarget {
+                count: LoadCount::Triangles,
+                target,
+            }),
+            ..rottger(2.0, 1.0)
+        });
+        let mut algorithm = config.build(&hierarchy, &view_600(), SPEED);
+        let mut last = FrameStats::default();
+        for (frame, eye) in eyes.iter().enumerate() {
+            last = step(&hierarchy, algorithm.as_mut(), frame as u64, *eye);
+        }
+        assert_eq!(
+            extra(algorithm.as_ref(), &last, DESIRED_RESOLUTION_C),
+            bound
+        );
+        assert_eq!(extra(algorithm.as_ref(), &last, C_CLAMPED), 1.0);
+        let expected = if target == 1 {
+            rottger_mesh(&hierarchy, 2.0, 0.0, &[pose(*eyes.last().unwrap())])
+        } else {
+            full_grid(&hierarchy)
+        };
+        assert_eq!(vertex_set(algorithm.as_ref()), &expected, "target {target}");
     }
 }

@@ -12,12 +12,14 @@
 //! drawn triangles: positions, roles, groups, levels and heights (scaled heights divided by the
 //! power of two, exactly), and their counts.
 //!
+//! Röttger's configurations (`every_rottger`: it has no τ) run on every scene too.
+//!
 //! This file does not check that the meshes are right, only that they do not move;
 //! `tests/hard_cases.rs` and the per-algorithm tests check the right answers.
 
 mod common;
 
-use common::algorithms::{every_algorithm, every_block_algorithm};
+use common::algorithms::{every_algorithm, every_block_algorithm, every_rottger};
 use common::{step, vertex_set, view_600};
 use glam::DVec3;
 use proptest::prelude::*;
@@ -216,7 +218,7 @@ proptest! {
             .iter()
             .map(|p| Pose { position: p.position + offset, ..*p })
             .collect();
-        for config in every_algorithm(scene.tau_px) {
+        for config in every_algorithm(scene.tau_px).into_iter().chain(every_rottger()) {
             let a = decisions(&here, &config, view_600(), SPEED, &scene.poses);
             let b = decisions(&there, &config, view_600(), SPEED, &moved);
             prop_assert_eq!(a, b, "{:?}, offset {:?}", config, offset);
@@ -253,7 +255,7 @@ proptest! {
             vertical: SPEED.vertical * scale,
             rotation: SPEED.rotation,
         };
-        for config in every_algorithm(scene.tau_px) {
+        for config in every_algorithm(scene.tau_px).into_iter().chain(every_rottger()) {
             let a = decisions(&original, &config, view, SPEED, &scene.poses);
             let b = decisions(&scaled, &config, scaled_view, scaled_speed, &scaled_poses);
             prop_assert_eq!(a, b, "{:?} at scale 2^{}", config, exponent);

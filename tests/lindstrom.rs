@@ -518,32 +518,9 @@ fn the_block_quadtree_is_valid_for_every_block_level() {
     }
 }
 
-/// Loads the quickstart with its algorithms replaced by `algorithms`: the validated configs, or
-/// the problems as `field: problem` lines.
-fn load_with_algorithms(
-    algorithms: serde_json::Value,
-) -> Result<Vec<roamsim::sim::algorithm::AlgorithmConfig>, Vec<String>> {
-    let dir = tempfile::tempdir().unwrap();
-    let mut experiment = common::experiment::quickstart();
-    experiment["algorithms"] = algorithms;
-    let path = common::experiment::save(dir.path(), "lindstrom", &experiment);
-    match roamsim::edge::experiment::load(&path) {
-        Ok(loaded) => Ok(loaded
-            .algorithms
-            .into_iter()
-            .map(|spec| spec.config)
-            .collect()),
-        Err(error) => Err(error
-            .problems
-            .iter()
-            .map(|p| format!("{}: {}", p.field, p.problem))
-            .collect()),
-    }
-}
-
 #[test]
 fn an_experiment_names_lindstrom_with_its_tolerance_and_block_level() {
-    let configs = load_with_algorithms(serde_json::json!([
+    let configs = common::experiment::load_with_algorithms(serde_json::json!([
         { "name": "lindstrom", "label": "lindstrom τ=1", "tau_px": 1, "block_level": 4 }
     ]));
     assert_eq!(
@@ -560,7 +537,7 @@ fn an_experiment_names_lindstrom_with_its_tolerance_and_block_level() {
 
 #[test]
 fn an_experiment_with_a_bad_lindstrom_entry_names_each_field() {
-    let problems = load_with_algorithms(serde_json::json!([
+    let problems = common::experiment::load_with_algorithms(serde_json::json!([
         { "name": "lindstrom", "label": "a", "tau_px": 1, "block_level": 0 },
         { "name": "lindstrom", "label": "b", "tau_px": -2, "block_level": 4 },
         { "name": "lindstrom", "label": "c", "tau_px": 1 },

@@ -1,7 +1,8 @@
 //! Very long runs (SPEC §9): 10^6 frames of every algorithm over a small terrain, circled so that
 //! the mesh keeps changing. Nothing may overflow or drift: the frame counter, the wheels and b
 //! (Wu's own million-frame test is in `tests/wu.rs`), the slotmap keys and queues (ROAM), the
-//! double-buffered meshes (the from-scratch algorithms). Each run checks that the mesh is valid,
+//! double-buffered meshes and quadtree matrix (the from-scratch algorithms), Röttger's c under its
+//! load controller. Each run checks that the mesh is valid,
 //! that the inserted and deleted vertices summed over the run account exactly for the final mesh
 //! (no counter wrapped or lost a change), that the algorithm's memory stays bounded (no leak
 //! from frame to frame), and that the final mesh is the one a fresh instance builds for the
@@ -15,8 +16,10 @@ mod common;
 use common::algorithms::{
     chunked, chunked_with_everything, geomipmap, lindstrom, reference, roam_tolerance,
 };
-use common::{bumpy_terrain, camera_at, checked_step, step, vertex_set};
+use common::{bumpy_terrain, camera_at, checked_step, extra, step, vertex_set};
 use glam::DVec3;
+use roamsim::sim::algorithm::RottgerConfig;
+use roamsim::sim::algorithm::rottger::{LoadCount, LoadTarget};
 use roamsim::sim::algorithm::{
     AlgorithmConfig, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference, LodAlgorithm,
     RoamConfig,
@@ -24,6 +27,7 @@ use roamsim::sim::algorithm::{
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::MeshOutput;
 use roamsim::sim::mesh::VertexSet;
+use roamsim::sim::stats::FrameStats;
 use roamsim::sim::zone::{SpeedBound, ZoneVariant};
 
 const MILLION: u64 = 1_000_000;
@@ -55,6 +59,16 @@ struct LongRun {
 }
 
 fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun {
+    fly_observed(hierarchy, config, frames, &mut |_, _, _| {})
+}
+
+/// [`fly`], showing every frame's statistics (and the algorithm that filled them) to `observe`.
+fn fly_observed(
+    hierarchy: &Hierarchy,
+    config: &AlgorithmConfig,
+    frames: u64,
+    observe: &mut dyn FnMut(u64, &dyn LodAlgorithm, &FrameStats),
+) -> LongRun {
     let mut algorithm = config.build(hierarchy, &common::view_600(), SPEED);
     let (mut inserted, mut deleted) = (0u128, 0u128);
     let mut memory_after_first_lap = 0;
@@ -76,6 +90,7 @@ fn fly(hierarchy: &Hierarchy, config: &AlgorithmConfig, frames: u64) -> LongRun 
         };
         inserted += u128::from(stats.vertices_inserted);
         deleted += u128::from(stats.vertices_deleted);
+        observe(frame, algorithm.as_ref(), &stats);
         if frame + 1 == FRAMES_PER_LAP {
             memory_after_first_lap = algorithm.memory_bytes();
         }
@@ -251,4 +266,59 @@ fn a_million_chunked_frames_with_every_effect_and_a_target_stay_exact() {
         morph: true,
         ..chunked(4.0, 1)
     }));
+}
+
+#[test]
+fn a_million_rottger_frames_with_clipping_and_geomorphing_stay_exact() {
+    check_million_frames(AlgorithmConfig::Rottger(RottgerConfig {
+        clipping: true,
+        ..common::algorithms::rottger(4.0, 20.0)
+    }));
+}
+
+#[test]
+fn a_million_rottger_frames_under_the_load_controller_keep_c_bounded_and_exact() {
+    // The controller's c changes every frame it misses the target: after 10^6 frames it must
+    // still be a finite value inside its bounds that moved within the last lap, and the mesh must
+    // be the one a fixed-c instance at the final c builds for the final view.
+    use roamsim::sim::algorithm::columns::rottger::DESIRED_RESOLUTION_C;
+    use roamsim::sim::algorithm::rottger::{DESIRED_RESOLUTION_MAX, DESIRED_RESOLUTION_MIN};
+    let hierarchy = bumpy_terrain(3);
+    let config = RottgerConfig {
+        load: Some(LoadTarget {
+            count: LoadCount::FanVertices,
+            target: 150,
+        }),
+        ..common::algorithms::rottger(2.0, 1.0)
+    };
+    let mut c_in_last_lap = std::collections::BTreeSet::new();
+    let mut last_c = 0.0;
+    let run = fly_observed(
+        &hierarchy,
+        &AlgorithmConfig::Rottger(config),
+        MILLION,
+        &mut |frame, algorithm, stats| {
+            last_c = extra(algorithm, stats, DESIRED_RESOLUTION_C);
+            assert!(
+                (DESIRED_RESOLUTION_MIN..=DESIRED_RESOLUTION_MAX).contains(&last_c),
+                "frame {frame}: c = {last_c}"
+            );
+            if frame + FRAMES_PER_LAP >= MILLION {
+                c_in_last_lap.insert(last_c.to_bits());
+            }
+        },
+    );
+    let base = VertexSet::base_mesh(hierarchy.lattice());
+    assert_eq!(
+        run.net_vertices,
+        run.final_mesh.len() as i128 - base.len() as i128
+    );
+    assert!(run.memory_at_end <= 2 * run.memory_after_first_lap);
+    assert!(c_in_last_lap.len() > 1, "c froze");
+    let fixed = AlgorithmConfig::Rottger(RottgerConfig {
+        load: None,
+        desired_resolution: last_c,
+        ..config
+    });
+    assert_eq!(run.final_mesh, fresh_mesh(&hierarchy, &fixed, MILLION - 1));
 }

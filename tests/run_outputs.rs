@@ -569,7 +569,6 @@ fn a_run_killed_while_it_writes_its_outputs_leaves_the_previous_output_whole() {
     assert!(before.iter().any(|(name, _)| name.starts_with("plots")));
 
     let longer_experiment = short_quickstart(40);
-    let entries = longer_experiment["algorithms"].as_array().unwrap().len();
     let longer = save(dir.path(), "longer", &longer_experiment);
     let mut child = Command::new(env!("CARGO_BIN_EXE_roamsim"))
         .args([
@@ -615,6 +614,10 @@ fn a_run_killed_while_it_writes_its_outputs_leaves_the_previous_output_whole() {
         "{names:?}"
     );
     let frames = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let entries = common::experiment::quickstart()["algorithms"]
+        .as_array()
+        .unwrap()
+        .len();
     assert_eq!(
         frames.lines().count(),
         1 + 40 * entries,

@@ -1,12 +1,14 @@
 //! Algorithm configurations, written once: each algorithm with its plainest options (a pure
 //! function of the view where the algorithm allows it), for tests to vary with struct update
 //! syntax (`WuConfig { depth_limit: Some(2), ..wu(6.0, ZoneVariant::Conservative) }`), and every
-//! algorithm at one tolerance for the hard-case and invariance tests.
+//! algorithm at one tolerance for the hard-case and invariance tests. `rottger` has no τ: its
+//! configurations come separately ([`every_rottger`]).
 
+use roamsim::sim::algorithm::rottger::DistanceNorm;
 use roamsim::sim::algorithm::{
     AlgorithmConfig, BlockGoal, BudgetConfig, ChunkedConfig, GeomipmapConfig, LevelDifference,
-    LindstromConfig, Projection, ReferenceConfig, Refinement, RoamConfig, RoamGoal, SkirtDepth,
-    SplitThreshold, ViewThreshold, WuConfig,
+    LindstromConfig, Projection, ReferenceConfig, Refinement, RoamConfig, RoamGoal, RottgerConfig,
+    SkirtDepth, SplitThreshold, ViewThreshold, WuConfig,
 };
 use roamsim::sim::hierarchy::NestingRule;
 use roamsim::sim::zone::ZoneVariant;
@@ -181,5 +183,36 @@ pub fn every_block_algorithm(tau_px: f64) -> Vec<AlgorithmConfig> {
         }),
         AlgorithmConfig::Chunked(chunked(tau_px, 2)),
         AlgorithmConfig::Chunked(chunked_with_everything(tau_px, 1)),
+    ]
+}
+
+/// Röttger's algorithm with a fixed c (no load target), at minimum resolution C and desired
+/// resolution c, the paper's options: L1 distance, propagation, no clipping, geomorphing on.
+pub fn rottger(minimum_resolution: f64, desired_resolution: f64) -> RottgerConfig {
+    RottgerConfig {
+        minimum_resolution,
+        desired_resolution,
+        load: None,
+        distance: DistanceNorm::L1,
+        d2_propagation: true,
+        clipping: false,
+        geomorphing: true,
+    }
+}
+
+/// Every Röttger configuration the generic hard cases and invariance properties run: the
+/// paper's options at C = 8, the Euclidean distance with clipping, local d2 at C = 2.
+pub fn every_rottger() -> Vec<AlgorithmConfig> {
+    vec![
+        AlgorithmConfig::Rottger(rottger(8.0, 20.0)),
+        AlgorithmConfig::Rottger(RottgerConfig {
+            distance: DistanceNorm::Euclidean,
+            clipping: true,
+            ..rottger(4.0, 60.0)
+        }),
+        AlgorithmConfig::Rottger(RottgerConfig {
+            d2_propagation: false,
+            ..rottger(2.0, 5.0)
+        }),
     ]
 }

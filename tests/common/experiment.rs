@@ -1,4 +1,5 @@
-//! Writing experiment files for tests: the quickstart as a JSON value, edited and saved.
+//! Writing experiment files for tests: the quickstart as a JSON value, edited and saved, and
+//! loaded back.
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -29,4 +30,27 @@ pub fn save(dir: &Path, name: &str, experiment: &Value) -> PathBuf {
     let path = dir.join(format!("{name}.json"));
     std::fs::write(&path, serde_json::to_string_pretty(experiment).unwrap()).unwrap();
     path
+}
+
+/// Loads the quickstart with its algorithms replaced by `algorithms`: the validated configs, or
+/// the problems as `field: problem` lines.
+pub fn load_with_algorithms(
+    algorithms: Value,
+) -> Result<Vec<roamsim::sim::algorithm::AlgorithmConfig>, Vec<String>> {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = quickstart();
+    experiment["algorithms"] = algorithms;
+    let path = save(dir.path(), "algorithms", &experiment);
+    match roamsim::edge::experiment::load(&path) {
+        Ok(loaded) => Ok(loaded
+            .algorithms
+            .into_iter()
+            .map(|spec| spec.config)
+            .collect()),
+        Err(error) => Err(error
+            .problems
+            .iter()
+            .map(|p| format!("{}: {}", p.field, p.problem))
+            .collect()),
+    }
 }

@@ -7,16 +7,17 @@
 //! algorithms' own), run by `--check`.
 
 use super::format::{
-    AlgorithmEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry, LindstromParameters,
-    LookEntry, MeshesEntry, NestingEntry, PathEntry, ReferenceParameters, RefineEntry,
-    RoamParameters, TerrainEntry, TerrainFormatEntry, WuParameters, ZoneEntry,
+    AlgorithmEntry, DistanceEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry,
+    LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry, ReferenceParameters,
+    RefineEntry, RoamParameters, RottgerParameters, TerrainEntry, TerrainFormatEntry, WuParameters,
+    ZoneEntry,
 };
 use super::load::{AlgorithmSpec, MeshExports};
 use super::sweep::{MAX_SWEEP_POINTS, cartesian, choice_label};
 use super::{ExperimentError, FieldProblem};
 use crate::sim::algorithm::{
     AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, Refinement, RoamConfig,
-    RoamGoal, SplitThreshold, TauRecentring, ViewThreshold, WuConfig,
+    RoamGoal, RottgerConfig, SplitThreshold, TauRecentring, ViewThreshold, WuConfig,
 };
 use crate::sim::audit::AuditSettings;
 use crate::sim::hierarchy::NestingRule;
@@ -36,6 +37,7 @@ pub const KNOWN_ALGORITHMS: &[&str] = &[
     "roam-rebuild",
     "geomipmap",
     "chunked",
+    "rottger",
 ];
 
 /// What stage 2 makes of a parsed file: the checked settings and entries.
@@ -599,6 +601,8 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
             "chunked" => super::block_lod::chunked_config(k, &parameters)
                 .map_err(|list| problems.list.extend(list))
                 .ok(),
+            "rottger" => decode::<RottgerParameters>(k, &parameters, problems)
+                .and_then(|p| check_rottger(k, &p, problems)),
             other => {
                 problems.add(
                     format!("{k}.name"),
@@ -840,6 +844,101 @@ fn refinement(refine: RefineEntry) -> Refinement {
         RefineEntry::Everywhere => Refinement::Everywhere,
     }
 }
+
+/// Röttger's parameters: C ≥ 2 (the paper's K bound), c ≥ 0 fixed or > 0 as a load target's
+/// start (default 1), at most one target of at least 1.
+fn check_rottger(
+    origin: &str,
+    p: &RottgerParameters,
+    problems: &mut Problems,
+) -> Option<AlgorithmConfig> {
+    use crate::sim::algorithm::rottger::{DistanceNorm, LoadCount, LoadTarget};
+    let field = |name: &str| format!("{origin}.{name}");
+    let n_problems = problems.list.len();
+    let minimum = p.minimum_resolution;
+    if !(minimum >= 2.0 && minimum.is_finite()) {
+        problems.add(
+            field("minimum_resolution"),
+            format!(
+                "{minimum}: expected a finite C of at least 2 (the paper's K = C/(2(C-1)) needs it)"
+            ),
+        );
+    }
+    let both_targets = p.target_triangles.is_some() && p.target_fan_vertices.is_some();
+    let load = match (p.target_triangles, p.target_fan_vertices) {
+        (Some(_), Some(_)) => {
+            problems.add(
+                origin.to_string(),
+                "both target_triangles and target_fan_vertices: expected at most one load target",
+            );
+            None
+        }
+        (Some(target), None) => Some(LoadTarget {
+            count: LoadCount::Triangles,
+            target,
+        }),
+        (None, Some(target)) => Some(LoadTarget {
+            count: LoadCount::FanVertices,
+            target,
+        }),
+        (None, None) => None,
+    };
+    if let Some(load) = load
+        && load.target == 0
+    {
+        let name = match load.count {
+            LoadCount::Triangles => "target_triangles",
+            LoadCount::FanVertices => "target_fan_vertices",
+        };
+        problems.add(field(name), "0: expected a target of at least 1");
+    }
+    let desired = match (p.desired_resolution, load) {
+        (Some(c), None) if !(c >= 0.0 && c.is_finite()) => {
+            problems.add(
+                field("desired_resolution"),
+                format!("{c}: expected a finite c of at least 0"),
+            );
+            c
+        }
+        (Some(c), Some(_)) if !(c > 0.0 && c.is_finite()) => {
+            problems.add(
+                field("desired_resolution"),
+                format!("{c}: expected a finite starting c above 0 for the load target"),
+            );
+            c
+        }
+        (Some(c), _) => c,
+        (None, Some(_)) => ROTTGER_DEFAULT_START_C,
+        (None, None) if both_targets => 0.0,
+        (None, None) => {
+            problems.add(
+                origin.to_string(),
+                "neither desired_resolution nor a load target: expected a fixed c, \
+                 target_triangles or target_fan_vertices",
+            );
+            0.0
+        }
+    };
+    if problems.list.len() > n_problems {
+        return None;
+    }
+    Some(AlgorithmConfig::Rottger(RottgerConfig {
+        minimum_resolution: minimum,
+        desired_resolution: desired,
+        load,
+        distance: match p.distance {
+            None | Some(DistanceEntry::L1) => DistanceNorm::L1,
+            Some(DistanceEntry::Euclidean) => DistanceNorm::Euclidean,
+        },
+        d2_propagation: p.d2_propagation,
+        clipping: p.clipping,
+        geomorphing: p.geomorphing,
+    }))
+}
+
+/// The c a load target starts from when the entry gives none (documented in
+/// docs/experiment-format.md).
+const ROTTGER_DEFAULT_START_C: f64 = 1.0;
 
 fn zone_variant(zone: Option<ZoneEntry>) -> ZoneVariant {
     match zone {

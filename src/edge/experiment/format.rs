@@ -340,6 +340,37 @@ pub enum QueueEntry {
     Heap,
 }
 
+/// Parameters of `rottger`: C (`minimum_resolution`), c (`desired_resolution`: fixed, or the
+/// starting value of a load target), at most one load target, and the options.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RottgerParameters {
+    pub minimum_resolution: f64,
+    #[serde(default)]
+    pub desired_resolution: Option<f64>,
+    #[serde(default)]
+    pub target_triangles: Option<u64>,
+    #[serde(default)]
+    pub target_fan_vertices: Option<u64>,
+    /// Default: the paper's L1 norm.
+    #[serde(default)]
+    pub distance: Option<DistanceEntry>,
+    #[serde(default = "yes")]
+    pub d2_propagation: bool,
+    #[serde(default)]
+    pub clipping: bool,
+    #[serde(default)]
+    pub geomorphing: bool,
+}
+
+/// How `rottger` measures the distance from the eye to a block.
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub enum DistanceEntry {
+    L1,
+    Euclidean,
+}
+
 /// How nested errors combine a vertex's own error with its descendants'.
 #[derive(Debug, Deserialize, Clone, Copy)]
 #[serde(rename_all = "snake_case")]

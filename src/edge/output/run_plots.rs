@@ -7,13 +7,14 @@ use super::plots::{
     LineChart, Marker, PlotError, ScatterChart, ScatterPoint, Series, write_line_chart,
     write_scatter_chart,
 };
+use crate::sim::algorithm::columns::rottger::DESIRED_RESOLUTION_C;
 use crate::sim::algorithm::columns::wu::BASE_B;
 use crate::sim::stats::{pareto_front, summarise};
 use std::path::Path;
 
 /// Writes `triangles`, `update_time`, `error` and `accuracy_vs_time` (when audited), `popping`
-/// (when some frame measured it) and `base_b` (when an algorithm reports Wu's base) as PNG and
-/// SVG into `dir`.
+/// (when some frame measured it), `base_b` (when an algorithm reports Wu's base) and
+/// `desired_resolution_c` (when one reports Röttger's c) as PNG and SVG into `dir`.
 pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result<(), PlotError> {
     let series_of = |column: &str, scale: f64| -> Vec<Series> {
         runs.iter()
@@ -50,6 +51,7 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
         },
     )?;
     write_base_plot(dir, runs)?;
+    write_desired_resolution_plot(dir, runs)?;
     if audited {
         write_accuracy_vs_time(dir, runs)?;
         write_line_chart(
@@ -141,6 +143,42 @@ fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
             y_label: "b (frames)",
             series: &series,
             markers: &markers,
+        },
+    )
+}
+
+/// Röttger's c per frame for every run that reports it (log scale: the controller moves it by
+/// factors).
+fn write_desired_resolution_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
+    let series: Vec<Series> = runs
+        .iter()
+        .filter(|r| r.extra_columns.contains(&DESIRED_RESOLUTION_C))
+        .map(|run| Series {
+            label: run.label.to_string(),
+            points: run
+                .frames
+                .iter()
+                .filter_map(|f| {
+                    value(run, f, DESIRED_RESOLUTION_C)
+                        .filter(|c| *c > 0.0)
+                        .map(|c| (f.frame as f64, c.log10()))
+                })
+                .collect(),
+        })
+        .filter(|s| !s.points.is_empty())
+        .collect();
+    if series.is_empty() {
+        return Ok(());
+    }
+    write_line_chart(
+        dir,
+        DESIRED_RESOLUTION_C,
+        &LineChart {
+            title: "Röttger's desired resolution c per frame",
+            x_label: "frame",
+            y_label: "log10 c",
+            series: &series,
+            markers: &[],
         },
     )
 }

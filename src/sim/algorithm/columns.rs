@@ -66,6 +66,21 @@ pub mod chunked {
     pub const TARGET_UNREACHABLE: &str = "target_unreachable";
 }
 
+/// `rottger` (Röttger et al. 1998).
+pub mod rottger {
+    pub const DESIRED_RESOLUTION_C: &str = "desired_resolution_c";
+    pub const C_CLAMPED: &str = "c_clamped";
+    pub const FANS: &str = "fans";
+    pub const FAN_VERTICES: &str = "fan_vertices";
+    pub const FAN_TRIANGLES: &str = "fan_triangles";
+    pub const MESH_VERTICES: &str = "mesh_vertices";
+    pub const NODES_VISITED: &str = "nodes_visited";
+    pub const SUBDIVIDED: &str = "subdivided";
+    pub const FORCED_SPLITS: &str = "forced_splits";
+    pub const CLIPPED_NODES: &str = "clipped_nodes";
+    pub const MORPHING_VERTICES: &str = "morphing_vertices";
+}
+
 /// Every algorithm-specific column name (some are shared: `forced_splits`, `split_queue`,
 /// `tau_px`, `target_unreachable`).
 pub const ALL: &[&str] = &[
@@ -107,6 +122,17 @@ pub const ALL: &[&str] = &[
     chunked::ORDER_INVERSIONS,
     chunked::TAU,
     chunked::TARGET_UNREACHABLE,
+    rottger::DESIRED_RESOLUTION_C,
+    rottger::C_CLAMPED,
+    rottger::FANS,
+    rottger::FAN_VERTICES,
+    rottger::FAN_TRIANGLES,
+    rottger::MESH_VERTICES,
+    rottger::NODES_VISITED,
+    rottger::SUBDIVIDED,
+    rottger::FORCED_SPLITS,
+    rottger::CLIPPED_NODES,
+    rottger::MORPHING_VERTICES,
 ];
 
 /// Whether `name` is an algorithm-specific column of some algorithm.

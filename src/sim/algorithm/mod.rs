@@ -13,6 +13,7 @@ pub mod geomipmap;
 pub mod lindstrom;
 mod reference;
 mod roam;
+pub mod rottger;
 mod wu;
 
 pub use block_lod::{BlockGoal, Projection};
@@ -27,6 +28,7 @@ pub use roam::{
 pub use wu::{BudgetConfig, Refinement, TauRecentring, Wu, WuConfig, initial_tau_px};
 
 pub use crate::sim::flight::BrokenBounds;
+pub use rottger::{Rottger, RottgerConfig};
 
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::MeshOutput;
@@ -77,6 +79,7 @@ pub enum AlgorithmConfig {
     RoamRebuild(RoamConfig),
     Geomipmap(GeomipmapConfig),
     Chunked(ChunkedConfig),
+    Rottger(RottgerConfig),
 }
 
 impl AlgorithmConfig {
@@ -89,6 +92,7 @@ impl AlgorithmConfig {
             AlgorithmConfig::RoamRebuild(_) => roam::REBUILD_NAME,
             AlgorithmConfig::Geomipmap(_) => geomipmap::NAME,
             AlgorithmConfig::Chunked(_) => chunked::NAME,
+            AlgorithmConfig::Rottger(_) => rottger::NAME,
         }
     }
 
@@ -115,6 +119,7 @@ impl AlgorithmConfig {
                 Box::new(Geomipmap::new(hierarchy, *config, view))
             }
             AlgorithmConfig::Chunked(config) => Box::new(Chunked::new(hierarchy, *config, view)),
+            AlgorithmConfig::Rottger(config) => Box::new(Rottger::new(hierarchy, *config)),
         }
     }
 }
