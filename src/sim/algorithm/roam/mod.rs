@@ -40,8 +40,10 @@
 //!   recomputed only when its time-dependent bound could reach the crossover (τ, or a band around
 //!   the moving crossover of a target), scheduled on a ring of per-frame lists by a closed-form
 //!   frame count; the meshes are exactly those of full recomputation. The bound uses the speed
-//!   bound v = √(v_h² + v_v²) metres per frame and, when one is given, a rotation bound θ radians
-//!   per frame ([`MotionBound`], [`Roam::with_motion_bound`]). A frame that broke the speed
+//!   bound v = √(v_h² + v_v²) metres per frame and, when the experiment declares one
+//!   (`speed_bounds.rotation_rad_per_frame`, taken by [`Roam::new`]; tests may pass their own
+//!   [`MotionBound`] to [`Roam::with_motion_bound`]), a rotation bound θ radians per frame. A
+//!   frame that broke the speed
 //!   bounds, that turned by more than θ, or (without θ) whose orientation changed at all, and the
 //!   first frame, recompute everything (`revalidations`); without θ such a frame schedules
 //!   nothing, so a turning camera costs what no deferral costs;
