@@ -359,14 +359,8 @@ fn a_killed_run_leaves_the_previous_output_untouched_and_the_next_run_cleans_up(
         child.try_wait().unwrap().is_none(),
         "the long run ended before it could be killed"
     );
-    let staging = dir.path().join(format!(".out.partial-{}", child.id()));
     child.kill().unwrap();
     child.wait().unwrap();
-    assert!(
-        !staging.exists(),
-        "the run had started writing: this test is about a kill before that (the next test \
-         kills while writing)"
-    );
     assert!(
         read() == before,
         "the killed run touched the previous output"
@@ -655,10 +649,117 @@ fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() 
         .expect("a file is in the way")
         .to_string();
     assert!(
-        error.contains("out: cannot write the output: a file (not a folder) is in the way"),
+        error.contains("out: a file (not a folder) is in the way of the output folder"),
         "{error}"
     );
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "the user's notes");
     let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
     assert_eq!(names.len(), 2, "only the experiment and the file");
+}
+
+/// Records whether the simulation started.
+struct StartWatch(std::sync::atomic::AtomicBool);
+
+impl roamsim::edge::session::ProgressSink for StartWatch {
+    fn start(&self, _: u64) {
+        self.0.store(true, std::sync::atomic::Ordering::SeqCst);
+    }
+    fn advance(&self, _: u64) {}
+    fn finish(&self) {}
+}
+
+fn run_refused(experiment: &Path, out: &Path) -> String {
+    let watch = StartWatch(std::sync::atomic::AtomicBool::new(false));
+    let options = RunOptions {
+        out_dir: Some(out.to_path_buf()),
+        check_meshes: false,
+        threads: Some(1),
+    };
+    let error = run_experiment(experiment, &options, &watch)
+        .err()
+        .expect("the output location is refused")
+        .to_string();
+    assert!(
+        !watch.0.load(std::sync::atomic::Ordering::SeqCst),
+        "refused only after simulating: {error}"
+    );
+    error
+}
+
+#[test]
+fn a_folder_roamsim_did_not_write_is_refused_before_the_run_and_kept_whole() {
+    // The issue's case: --out names, by its absolute path, the folder holding the experiment,
+    // notes and data in a sub-folder.
+    let dir = tempfile::tempdir().unwrap();
+    let project = dir.path().join("project");
+    std::fs::create_dir_all(project.join("data")).unwrap();
+    let experiment = save(&project, "short", &short_quickstart(3));
+    std::fs::write(project.join("notes.txt"), "my notes").unwrap();
+    std::fs::write(project.join("data/heights.asc"), "ncols 2").unwrap();
+    let absolute = project.canonicalize().unwrap();
+    let error = run_refused(&experiment, &absolute);
+    assert!(error.contains("is not a roamsim output"), "{error}");
+    assert!(error.contains("choose another --out"), "{error}");
+    let mut names: Vec<String> = walk(&project)
+        .iter()
+        .map(|p| p.strip_prefix(&project).unwrap().display().to_string())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["data/heights.asc", "notes.txt", "short.json"]);
+    let beside: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
+    assert_eq!(beside.len(), 1, "nothing staged beside the folder");
+}
+
+#[test]
+fn a_roamsim_output_is_replaced_but_not_once_the_user_added_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let short = save(dir.path(), "short", &short_quickstart(3));
+    run_to(&short, &out, false);
+    run_to(&short, &out, false); // its own output: replaced
+    assert!(out.join(".roamsim-output").is_file());
+    std::fs::write(out.join("plots/annotated.txt"), "mine").unwrap();
+    let error = run_refused(&short, &out);
+    assert!(error.contains("`plots/annotated.txt`"), "{error}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("plots/annotated.txt")).unwrap(),
+        "mine"
+    );
+}
+
+#[test]
+fn an_output_path_that_cannot_be_created_is_refused_before_the_run_naming_the_cause() {
+    let dir = tempfile::tempdir().unwrap();
+    let short = save(dir.path(), "short", &short_quickstart(3));
+    std::fs::write(dir.path().join("a-file"), "x").unwrap();
+    let error = run_refused(&short, &dir.path().join("a-file/results/out"));
+    assert!(
+        error.contains("a-file is a file, not a folder"),
+        "{error}"
+    );
+    if Path::new("/proc/self").is_dir() {
+        let error = run_refused(&short, Path::new("/proc/roamsim-out"));
+        assert!(
+            error.starts_with("/proc/roamsim-out: cannot create the output folder: /proc does \
+                               not accept new folders"),
+            "{error}"
+        );
+    }
+}
+
+#[test]
+fn zero_threads_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let short = save(dir.path(), "short", &short_quickstart(3));
+    let options = RunOptions {
+        out_dir: Some(dir.path().join("out")),
+        check_meshes: false,
+        threads: Some(0),
+    };
+    let error = run_experiment(&short, &options, &NoProgress)
+        .err()
+        .expect("zero threads")
+        .to_string();
+    assert!(error.contains("--threads must be at least 1"), "{error}");
+    assert!(!dir.path().join("out").exists());
 }

@@ -12,7 +12,7 @@
 //! whole folder is staged and moved into place only when every point has succeeded.
 
 use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
-use crate::edge::output::atomic_dir::{StagedDir, check_destination};
+use crate::edge::output::atomic_dir::{CommitError, OutputLocationError, StagedDir};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
@@ -87,7 +87,13 @@ pub enum RunFailure {
         source: std::io::Error,
     },
     #[error("{0}")]
+    OutputLocation(#[from] OutputLocationError),
+    #[error("{0}")]
+    Commit(#[from] CommitError),
+    #[error("{0}")]
     Plot(#[from] PlotError),
+    #[error("--threads must be at least 1 (leave it out for one thread per core)")]
+    ZeroThreads,
     #[error("cannot start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
 }
@@ -105,15 +111,12 @@ pub fn run_experiment(
         .out_dir
         .clone()
         .unwrap_or_else(|| Path::new("out").join(plan.name()));
-    // Before simulating: a run must not find out at the end that it cannot write.
-    check_destination(&out_dir).map_err(|source| RunFailure::Output {
-        path: out_dir.clone(),
-        source,
-    })?;
+    if options.threads == Some(0) {
+        return Err(RunFailure::ZeroThreads);
+    }
     let threads = options
         .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-        .max(1);
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -121,8 +124,9 @@ pub fn run_experiment(
             threads,
             message: e.to_string(),
         })?;
-    // Staged when the first point has run, so that a staging folder means outputs are being written.
-    let mut staged: Option<StagedDir> = None;
+    // Before simulating: a run must not find out at the end that it cannot write, nor replace a
+    // folder it did not write. The staging folder is made now and filled as points finish.
+    let staging = StagedDir::new(&out_dir)?;
     let mut outcome = RunOutcome {
         out_dir: out_dir.clone(),
         experiment_name: plan.name().to_string(),
@@ -150,12 +154,7 @@ pub fn run_experiment(
             Some(choice) => point_folder(choice),
             None => String::new(),
         };
-        let staging = match staged.take() {
-            Some(staging) => staging,
-            None => StagedDir::new(&out_dir).map_err(io_error(&out_dir))?,
-        };
         let point_dir = staging.path().join(&folder);
-        staged = Some(staging);
         let figures = write_outputs(&context, &point.results, &point_dir)?;
         outcome.frames += experiment.flight.n_frames();
         outcome.preprocessing_seconds += point.preprocessing.seconds;
@@ -175,7 +174,7 @@ pub fn run_experiment(
             });
         }
     }
-    if let (true, Some(staging)) = (plan.is_sweep(), &staged) {
+    if plan.is_sweep() {
         let top = staging.path();
         let sweep = SweepRun {
             name: plan.name(),
@@ -195,9 +194,7 @@ pub fn run_experiment(
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
         write_sweep_plots(&plots, &sweep)?;
     }
-    if let Some(staged) = staged {
-        staged.commit().map_err(io_error(&out_dir))?;
-    }
+    staging.commit()?;
     Ok(outcome)
 }
 

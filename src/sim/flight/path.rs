@@ -8,8 +8,10 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 /// Where the camera looks.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Look {
-    /// Yaw follows the horizontal direction of motion (kept from the last moving frame while
-    /// hovering); pitch is fixed.
+    /// Yaw follows the horizontal direction of motion: the path's own tangent at the frame
+    /// (its derivative, not a difference of frames, so that frame k of a flight does not depend
+    /// on how many frames follow it), kept from the last moving frame while hovering; pitch is
+    /// fixed.
     AlongPath { pitch: f64 },
     /// Always at a world point.
     At { target: DVec3 },
@@ -91,13 +93,7 @@ pub(super) fn evaluate(
             Look::Fixed { yaw, pitch } => (yaw, pitch),
             Look::At { target } => look_at(position, target),
             Look::AlongPath { pitch } => {
-                let motion = if f + 1 < positions.len() {
-                    positions[f + 1] - position
-                } else if f > 0 {
-                    position - positions[f - 1]
-                } else {
-                    DVec3::ZERO
-                };
+                let motion = velocity(path, f as u64, n_frames);
                 if motion.truncate().length_squared() > 0.0 {
                     last_yaw = motion.y.atan2(motion.x);
                 }
@@ -169,6 +165,86 @@ fn position(path: &FlightPath, frame: u64, n_frames: u64) -> DVec3 {
     }
 }
 
+/// The path's velocity at `frame` (metres per frame; only its direction is used): the derivative
+/// of [`position`], evaluated from the path alone. At a waypoint the outgoing segment's (the
+/// incoming one's at the last).
+fn velocity(path: &FlightPath, frame: u64, n_frames: u64) -> DVec3 {
+    let f = frame as f64;
+    // dt/dframe of the paths parameterised over the whole flight.
+    let rate = if n_frames > 1 {
+        1.0 / (n_frames - 1) as f64
+    } else {
+        0.0
+    };
+    match path {
+        FlightPath::Circle {
+            radius,
+            frames_per_lap,
+            phase,
+            ..
+        } => {
+            let angular = TAU / frames_per_lap;
+            let (s, c) = (phase + angular * f).sin_cos();
+            DVec3::new(-radius * angular * s, radius * angular * c, 0.0)
+        }
+        FlightPath::Line { from, to } => (*to - *from) * rate,
+        FlightPath::Spiral {
+            radius_start,
+            radius_end,
+            altitude_start,
+            altitude_end,
+            turns,
+            phase,
+            ..
+        } => {
+            let t = f * rate;
+            let angle = phase + TAU * turns * t;
+            let radius = radius_start + (radius_end - radius_start) * t;
+            let (d_radius, d_angle) = (radius_end - radius_start, TAU * turns);
+            let (s, c) = angle.sin_cos();
+            DVec3::new(
+                d_radius * c - radius * d_angle * s,
+                d_radius * s + radius * d_angle * c,
+                altitude_end - altitude_start,
+            ) * rate
+        }
+        FlightPath::Waypoints {
+            points,
+            interpolation,
+        } => waypoint_velocity(points, *interpolation, frame),
+        // Recorded flights carry their own yaw; `evaluate` returns them before looking.
+        FlightPath::Recorded { .. } => DVec3::ZERO,
+    }
+}
+
+/// The derivative of [`waypoint_position`] in metres per frame.
+fn waypoint_velocity(points: &[Waypoint], interpolation: Interpolation, frame: u64) -> DVec3 {
+    let k = points
+        .partition_point(|w| w.frame <= frame)
+        .saturating_sub(1)
+        .min(points.len() - 2);
+    let (a, b) = (points[k], points[k + 1]);
+    let duration = (b.frame - a.frame) as f64;
+    let u = ((frame.min(b.frame) - a.frame) as f64 / duration).min(1.0);
+    match interpolation {
+        Interpolation::Linear => (b.position - a.position) / duration,
+        Interpolation::CatmullRom => {
+            let tangent = |index: usize| {
+                let before = points[index.saturating_sub(1)];
+                let after = points[(index + 1).min(points.len() - 1)];
+                (after.position - before.position) / (after.frame - before.frame) as f64
+            };
+            let (m0, m1) = (tangent(k) * duration, tangent(k + 1) * duration);
+            let u2 = u * u;
+            (a.position * (6.0 * u2 - 6.0 * u)
+                + m0 * (3.0 * u2 - 4.0 * u + 1.0)
+                + b.position * (-6.0 * u2 + 6.0 * u)
+                + m1 * (3.0 * u2 - 2.0 * u))
+                / duration
+        }
+    }
+}
+
 fn check_waypoints(points: &[Waypoint]) -> Result<(), FlightError> {
     if points.len() < 2 {
         return Err(FlightError::TooFewWaypoints);
@@ -223,6 +299,65 @@ mod tests {
     use super::super::{Flight, speed_violations};
     use super::*;
     use crate::sim::zone::SpeedBound;
+
+    #[test]
+    fn a_frame_of_a_circle_does_not_depend_on_how_many_frames_follow_it() {
+        let path = FlightPath::Circle {
+            centre: DVec2::new(500.0, 500.0),
+            radius: 300.0,
+            altitude: 900.0,
+            frames_per_lap: 400.0,
+            phase: 0.3,
+        };
+        let look = Look::AlongPath { pitch: -0.3 };
+        let short = evaluate(&path, &look, 100).unwrap();
+        let long = evaluate(&path, &look, 101).unwrap();
+        assert_eq!(short[..], long[..100]);
+        // The yaw is the tangent's: a quarter turn ahead of the angle from the centre.
+        let last = short[99];
+        let angle = 0.3 + TAU * 99.0 / 400.0;
+        let expected = (angle + FRAC_PI_2).sin().atan2((angle + FRAC_PI_2).cos());
+        assert!(
+            (last.yaw - expected).abs() < 1e-12,
+            "{} vs {expected}",
+            last.yaw
+        );
+    }
+
+    #[test]
+    fn waypoint_directions_are_the_curves_derivatives() {
+        let points = vec![
+            Waypoint {
+                frame: 0,
+                position: DVec3::new(0.0, 0.0, 100.0),
+            },
+            Waypoint {
+                frame: 40,
+                position: DVec3::new(400.0, 100.0, 120.0),
+            },
+            Waypoint {
+                frame: 100,
+                position: DVec3::new(300.0, 700.0, 90.0),
+            },
+        ];
+        for interpolation in [Interpolation::Linear, Interpolation::CatmullRom] {
+            for frame in [5u64, 39, 41, 70, 99] {
+                let v = waypoint_velocity(&points, interpolation, frame);
+                let next = waypoint_position(&points, interpolation, frame + 1);
+                let numeric = if interpolation == Interpolation::Linear {
+                    // Straight segments: one frame's step is the velocity exactly.
+                    next - waypoint_position(&points, interpolation, frame)
+                } else {
+                    // Smooth inside a segment: the central difference is close.
+                    (next - waypoint_position(&points, interpolation, frame - 1)) / 2.0
+                };
+                assert!(
+                    (v - numeric).length() < 0.05 * numeric.length().max(1.0),
+                    "{interpolation:?} frame {frame}: {v} vs {numeric}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn a_circle_returns_to_its_start_after_one_lap_and_looks_ahead() {
