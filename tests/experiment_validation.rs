@@ -316,3 +316,49 @@ fn popping_is_an_option_of_the_audit() {
         "unknown field `popping`, expected `audit` or `culling`",
     );
 }
+
+/// A 9 × 9 ESRI ASCII grid of 3-arc-second cells at 8.5° E, 47° N, written into `dir`.
+fn degree_grid(dir: &std::path::Path) -> std::path::PathBuf {
+    let mut text =
+        String::from("ncols 9\nnrows 9\nxllcorner 8.5\nyllcorner 47.0\ncellsize 0.000833333333\n");
+    for j in 0..9 {
+        let row: Vec<String> = (0..9).map(|i| (400 + 3 * i + 5 * j).to_string()).collect();
+        text.push_str(&(row.join(" ") + "\n"));
+    }
+    let path = dir.join("grid.asc");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_grid_in_degrees_is_never_read_as_metres_without_a_word() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = degree_grid(dir.path());
+    let mut experiment = quickstart();
+    experiment["terrain"] = json!({"file": {"path": grid.display().to_string(), "fit": "pad"}});
+    let path = save(dir.path(), "degrees", &experiment);
+    let error = load(&path)
+        .err()
+        .expect("refused without a .prj")
+        .to_string();
+    assert!(error.contains("terrain.file.spacing_m"), "{error}");
+    assert!(error.contains("looks like degrees"), "{error}");
+
+    std::fs::write(
+        dir.path().join("grid.prj"),
+        "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\"],UNIT[\"degree\",0.0174532925199433]]",
+    )
+    .unwrap();
+    let loaded = load(&path).expect("converted with the .prj");
+    let spacing = loaded.terrain.spacing;
+    assert!((spacing.dy - 92.6).abs() < 0.1, "{spacing:?}");
+    assert!((spacing.dx - 63.1).abs() < 0.2, "{spacing:?}");
+    assert!(
+        loaded
+            .terrain
+            .spacing_from
+            .contains("geographic, from the .prj"),
+        "{}",
+        loaded.terrain.spacing_from
+    );
+}

@@ -733,15 +733,14 @@ fn an_output_path_that_cannot_be_created_is_refused_before_the_run_naming_the_ca
     let short = save(dir.path(), "short", &short_quickstart(3));
     std::fs::write(dir.path().join("a-file"), "x").unwrap();
     let error = run_refused(&short, &dir.path().join("a-file/results/out"));
-    assert!(
-        error.contains("a-file is a file, not a folder"),
-        "{error}"
-    );
+    assert!(error.contains("a-file is a file, not a folder"), "{error}");
     if Path::new("/proc/self").is_dir() {
         let error = run_refused(&short, Path::new("/proc/roamsim-out"));
         assert!(
-            error.starts_with("/proc/roamsim-out: cannot create the output folder: /proc does \
-                               not accept new folders"),
+            error.starts_with(
+                "/proc/roamsim-out: cannot create the output folder: /proc does \
+                               not accept new folders"
+            ),
             "{error}"
         );
     }

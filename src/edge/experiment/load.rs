@@ -78,8 +78,9 @@ pub struct TerrainReport {
     pub crop_origin: Option<(usize, usize)>,
     pub voids_filled: usize,
     pub spacing: Spacing,
-    /// `file`, `experiment` or `synthetic`.
-    pub spacing_from: &'static str,
+    /// `file`, `experiment` or `synthetic`; a converted file spacing says how (`file: cell size
+    /// … (geographic, from the .prj) converted at …`).
+    pub spacing_from: String,
     pub height_min_m: f32,
     pub height_max_m: f32,
 }
@@ -125,7 +126,7 @@ pub(super) fn load_terrain(
                 crop_origin: None,
                 voids_filled: 0,
                 spacing,
-                spacing_from: "synthetic",
+                spacing_from: "synthetic".to_string(),
                 height_min_m: lo,
                 height_max_m: hi,
             };
@@ -156,14 +157,24 @@ pub(super) fn load_terrain(
             let loaded =
                 read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
             let (spacing, spacing_from) = match (file.spacing_m, loaded.spacing) {
-                (Some(s), _) => (Spacing { dx: s.dx, dy: s.dy }, "experiment"),
-                (None, Some(s)) => (s, "file"),
+                (Some(s), _) => (Spacing { dx: s.dx, dy: s.dy }, "experiment".to_string()),
+                (None, Some(s)) => (
+                    s,
+                    match &loaded.spacing_note {
+                        Some(note) => format!("file: {note}"),
+                        None => "file".to_string(),
+                    },
+                ),
                 (None, None) => {
+                    let why = match &loaded.spacing_note {
+                        Some(note) => note.clone(),
+                        None => "it does not declare its grid spacing".to_string(),
+                    };
                     return Err(ExperimentError::single(
                         experiment,
                         "terrain.file.spacing_m",
                         format!(
-                            "{} does not declare its grid spacing: expected spacing_m {{dx, dy}} in metres",
+                            "{}: {why}: expected spacing_m {{dx, dy}} in metres",
                             path.display()
                         ),
                     ));

@@ -3,26 +3,39 @@
 //!
 //! Header keys are case-insensitive and may come in any order: `ncols`, `nrows`, `xllcorner` or
 //! `xllcenter`, `yllcorner` or `yllcenter`, `cellsize` (or `dx` and `dy`), and optionally
-//! `NODATA_value`. The cell size is taken to be in metres: the format does not say, and the
-//! reader does not look for a `.prj` file. The position (`xll…`, `yll…`) is checked but unused.
+//! `NODATA_value`.
+//!
+//! **Units.** The format does not say what unit the cell size is in. A `.prj` file beside the
+//! grid (read by `read_terrain`; the fuzz targets pass none) decides: when it declares a
+//! geographic coordinate system (WKT `GEOGCS` with no `PROJCS`, or the old ESRI `Projection
+//! GEOGRAPHIC`), the cell size is in degrees and is converted to metres at the latitude of the
+//! grid's centre, as SRTM tiles are, and the conversion is reported. Otherwise the cell size is
+//! taken to be metres (a projected `.prj` is believed; its linear unit is not read) — except,
+//! when there is no `.prj`, where it looks like degrees: a cell under 0.01 with the corner and
+//! the far edges inside longitude and latitude ranges. Such a grid gets no spacing and a note
+//! that says why, so that the run asks for `spacing_m` (or a `.prj`) instead of silently flying
+//! over a terrain a hundred thousand times too small.
 //!
 //! Values may be separated by any whitespace. When the file has exactly one line per row, each
 //! line must hold `ncols` values and a short row is named as such; otherwise (rows wrapped over
 //! several lines) the values are read as one stream and only their total is checked.
 
 use super::{
-    FileRowOrder, ReadOptions, SampleCollector, StoredPrecision, TerrainReadError,
-    describe_position,
+    FileRowOrder, METRES_PER_DEGREE_LATITUDE, ReadOptions, SampleCollector, StoredPrecision,
+    TerrainReadError, describe_position,
 };
 use crate::sim::terrain::{SampleGrid, Spacing};
 use std::path::Path;
 
-/// Reads an ESRI ASCII grid; the spacing is the cell size (assumed metres).
+/// Reads an ESRI ASCII grid; the spacing is the cell size in metres, or converted from degrees
+/// when the `.prj` text says the grid is geographic (see the module documentation), with a note
+/// saying how it was read or why there is none.
 pub(super) fn read(
     path: &Path,
     bytes: &[u8],
     options: &ReadOptions,
-) -> Result<(SampleGrid, Option<Spacing>), TerrainReadError> {
+    prj: Option<&str>,
+) -> Result<(SampleGrid, Option<Spacing>, Option<String>), TerrainReadError> {
     let lines: Vec<TextLine<'_>> = bytes
         .split(|&byte| byte == b'\n')
         .enumerate()
@@ -110,7 +123,75 @@ pub(super) fn read(
         collector.push(value)?;
     }
     let grid = collector.finish()?;
-    Ok((grid, Some(header.spacing)))
+    let (spacing, note) = units(path, &header, prj)?;
+    Ok((grid, spacing, note))
+}
+
+/// Whether a `.prj` text declares a geographic (longitude/latitude) coordinate system.
+fn prj_is_geographic(prj: &str) -> bool {
+    let upper = prj.to_ascii_uppercase();
+    let wkt_geographic = upper.contains("GEOGCS") && !upper.contains("PROJCS");
+    let esri_geographic = upper.lines().any(|line| {
+        let mut words = line.split_whitespace();
+        words.next() == Some("PROJECTION") && words.next() == Some("GEOGRAPHIC")
+    });
+    wkt_geographic || esri_geographic
+}
+
+/// The spacing in metres and a note: degrees converted when the `.prj` says geographic, metres
+/// otherwise, none when the numbers look like degrees and nothing says so.
+fn units(
+    path: &Path,
+    header: &AsciiGridHeader,
+    prj: Option<&str>,
+) -> Result<(Option<Spacing>, Option<String>), TerrainReadError> {
+    let Spacing { dx, dy } = header.spacing;
+    // The south-west corner of the south-west cell.
+    let (west, south) = header.lower_left_corner;
+    let (east, north) = (
+        west + dx * header.columns as f64,
+        south + dy * header.rows as f64,
+    );
+    if prj.is_some_and(prj_is_geographic) {
+        let centre_latitude = (south + north) / 2.0;
+        if !(-90.0..=90.0).contains(&south) || !(-90.0..=90.0).contains(&north) {
+            return Err(TerrainReadError::new(
+                path,
+                format!(
+                    "the .prj says the grid is geographic, but its rows span latitudes \
+                     {south}° to {north}° (yll… and nrows × cellsize); expected −90° to 90°"
+                ),
+            ));
+        }
+        let spacing = Spacing {
+            dx: dx * METRES_PER_DEGREE_LATITUDE * centre_latitude.to_radians().cos(),
+            dy: dy * METRES_PER_DEGREE_LATITUDE,
+        };
+        let note = format!(
+            "cell size {dx}° × {dy}° (geographic, from the .prj) converted at the grid's centre \
+             latitude {centre_latitude:.4}°: {:.3} m × {:.3} m",
+            spacing.dx, spacing.dy
+        );
+        return Ok((Some(spacing), Some(note)));
+    }
+    let looks_like_degrees = prj.is_none()
+        && dx < 0.01
+        && dy < 0.01
+        && (-180.0..=360.0).contains(&west)
+        && (-180.0..=360.0).contains(&east)
+        && (-90.0..=90.0).contains(&south)
+        && (-90.0..=90.0).contains(&north);
+    if looks_like_degrees {
+        let note = format!(
+            "its cell size {dx} looks like degrees, not metres (the grid's corners lie within \
+             longitude and latitude ranges, and no terrain grid has cells of a centimetre), and \
+             there is no .prj beside it saying GEOGCS; put the grid's .prj beside it (the cell \
+             size is then converted at the grid's latitude) or give spacing_m in metres"
+        );
+        // (A projected `.prj` is taken at its word: metres, whatever the numbers.)
+        return Ok((None, Some(note)));
+    }
+    Ok((Some(header.spacing), None))
 }
 
 /// A line of the file that holds at least one token. Lines keep their text rather than their
@@ -133,7 +214,11 @@ fn tokens_of(text: &[u8]) -> impl Iterator<Item = &[u8]> {
 struct AsciiGridHeader {
     columns: usize,
     rows: usize,
+    /// The cell size, in the file's unit (metres or degrees).
     spacing: Spacing,
+    /// x and y of the south-west corner of the south-west cell (from `…corner`, or `…center`
+    /// less half a cell), in the file's unit.
+    lower_left_corner: (f64, f64),
     nodata: Option<f64>,
 }
 
@@ -222,7 +307,12 @@ fn parse_header(
         "nrows",
         value_of("nrows").ok_or_else(|| missing("nrows"))?,
     )?;
-    for (corner, centre) in [("xllcorner", "xllcenter"), ("yllcorner", "yllcenter")] {
+    // x then y: (value, given as a cell centre).
+    let mut lower_left = [(0.0, false); 2];
+    for (axis, (corner, centre)) in [("xllcorner", "xllcenter"), ("yllcorner", "yllcenter")]
+        .into_iter()
+        .enumerate()
+    {
         match (value_of(corner), value_of(centre)) {
             (Some(_), Some((_, line_number))) => {
                 return Err(TerrainReadError::new(
@@ -234,10 +324,10 @@ fn parse_header(
                 ));
             }
             (Some(value), None) => {
-                finite_number(path, corner, value)?;
+                lower_left[axis] = (finite_number(path, corner, value)?, false);
             }
             (None, Some(value)) => {
-                finite_number(path, centre, value)?;
+                lower_left[axis] = (finite_number(path, centre, value)?, true);
             }
             (None, None) => return Err(missing(&format!("{corner} or {centre}"))),
         }
@@ -275,10 +365,17 @@ fn parse_header(
         })?),
         None => None,
     };
+    let corner = |(value, is_centre): (f64, bool), cell: f64| {
+        if is_centre { value - cell / 2.0 } else { value }
+    };
     let header = AsciiGridHeader {
         columns,
         rows,
         spacing,
+        lower_left_corner: (
+            corner(lower_left[0], spacing.dx),
+            corner(lower_left[1], spacing.dy),
+        ),
         nodata,
     };
     Ok((header, n_header_lines))
@@ -373,11 +470,73 @@ mod tests {
         "ncols 4\nnrows 3\nxllcorner 100.0\nyllcorner 200.0\ncellsize 30\nNODATA_value -9999\n";
 
     fn read_asc(text: &str) -> Result<(SampleGrid, Option<Spacing>), TerrainReadError> {
+        read_asc_beside(text, None).map(|(grid, spacing, _)| (grid, spacing))
+    }
+
+    fn read_asc_beside(
+        text: &str,
+        prj: Option<&str>,
+    ) -> Result<(SampleGrid, Option<Spacing>, Option<String>), TerrainReadError> {
         read(
             Path::new("grid.asc"),
             text.as_bytes(),
             &ReadOptions::AS_STORED,
+            prj,
         )
+    }
+
+    /// A 3 × 3 grid of 3-arc-second cells whose south-west corner is at 8.5° E, 47° N.
+    const DEGREES: &str = "ncols 3\nnrows 3\nxllcorner 8.5\nyllcorner 47.0\n\
+                           cellsize 0.000833333333\n1 2 3\n4 5 6\n7 8 9\n";
+
+    #[test]
+    fn a_grid_in_degrees_with_a_geographic_prj_is_converted_at_its_latitude_and_says_so() {
+        let prj = "GEOGCS[\"GCS_WGS_1984\",DATUM[\"D_WGS_1984\",SPHEROID[\"WGS_1984\",6378137,298.257223563]],PRIMEM[\"Greenwich\",0],UNIT[\"Degree\",0.017453292519943295]]";
+        let (_, spacing, note) = read_asc_beside(DEGREES, Some(prj)).unwrap();
+        let spacing = spacing.expect("converted");
+        let cell = 0.000833333333;
+        let latitude = 47.0 + 1.5 * cell;
+        assert!((spacing.dy - cell * METRES_PER_DEGREE_LATITUDE).abs() < 1e-9);
+        assert!(
+            (spacing.dx - cell * METRES_PER_DEGREE_LATITUDE * latitude.to_radians().cos()).abs()
+                < 1e-9
+        );
+        assert!((spacing.dy - 92.6).abs() < 0.1, "{spacing:?}");
+        let note = note.expect("the conversion is reported");
+        assert!(note.contains("geographic, from the .prj"), "{note}");
+        let old_style = "Projection    GEOGRAPHIC\nDatum         WGS84\nUnits         DD\n";
+        assert_eq!(
+            read_asc_beside(DEGREES, Some(old_style)).unwrap().1,
+            Some(spacing)
+        );
+    }
+
+    #[test]
+    fn a_grid_that_looks_like_degrees_without_a_prj_gets_no_spacing_and_a_reason() {
+        let (_, spacing, note) = read_asc_beside(DEGREES, None).unwrap();
+        assert_eq!(spacing, None, "never 0.0008 m cells without a word");
+        let note = note.expect("a reason");
+        assert!(note.contains("looks like degrees"), "{note}");
+        assert!(note.contains("spacing_m"), "{note}");
+        // A projected .prj keeps the numbers as metres… and a centimetre grid of metres is
+        // still suspicious only without one.
+        let projected = "PROJCS[\"UTM 32N\",GEOGCS[\"WGS 84\"],UNIT[\"metre\",1]]";
+        let (_, spacing, _) = read_asc_beside(DEGREES, Some(projected)).unwrap();
+        assert_eq!(
+            spacing,
+            Some(Spacing {
+                dx: 0.000833333333,
+                dy: 0.000833333333
+            })
+        );
+    }
+
+    #[test]
+    fn a_metre_grid_near_the_origin_stays_in_metres() {
+        let text = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 30\n1 2 3\n4 5 6\n7 8 9\n";
+        let (_, spacing, note) = read_asc_beside(text, None).unwrap();
+        assert_eq!(spacing, Some(Spacing { dx: 30.0, dy: 30.0 }));
+        assert_eq!(note, None);
     }
 
     fn error_of(text: &str) -> String {

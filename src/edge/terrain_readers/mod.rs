@@ -86,6 +86,9 @@ pub struct LoadedTerrain {
     pub grid: SampleGrid,
     /// Spacing the file declares (in metres), if it declares one.
     pub spacing: Option<Spacing>,
+    /// How the spacing was read when it was converted (a geographic grid: degrees at a
+    /// latitude), or why the file's own cell size was not taken: for the user, said aloud.
+    pub spacing_note: Option<String>,
     pub format: TerrainFormat,
 }
 
@@ -140,7 +143,15 @@ pub fn read_terrain(
 ) -> Result<LoadedTerrain, TerrainReadError> {
     let bytes = std::fs::read(path)
         .map_err(|error| TerrainReadError::new(path, format!("cannot read the file: {error}")))?;
-    read_terrain_bytes(path, &bytes, format, options)
+    // An ESRI ASCII grid says nothing of its units; the `.prj` beside it (when there is one)
+    // says whether its cell size is in degrees.
+    let prj = match format {
+        TerrainFormat::AsciiGrid => std::fs::read(path.with_extension("prj"))
+            .ok()
+            .map(|bytes| String::from_utf8_lossy(&bytes).into_owned()),
+        _ => None,
+    };
+    read_with_sidecar(path, &bytes, format, options, prj.as_deref())
 }
 
 /// Reads a terrain file's bytes, already in memory, in the given format. `path` only names the
@@ -152,18 +163,36 @@ pub fn read_terrain_bytes(
     format: TerrainFormat,
     options: &ReadOptions,
 ) -> Result<LoadedTerrain, TerrainReadError> {
-    let (grid, spacing) = match format {
-        TerrainFormat::Hgt => hgt::read(path, bytes, options)?,
-        TerrainFormat::Png => png::read(path, bytes, options)?,
-        TerrainFormat::GeoTiff => geotiff::read(path, bytes, options)?,
-        TerrainFormat::AsciiGrid => ascii_grid::read(path, bytes, options)?,
-        TerrainFormat::Raw(layout) => raw::read(path, bytes, &layout, options)?,
+    read_with_sidecar(path, bytes, format, options, None)
+}
+
+/// [`read_terrain_bytes`] with the text of an ASCII grid's `.prj` sidecar, if any.
+fn read_with_sidecar(
+    path: &Path,
+    bytes: &[u8],
+    format: TerrainFormat,
+    options: &ReadOptions,
+    prj: Option<&str>,
+) -> Result<LoadedTerrain, TerrainReadError> {
+    let (grid, spacing, spacing_note) = match format {
+        TerrainFormat::Hgt => with_no_note(hgt::read(path, bytes, options)?),
+        TerrainFormat::Png => with_no_note(png::read(path, bytes, options)?),
+        TerrainFormat::GeoTiff => with_no_note(geotiff::read(path, bytes, options)?),
+        TerrainFormat::AsciiGrid => ascii_grid::read(path, bytes, options, prj)?,
+        TerrainFormat::Raw(layout) => with_no_note(raw::read(path, bytes, &layout, options)?),
     };
     Ok(LoadedTerrain {
         grid,
         spacing,
+        spacing_note,
         format,
     })
+}
+
+fn with_no_note(
+    (grid, spacing): (SampleGrid, Option<Spacing>),
+) -> (SampleGrid, Option<Spacing>, Option<String>) {
+    (grid, spacing, None)
 }
 
 // ---------------------------------------------------------------------------------------------
