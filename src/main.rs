@@ -184,6 +184,7 @@ fn run(
         out_dir: out,
         check_meshes: check,
         threads,
+        command_line: Some(std::env::args().collect()),
     };
     let started = Instant::now();
     let outcome = if std::io::stderr().is_terminal() {
@@ -204,12 +205,20 @@ fn run(
         );
     }
     println!(
-        "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s); wrote {}",
+        "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s){}; wrote {}",
         outcome.experiment_name,
         outcome.frames,
         started.elapsed().as_secs_f64(),
         outcome.threads,
         outcome.preprocessing_seconds,
+        if check {
+            format!(
+                "; --check: every mesh valid after every frame ({} meshes)",
+                outcome.meshes
+            )
+        } else {
+            String::new()
+        },
         outcome.out_dir.display()
     );
     Ok(())

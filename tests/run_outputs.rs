@@ -17,6 +17,7 @@ fn run_with_threads(experiment: &Path, out: &Path, check_meshes: bool, threads: 
         out_dir: Some(out.to_path_buf()),
         check_meshes,
         threads: Some(threads),
+        command_line: None,
     };
     run_experiment(experiment, &options, &NoProgress).unwrap();
 }
@@ -484,6 +485,7 @@ fn a_point_that_cannot_run_is_named_and_nothing_is_written() {
             out_dir: Some(out.clone()),
             check_meshes: false,
             threads: Some(1),
+            command_line: None,
         },
         &NoProgress,
     )
@@ -643,6 +645,7 @@ fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() 
         out_dir: Some(out.clone()),
         check_meshes: false,
         threads: Some(1),
+        command_line: None,
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -674,6 +677,7 @@ fn run_refused(experiment: &Path, out: &Path) -> String {
         out_dir: Some(out.to_path_buf()),
         check_meshes: false,
         threads: Some(1),
+        command_line: None,
     };
     let error = run_experiment(experiment, &options, &watch)
         .err()
@@ -754,6 +758,7 @@ fn zero_threads_is_refused() {
         out_dir: Some(dir.path().join("out")),
         check_meshes: false,
         threads: Some(0),
+        command_line: None,
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -761,4 +766,46 @@ fn zero_threads_is_refused() {
         .to_string();
     assert!(error.contains("--threads must be at least 1"), "{error}");
     assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn summary_json_records_the_command_threads_and_check_and_echoes_inputs_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(3);
+    experiment["view"]["fovy_deg"] = serde_json::json!(60);
+    let path = save(dir.path(), "short", &experiment);
+    let out = dir.path().join("out");
+    let output = Command::new(env!("CARGO_BIN_EXE_roamsim"))
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--check", "--threads", "2"])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{output:?}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("every mesh valid"), "{stdout}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let run = &summary["run"];
+    assert_eq!(run["threads"], 2);
+    assert_eq!(run["check_meshes"], true);
+    let entries = summary["algorithms"].as_array().unwrap().len() as u64;
+    assert_eq!(run["meshes_checked"], 3 * entries);
+    let command: Vec<&str> = run["command_line"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a.as_str().unwrap())
+        .collect();
+    assert_eq!(&command[1..3], ["run", path.to_str().unwrap()]);
+    assert!(command.contains(&"--check"));
+    assert_eq!(
+        summary["view"]["fovy_deg"].as_f64(),
+        Some(60.0),
+        "not 59.99999999999999"
+    );
 }

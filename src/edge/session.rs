@@ -19,7 +19,7 @@ use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
 use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
 use crate::edge::output::run_plots::write_run_plots;
-use crate::edge::output::summary_json::{Preprocessing, summary_json};
+use crate::edge::output::summary_json::{Preprocessing, RunRecord, summary_json};
 use crate::edge::output::sweep_outputs::{
     EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
     write_sweep_plots,
@@ -62,6 +62,8 @@ pub struct RunOptions {
     pub check_meshes: bool,
     /// Threads running algorithm entries side by side; `None`: one per core.
     pub threads: Option<usize>,
+    /// The command line that asked for the run, recorded in `summary.json`.
+    pub command_line: Option<Vec<String>>,
 }
 
 /// What a finished run produced.
@@ -69,6 +71,8 @@ pub struct RunOutcome {
     pub out_dir: PathBuf,
     pub experiment_name: String,
     pub frames: u64,
+    /// (entry, frame) meshes made, over every point.
+    pub meshes: u64,
     pub speed_violation_frames: Vec<u64>,
     pub preprocessing_seconds: f64,
     pub threads: usize,
@@ -127,10 +131,16 @@ pub fn run_experiment(
     // Before simulating: a run must not find out at the end that it cannot write, nor replace a
     // folder it did not write. The staging folder is made now and filled as points finish.
     let staging = StagedDir::new(&out_dir)?;
+    let record = RunRecord {
+        threads,
+        check_meshes: options.check_meshes,
+        command_line: options.command_line.clone(),
+    };
     let mut outcome = RunOutcome {
         out_dir: out_dir.clone(),
         experiment_name: plan.name().to_string(),
         frames: 0,
+        meshes: 0,
         speed_violation_frames: Vec::new(),
         preprocessing_seconds: 0.0,
         threads,
@@ -148,7 +158,7 @@ pub fn run_experiment(
             experiment: &experiment,
             preprocessing: &point.preprocessing,
             hierarchy_bytes: point.hierarchy_bytes,
-            threads,
+            record: &record,
         };
         let folder = match plan.choice(k) {
             Some(choice) => point_folder(choice),
@@ -157,6 +167,7 @@ pub fn run_experiment(
         let point_dir = staging.path().join(&folder);
         let figures = write_outputs(&context, &point.results, &point_dir)?;
         outcome.frames += experiment.flight.n_frames();
+        outcome.meshes += experiment.flight.n_frames() * experiment.algorithms.len() as u64;
         outcome.preprocessing_seconds += point.preprocessing.seconds;
         if k == 0 {
             outcome.speed_violation_frames = point.violation_frames;
@@ -181,7 +192,7 @@ pub fn run_experiment(
             description: plan.description(),
             file: path,
             content_sha256: plan.content_sha256(),
-            threads,
+            record: &record,
             points: &sweep_points,
         };
         let summary_path = top.join("summary.json");
@@ -348,7 +359,7 @@ struct OutputContext<'a> {
     preprocessing: &'a Preprocessing,
     /// Bytes of the shared preprocessed terrain (heights and Wu's node table).
     hierarchy_bytes: f64,
-    threads: usize,
+    record: &'a RunRecord,
 }
 
 /// Writes one point's `frames.csv`, `summary.json`, `report.md` and plots into `dir` (inside the
@@ -387,6 +398,7 @@ fn write_outputs(
     let facts: Vec<_> = results.iter().map(|r| r.facts.clone()).collect();
     let entry_preprocessing: Vec<Preprocessing> = results.iter().map(|r| r.preprocessing).collect();
     let summary = summary_json(
+        context.record,
         experiment,
         preprocessing,
         &runs,
@@ -408,7 +420,7 @@ fn write_outputs(
         runs: &runs,
         names: &names,
         bytes_per_sample: &bytes_per_sample,
-        threads: context.threads,
+        threads: context.record.threads,
         terrain_preprocessing: preprocessing,
         entry_preprocessing: &entry_preprocessing,
     });

@@ -35,6 +35,8 @@ pub struct Experiment {
     pub field: Heightfield,
     pub terrain: TerrainReport,
     pub view: ViewSettings,
+    /// `view.fovy_deg` as the experiment gives it (the view holds radians): echoed as written.
+    pub fovy_deg: f64,
     pub speed: SpeedBound,
     pub flight: Flight,
     pub flight_kind: &'static str,

@@ -182,6 +182,7 @@ impl Plan {
             field,
             terrain,
             view: checked.view,
+            fovy_deg: parsed.view.fovy_deg,
             speed: checked.speed,
             flight,
             flight_kind: path_kind(&parsed.flight.path),

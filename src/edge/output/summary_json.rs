@@ -22,8 +22,34 @@ pub struct Preprocessing {
     pub bytes_per_sample: f64,
 }
 
+/// How the run was made: what `summary.json` records of the command, not of the experiment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunRecord {
+    /// The worker threads running entries side by side.
+    pub threads: usize,
+    /// Whether every mesh was validated after every frame (`--check`). A run whose check fails
+    /// writes nothing, so a written `true` means every mesh passed.
+    pub check_meshes: bool,
+    /// The command line as given (`roamsim run …`), when the run came from one.
+    pub command_line: Option<Vec<String>>,
+}
+
+impl RunRecord {
+    /// The `run` object of `summary.json`; `meshes` is the number of (entry, frame) meshes made.
+    pub fn to_json(&self, meshes: u64) -> Value {
+        json!({
+            "threads": self.threads,
+            "check_meshes": self.check_meshes,
+            "meshes_checked": if self.check_meshes { meshes } else { 0 },
+            "command_line": self.command_line,
+        })
+    }
+}
+
 /// The whole document.
+#[allow(clippy::too_many_arguments)]
 pub fn summary_json(
+    record: &RunRecord,
     experiment: &Experiment,
     preprocessing: &Preprocessing,
     runs: &[RunColumns],
@@ -91,9 +117,11 @@ pub fn summary_json(
             .filter(|v| broke(&v.broken))
             .count()
     };
+    let meshes: u64 = runs.iter().map(|r| r.frames.len() as u64).sum();
     json!({
         "format_version": SUMMARY_FORMAT_VERSION,
         "roamsim_version": env!("CARGO_PKG_VERSION"),
+        "run": record.to_json(meshes),
         "experiment": {
             "name": experiment.name,
             "description": experiment.description,
@@ -123,7 +151,7 @@ pub fn summary_json(
         "view": {
             "width_px": experiment.view.width_px,
             "height_px": experiment.view.height_px,
-            "fovy_deg": experiment.view.fovy.to_degrees(),
+            "fovy_deg": experiment.fovy_deg,
             "near_m": experiment.view.near,
             "far_m": experiment.view.far,
         },

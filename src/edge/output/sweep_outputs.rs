@@ -48,7 +48,7 @@ pub struct SweepRun<'a> {
     pub description: Option<&'a str>,
     pub file: &'a Path,
     pub content_sha256: &'a str,
-    pub threads: usize,
+    pub record: &'a super::summary_json::RunRecord,
     pub points: &'a [SweepPoint],
 }
 
@@ -106,7 +106,7 @@ pub fn sweep_summary_json(run: &SweepRun) -> Value {
             "file": run.file.display().to_string(),
             "content_sha256": run.content_sha256,
         },
-        "threads": run.threads,
+        "run": run.record.to_json(run.points.iter().map(|p| p.frames * p.entries.len() as u64).sum()),
         "points": points,
     })
 }
@@ -148,8 +148,8 @@ pub fn sweep_report_markdown(run: &SweepRun) -> String {
         "Points ran one after another, each from its own preprocessed terrain; entries within a \
          point ran side by side on {} thread(s){}. Each point's own report, frames and plots are \
          in its folder.\n",
-        run.threads,
-        if run.threads > 1 {
+        run.record.threads,
+        if run.record.threads > 1 {
             " (for timing comparisons run with --threads 1)"
         } else {
             ""
@@ -362,13 +362,20 @@ mod tests {
         }
     }
 
+    const ONE_THREAD: crate::edge::output::summary_json::RunRecord =
+        crate::edge::output::summary_json::RunRecord {
+            threads: 1,
+            check_meshes: false,
+            command_line: None,
+        };
+
     fn run(points: &[SweepPoint]) -> SweepRun<'_> {
         SweepRun {
             name: "scaling",
             description: None,
             file: Path::new("scaling.json"),
             content_sha256: "00",
-            threads: 1,
+            record: &ONE_THREAD,
             points,
         }
     }
