@@ -204,6 +204,9 @@ fn run(
             if frames.len() > 10 { ", …" } else { "" }
         );
     }
+    for flag in &outcome.goal_flags {
+        eprintln!("warning: {flag} (report.md, \"Budgets and targets\")");
+    }
     println!(
         "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s){}; wrote {}",
         outcome.experiment_name,

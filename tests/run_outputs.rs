@@ -809,3 +809,28 @@ fn summary_json_records_the_command_threads_and_check_and_echoes_inputs_as_writt
         "not 59.99999999999999"
     );
 }
+
+#[test]
+fn a_budget_the_entry_does_not_hold_is_flagged_in_the_report_and_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(20);
+    experiment["algorithms"] = serde_json::json!([
+        // 64² patches of at least two triangles each cannot come down to 100 triangles.
+        {"name": "geomipmap", "label": "unreachable", "patch_level": 4, "target_triangles": 100},
+        {"name": "reference", "tau_px": 2}
+    ]);
+    let path = save(dir.path(), "budgets", &experiment);
+    let out = dir.path().join("out");
+    run_to(&path, &out, false);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("| unreachable | triangles | 100 |"))
+        .unwrap_or_else(|| panic!("no goal row:\n{report}"));
+    assert!(line.contains("**no**: its mean triangles is"), "{line}");
+    assert!(line.contains("% over the 100 goal"), "{line}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["algorithms"][0]["goal"]["held"], false);
+    assert_eq!(summary["algorithms"][1]["goal"], serde_json::Value::Null);
+}

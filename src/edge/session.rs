@@ -15,6 +15,7 @@ use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::{CommitError, OutputLocationError, StagedDir};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::frames_csv::frames_csv;
+use crate::edge::output::goal_check::{GoalCheck, check_goal};
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
 use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
@@ -73,6 +74,9 @@ pub struct RunOutcome {
     pub frames: u64,
     /// (entry, frame) meshes made, over every point.
     pub meshes: u64,
+    /// Entries that did not hold their budget or target, as `label: why` (a sweep point's
+    /// entries prefixed with the point).
+    pub goal_flags: Vec<String>,
     pub speed_violation_frames: Vec<u64>,
     pub preprocessing_seconds: f64,
     pub threads: usize,
@@ -141,6 +145,7 @@ pub fn run_experiment(
         experiment_name: plan.name().to_string(),
         frames: 0,
         meshes: 0,
+        goal_flags: Vec::new(),
         speed_violation_frames: Vec::new(),
         preprocessing_seconds: 0.0,
         threads,
@@ -168,6 +173,25 @@ pub fn run_experiment(
         let figures = write_outputs(&context, &point.results, &point_dir)?;
         outcome.frames += experiment.flight.n_frames();
         outcome.meshes += experiment.flight.n_frames() * experiment.algorithms.len() as u64;
+        for (spec, result) in experiment.algorithms.iter().zip(&point.results) {
+            let run = RunColumns {
+                label: &spec.label,
+                extra_columns: result.extra_columns,
+                frames: &result.frames,
+            };
+            if let Some(goal) = spec.config.count_goal()
+                && let Some(GoalCheck {
+                    flag: Some(reason), ..
+                }) = check_goal(&run, goal)
+            {
+                let point = choice_label
+                    .as_deref()
+                    .map_or(String::new(), |c| format!("({c}) "));
+                outcome
+                    .goal_flags
+                    .push(format!("{point}{}: {reason}", spec.label));
+            }
+        }
         outcome.preprocessing_seconds += point.preprocessing.seconds;
         if k == 0 {
             outcome.speed_violation_frames = point.violation_frames;

@@ -4,6 +4,7 @@
 pub mod atomic_dir;
 pub mod columns;
 pub mod frames_csv;
+pub mod goal_check;
 pub mod label_placement;
 pub mod mesh_ply;
 pub mod plots;

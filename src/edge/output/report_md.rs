@@ -8,6 +8,9 @@
 //! the definitions are under the tables.
 
 use super::columns::{RunColumns, value};
+use super::goal_check::{
+    FRAME_TOLERANCE, GoalCheck, MEAN_TOLERANCE, STRAY_SHARE, STRAY_STRETCH, check_goal,
+};
 use super::summary_json::Preprocessing;
 use crate::edge::experiment::Experiment;
 use crate::sim::stats::{pareto_front, summarise};
@@ -163,6 +166,7 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
          shared preprocessed terrain (heights and Wu's node table above the finest level, 5 B/sample) plus the \
          algorithm's own state at the end of the run, per height sample."
     );
+    write_goals(&mut out, inputs);
     write_popping(&mut out, inputs.runs);
     write_triangle_lists(&mut out, inputs.runs);
     write_preprocessing(&mut out, inputs);
@@ -190,6 +194,56 @@ fn max_of(run: &RunColumns, column: &str) -> Option<f64> {
 /// A figure with `digits` decimals, or a dash where there is none.
 fn cell(value: Option<f64>, digits: usize) -> String {
     value.map_or("—".to_string(), |v| format!("{v:.digits$}"))
+}
+
+/// How every budget or target entry held its count, with the flags of `goal_check`.
+fn write_goals(out: &mut String, inputs: &ReportInputs) {
+    let checks: Vec<(&str, GoalCheck)> = inputs
+        .experiment
+        .algorithms
+        .iter()
+        .zip(inputs.runs)
+        .filter_map(|(spec, run)| {
+            let goal = spec.config.count_goal()?;
+            Some((run.label, check_goal(run, goal)?))
+        })
+        .collect();
+    if checks.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\n## Budgets and targets\n\n| entry | counted | goal | mean | mean off by | frames > {:.0} % off | longest stretch | held? |\n|---|---|---|---|---|---|---|---|",
+        FRAME_TOLERANCE * 100.0
+    );
+    for (label, check) in &checks {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {:.0} | {:+.1} % | {} of {} | {} | {} |",
+            label.replace('|', "\\|"),
+            check.goal.column,
+            check.goal.target,
+            check.mean,
+            check.mean_deviation * 100.0,
+            check.frames_straying,
+            check.frames,
+            check.longest_stretch,
+            match &check.flag {
+                Some(reason) => format!("**no**: {reason}"),
+                None => "yes".to_string(),
+            }
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nAn entry holds its goal when its mean is within {:.0} % of it, and no more than {:.0} % \
+         of its frames, and fewer than {} consecutive ones, are more than {:.0} % off it \
+         (docs/output-formats.md).",
+        MEAN_TOLERANCE * 100.0,
+        STRAY_SHARE * 100.0,
+        STRAY_STRETCH,
+        FRAME_TOLERANCE * 100.0
+    );
 }
 
 /// Popping per entry, when it was measured.

@@ -3,6 +3,7 @@
 //! `docs/output-formats.md`.
 
 use super::columns::{RunColumns, numeric_columns, value};
+use super::goal_check::check_goal;
 use crate::edge::experiment::Experiment;
 use crate::sim::flight::BrokenBounds;
 use crate::sim::stats::summarise;
@@ -66,7 +67,22 @@ pub fn summary_json(
         .zip(names)
         .zip(facts)
         .zip(entry_preprocessing)
-        .map(|((((run, parameters), name), facts), preprocessing)| {
+        .zip(&experiment.algorithms)
+        .map(|(((((run, parameters), name), facts), preprocessing), spec)| {
+            let goal = spec.config.count_goal().and_then(|goal| {
+                let check = check_goal(run, goal)?;
+                Some(json!({
+                    "column": goal.column,
+                    "target": goal.target,
+                    "mean": check.mean,
+                    "mean_deviation": check.mean_deviation,
+                    "frames_straying": check.frames_straying,
+                    "longest_stretch": check.longest_stretch,
+                    "longest_stretch_start": check.longest_stretch_start,
+                    "held": check.flag.is_none(),
+                    "flag": check.flag,
+                }))
+            });
             let mut summaries = Map::new();
             for column in &columns {
                 let values: Vec<f64> = run
@@ -91,6 +107,7 @@ pub fn summary_json(
                     "bytes_per_sample": preprocessing.bytes_per_sample,
                 },
                 "frames": run.frames.len(),
+                "goal": goal,
                 "columns": summaries,
             })
         })

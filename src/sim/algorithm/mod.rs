@@ -69,6 +69,14 @@ pub trait LodAlgorithm {
     }
 }
 
+/// A count an entry holds every frame: its budget or target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CountGoal {
+    /// The `frames.csv` column that counts it (`triangles`, `triangles_rendered`, …).
+    pub column: &'static str,
+    pub target: u64,
+}
+
 /// An algorithm and its parameters, as validated from an experiment.
 #[derive(Clone, Debug, PartialEq)]
 pub enum AlgorithmConfig {
@@ -93,6 +101,41 @@ impl AlgorithmConfig {
             AlgorithmConfig::Geomipmap(_) => geomipmap::NAME,
             AlgorithmConfig::Chunked(_) => chunked::NAME,
             AlgorithmConfig::Rottger(_) => rottger::NAME,
+        }
+    }
+
+    /// The count this entry is asked to hold every frame (a budget or a target), as the name of
+    /// the `frames.csv` column that counts it and the number; `None` for tolerance-driven
+    /// entries.
+    pub fn count_goal(&self) -> Option<CountGoal> {
+        use block_lod::BlockGoal;
+        use rottger::LoadCount;
+        let goal = |column, target| Some(CountGoal { column, target });
+        match self {
+            AlgorithmConfig::Wu(config) => config.budget.and_then(|budget| {
+                let column = if config.cone_culling {
+                    "triangles_rendered"
+                } else {
+                    "triangles"
+                };
+                goal(column, budget.triangles)
+            }),
+            AlgorithmConfig::Roam(config) | AlgorithmConfig::RoamRebuild(config) => {
+                match config.goal {
+                    roam::RoamGoal::TargetTriangles(n) => goal("triangles", n),
+                    roam::RoamGoal::TolerancePx(_) => None,
+                }
+            }
+            AlgorithmConfig::Geomipmap(geomipmap::GeomipmapConfig { goal: g, .. })
+            | AlgorithmConfig::Chunked(chunked::ChunkedConfig { goal: g, .. }) => match g {
+                BlockGoal::TargetTriangles(n) => goal("triangles", *n),
+                BlockGoal::TolerancePx(_) => None,
+            },
+            AlgorithmConfig::Rottger(config) => config.load.and_then(|load| match load.count {
+                LoadCount::Triangles => goal(columns::rottger::FAN_TRIANGLES, load.target),
+                LoadCount::FanVertices => goal(columns::rottger::FAN_VERTICES, load.target),
+            }),
+            AlgorithmConfig::Reference(_) | AlgorithmConfig::Lindstrom(_) => None,
         }
     }
 
