@@ -375,3 +375,24 @@ fn a_block_at_blend_zero_draws_exactly_the_coarser_surface() {
     }
     assert!(tested > 0, "no block with relief to morph");
 }
+
+#[test]
+fn a_wrong_or_missing_morphed_height_in_the_output_is_caught() {
+    let hierarchy = bumpy(17);
+    let mut rottger = Rottger::new(&hierarchy, config(2.0, 0.0));
+    step(&mut rottger, 0, &camera(DVec3::new(50.0, 70.0, 60.0)));
+    rottger.validate_frame().unwrap();
+    let id = rottger.morphed.sorted_ids()[0];
+    let z = rottger.morphed.get(id).unwrap();
+    rottger.morphed.set(id, z + 0.5);
+    let error = rottger.validate_frame().unwrap_err().to_string();
+    assert!(error.contains("in the mesh output"), "{error}");
+    rottger.morphed.remove(id);
+    assert!(rottger.validate_frame().is_err());
+    rottger.morphed.set(id, z);
+    rottger.validate_frame().unwrap();
+    // A morph of a vertex that does not morph (a corner).
+    let corner = hierarchy.lattice().id(GridPoint::new(0, 0));
+    rottger.morphed.set(corner, 1.0);
+    assert!(rottger.validate_frame().is_err());
+}
