@@ -114,7 +114,10 @@ impl<'h> Scene<'h> {
                 &context,
             );
         } else {
-            assert!(morphed.is_none(), "{context}: morphed heights without geomorphing");
+            assert!(
+                morphed.is_none(),
+                "{context}: morphed heights without geomorphing"
+            );
         }
         let column = |name: &str| extra(&self.algorithm, &stats, name);
         assert_eq!(
@@ -732,7 +735,9 @@ fn the_mesh_output_draws_every_vertex_at_rottgers_drawn_height_over_a_flight() {
             let counts = algorithm.mesh().counts(stats.triangles).unwrap();
             assert_eq!(counts.morphing_vertices, morphed.len() as u64);
             assert_eq!(counts.triangles_by_role, [stats.triangles, 0, 0, 0]);
-            let changed = stats.vertices_changed.expect("a morphing mesh counts its changes");
+            let changed = stats
+                .vertices_changed
+                .expect("a morphing mesh counts its changes");
             assert!(changed >= stats.vertices_inserted, "{context}");
             morphing += morphed.len();
             moved += changed - stats.vertices_inserted;

@@ -319,7 +319,14 @@ fn a_morphed_rottger_mesh_audits_and_pops_as_its_surface_built_from_scratch() {
     let (mut morphing, mut plain_differs) = (0, false);
     for (frame, pose) in circle(20).iter().enumerate() {
         let camera = Camera::new(pose, view_600());
-        checked_step(&hierarchy, &mut algorithm, frame as u64, &camera, false, "rottger");
+        checked_step(
+            &hierarchy,
+            &mut algorithm,
+            frame as u64,
+            &camera,
+            false,
+            "rottger",
+        );
         let expected = frame_from_scratch(&FromScratchView {
             hierarchy: &hierarchy,
             matrix: algorithm.matrix(),
@@ -359,7 +366,11 @@ fn a_morphed_rottger_mesh_audits_and_pops_as_its_surface_built_from_scratch() {
         if frame > 0 {
             let (a, b) = (fast.popping.unwrap(), general.popping.unwrap());
             assert_eq!(a.samples, b.samples);
-            pairs.extend([(a.rmse_m, b.rmse_m), (a.max_m, b.max_m), (a.max_px, b.max_px)]);
+            pairs.extend([
+                (a.rmse_m, b.rmse_m),
+                (a.max_m, b.max_m),
+                (a.max_px, b.max_px),
+            ]);
             plain_differs |= plain.popping.unwrap().max_m != a.max_m;
         }
         for (a, b) in pairs {

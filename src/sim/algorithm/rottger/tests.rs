@@ -4,9 +4,9 @@
 use super::*;
 use crate::sim::algorithm::{FrameInput, LodAlgorithm};
 use crate::sim::audit::{AuditSettings, Auditor};
-use crate::sim::stats::PoppingFrame;
 use crate::sim::hierarchy::{Lattice, VertexClass};
 use crate::sim::mesh::validate::validate_reported;
+use crate::sim::stats::PoppingFrame;
 use crate::sim::terrain::{Heightfield, Spacing};
 use crate::sim::view::{Camera, Pose, ViewSettings};
 use glam::DVec3;

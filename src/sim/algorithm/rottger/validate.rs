@@ -191,7 +191,8 @@ fn validate_morphed(
     for id in mesh.iter() {
         let p = lattice.point(id);
         let byte = vertex_blend_byte(lattice, matrix, p);
-        let expected = morphs(hierarchy, p, byte).then(|| morphed_height(hierarchy, p, byte) as f32);
+        let expected =
+            morphs(hierarchy, p, byte).then(|| morphed_height(hierarchy, p, byte) as f32);
         if morphed.get(id) != expected {
             return fail(format!(
                 "vertex {p:?} (blend byte {byte}) is drawn at {:?} in the mesh output, not {expected:?}",
