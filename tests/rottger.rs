@@ -3,8 +3,8 @@
 //! Exhaustive small cases: every eye position on a grid over 9×9 and 17×17 terrains, at heights
 //! below, inside and above the relief, for both distance norms, with and without clipping, at
 //! several C and c, one frame each in sequence: the mesh, the subdivided and forced blocks, the
-//! blend bytes, the fans and the morphing vertices equal the brute force's, and the mesh and
-//! matrix validators pass. Then the paper's 2D guarantee (no forced split wherever every block
+//! blend bytes, the fans, the morphing vertices and the heights the mesh output draws them at
+//! equal the brute force's, and the mesh and matrix validators pass. Then the paper's 2D guarantee (no forced split wherever every block
 //! averages to the same elevation), what propagation buys on rough terrain, the constant-load
 //! controller, and the experiment file.
 
@@ -23,6 +23,7 @@ use roamsim::sim::algorithm::rottger::{
 };
 use roamsim::sim::algorithm::{AlgorithmConfig, LodAlgorithm, Rottger, RottgerConfig};
 use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
+use roamsim::sim::mesh::{LatticeMesh, MeshOutput, MorphedHeights};
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose};
@@ -105,6 +106,19 @@ impl<'h> Scene<'h> {
                 );
             }
         }
+        let morphed = output_morphs(&self.algorithm);
+        if self.config.geomorphing {
+            assert_morphed_heights_match(
+                morphed.expect("geomorphing on: the output carries morphed heights"),
+                &expected.morphed,
+                &context,
+            );
+        } else {
+            assert!(
+                morphed.is_none(),
+                "{context}: morphed heights without geomorphing"
+            );
+        }
         let column = |name: &str| extra(&self.algorithm, &stats, name);
         assert_eq!(
             column(SUBDIVIDED),
@@ -148,6 +162,35 @@ impl<'h> Scene<'h> {
         assert_eq!(column(DESIRED_RESOLUTION_C), self.config.desired_resolution);
         assert_eq!(column(C_CLAMPED), 0.0);
         stats
+    }
+}
+
+/// The morphed heights of Röttger's mesh output (`None`: drawn at the samples' heights).
+fn output_morphs<'a>(algorithm: &'a Rottger) -> Option<&'a MorphedHeights> {
+    match algorithm.mesh() {
+        MeshOutput::Lattice(LatticeMesh { morphed, .. }) => morphed,
+        MeshOutput::Triangles(_) => panic!("rottger draws a 4-8 mesh"),
+    }
+}
+
+/// The output's morphed heights are the brute force's: the same vertices, each at the height
+/// z̄ + b·(z − z̄) the brute force computes (in `f64`; the output holds `f32`).
+fn assert_morphed_heights_match(
+    morphed: &MorphedHeights,
+    expected: &std::collections::BTreeMap<u32, f64>,
+    context: &str,
+) {
+    assert_eq!(
+        morphed.sorted_ids(),
+        expected.keys().copied().collect::<Vec<u32>>(),
+        "{context}: the morphing vertices"
+    );
+    for (&id, &z) in expected {
+        let drawn = f64::from(morphed.get(id).unwrap());
+        assert!(
+            (drawn - z).abs() <= 1e-6 * z.abs().max(1.0),
+            "{context}: vertex {id} drawn at {drawn}, the brute force's {z}"
+        );
     }
 }
 
@@ -627,4 +670,94 @@ fn a_checked_run_of_the_real_tile_writes_the_rottger_columns_and_facts() {
     let facts = &summary["algorithms"][0]["facts"];
     assert_eq!(facts["matrix_bytes_per_sample"], 1.0);
     assert_eq!(facts["propagation_k"], 8.0 / 14.0);
+}
+
+/// A flight of `frames` around and over the middle of a 33 × 33 terrain (320 m), low enough that
+/// the blocks' f cross ½ and 1 as it goes (so blocks morph in and out).
+fn low_flight(frames: u64) -> Vec<Camera> {
+    (0..frames)
+        .map(|frame| {
+            let angle = 0.05 * frame as f64;
+            let eye = DVec3::new(
+                160.0 + 130.0 * angle.cos(),
+                160.0 + 130.0 * angle.sin(),
+                45.0,
+            );
+            let to_middle = DVec3::new(160.0, 160.0, 0.0) - eye;
+            Camera::new(
+                &Pose {
+                    position: eye,
+                    yaw: to_middle.y.atan2(to_middle.x),
+                    pitch: -0.4,
+                },
+                view_600(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn the_mesh_output_draws_every_vertex_at_rottgers_drawn_height_over_a_flight() {
+    let hierarchy = bumpy_terrain(5);
+    let lattice = hierarchy.lattice();
+    for clipping in [false, true] {
+        let config = RottgerConfig {
+            clipping,
+            ..rottger(4.0, 20.0)
+        };
+        let mut algorithm = Rottger::new(&hierarchy, config);
+        let (mut morphing, mut moved) = (0, 0);
+        for (frame, camera) in low_flight(40).iter().enumerate() {
+            let context = format!("clipping {clipping}, frame {frame}");
+            let stats = checked_step(
+                &hierarchy,
+                &mut algorithm,
+                frame as u64,
+                camera,
+                false,
+                &context,
+            );
+            algorithm.validate_frame().unwrap();
+            let morphed = output_morphs(&algorithm).expect("geomorphing on");
+            for id in algorithm.vertex_set().iter() {
+                let p = lattice.point(id);
+                let drawn = morphed.get(id).unwrap_or_else(|| hierarchy.height(p));
+                assert_eq!(
+                    drawn,
+                    algorithm.drawn_height(p) as f32,
+                    "{context}: vertex {p:?}"
+                );
+            }
+            assert_eq!(
+                extra(&algorithm, &stats, MORPHING_VERTICES),
+                morphed.len() as f64,
+                "{context}"
+            );
+            let counts = algorithm.mesh().counts(stats.triangles).unwrap();
+            assert_eq!(counts.morphing_vertices, morphed.len() as u64);
+            assert_eq!(counts.triangles_by_role, [stats.triangles, 0, 0, 0]);
+            let changed = stats
+                .vertices_changed
+                .expect("a morphing mesh counts its changes");
+            assert!(changed >= stats.vertices_inserted, "{context}");
+            morphing += morphed.len();
+            moved += changed - stats.vertices_inserted;
+        }
+        // The flight morphs vertices, and moves some that stay in the mesh.
+        assert!(morphing > 0 && moved > 0, "{morphing} {moved}");
+    }
+}
+
+#[test]
+fn without_geomorphing_the_mesh_output_has_no_morphed_heights() {
+    let hierarchy = bumpy_terrain(5);
+    let mut algorithm = Rottger::new(&hierarchy, config_without_morphing(4.0, 20.0));
+    for (frame, camera) in low_flight(20).iter().enumerate() {
+        let stats = checked_step(&hierarchy, &mut algorithm, frame as u64, camera, false, "");
+        algorithm.validate_frame().unwrap();
+        assert!(output_morphs(&algorithm).is_none(), "frame {frame}");
+        assert_eq!(algorithm.mesh().counts(stats.triangles), None);
+        assert_eq!(stats.vertices_changed, None);
+        assert_eq!(extra(&algorithm, &stats, MORPHING_VERTICES), 0.0);
+    }
 }

@@ -6,17 +6,18 @@
 
 mod common;
 
-use common::algorithms::reference;
+use common::algorithms::{reference, rottger};
 use common::patches::{Borders, MorphingLattice, PatchConfig, Patches};
 use common::{bumpy_terrain, checked_step, step, view_600};
 use glam::DVec3;
-use roamsim::sim::algorithm::{LodAlgorithm, Reference};
+use roamsim::sim::algorithm::rottger::{Criterion, FromScratchView, frame_from_scratch};
+use roamsim::sim::algorithm::{LodAlgorithm, Reference, Rottger};
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::Flight;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::check::{MeshCheckError, MeshChecker};
 use roamsim::sim::mesh::list_validate::TriangleListError;
-use roamsim::sim::mesh::{CrackPolicy, MeshOutput, TriangleList, TriangleRole};
+use roamsim::sim::mesh::{CrackPolicy, MeshOutput, MorphedHeights, TriangleList, TriangleRole};
 use roamsim::sim::run::{Effects, RunInputs, run_algorithm};
 use roamsim::sim::stats::{FrameStats, SurfaceCoverage};
 use roamsim::sim::view::{Camera, Pose};
@@ -302,6 +303,86 @@ fn a_4_8_mesh_drawn_as_a_triangle_list_passes_its_checks_and_audits_the_same() {
             );
         }
     }
+}
+
+#[test]
+fn a_morphed_rottger_mesh_audits_and_pops_as_its_surface_built_from_scratch() {
+    // Röttger's morphed mesh through the audit's 4-8 fast path, against the brute force's mesh
+    // and morphed heights (computed from its own blends, `frame_from_scratch`) drawn as a
+    // triangle list through the general rasteriser: the same error and popping figures.
+    let hierarchy = bumpy_terrain(6);
+    let config = rottger(4.0, 20.0);
+    let mut algorithm = Rottger::new(&hierarchy, config);
+    let mut fast_auditor = Auditor::new(&hierarchy, audit_settings(true));
+    let mut general_auditor = Auditor::new(&hierarchy, audit_settings(true));
+    let mut plain_auditor = Auditor::new(&hierarchy, audit_settings(true));
+    let (mut morphing, mut plain_differs) = (0, false);
+    for (frame, pose) in circle(20).iter().enumerate() {
+        let camera = Camera::new(pose, view_600());
+        checked_step(
+            &hierarchy,
+            &mut algorithm,
+            frame as u64,
+            &camera,
+            false,
+            "rottger",
+        );
+        let expected = frame_from_scratch(&FromScratchView {
+            hierarchy: &hierarchy,
+            matrix: algorithm.matrix(),
+            criterion: Criterion {
+                minimum_resolution: config.minimum_resolution,
+                desired_resolution: config.desired_resolution,
+                norm: config.distance,
+            },
+            camera: &camera,
+            clipping: config.clipping,
+        });
+        let mut morphed = MorphedHeights::new();
+        for (&id, &z) in &expected.morphed {
+            morphed.set(id, z as f32);
+        }
+        morphing += morphed.len();
+        let list = as_triangle_list(
+            &hierarchy,
+            MeshOutput::morphed_lattice(&expected.mesh, &morphed),
+        );
+        let fast = fast_auditor.audit(&hierarchy, algorithm.mesh(), &camera);
+        let general = general_auditor.audit(&hierarchy, MeshOutput::triangles(&list), &camera);
+        let plain = plain_auditor.audit(
+            &hierarchy,
+            MeshOutput::lattice(algorithm.vertex_set()),
+            &camera,
+        );
+        let coverage = general.coverage.unwrap();
+        assert_eq!((coverage.holes, coverage.crack_samples), (0, 0));
+        assert_eq!(fast.samples_in_view, general.samples_in_view);
+        let (fast_error, general_error) = (fast.projected.unwrap(), general.projected.unwrap());
+        let mut pairs = vec![
+            (fast_error.max, general_error.max),
+            (fast_error.mean, general_error.mean),
+            (fast_error.p95, general_error.p95),
+        ];
+        if frame > 0 {
+            let (a, b) = (fast.popping.unwrap(), general.popping.unwrap());
+            assert_eq!(a.samples, b.samples);
+            pairs.extend([
+                (a.rmse_m, b.rmse_m),
+                (a.max_m, b.max_m),
+                (a.max_px, b.max_px),
+            ]);
+            plain_differs |= plain.popping.unwrap().max_m != a.max_m;
+        }
+        for (a, b) in pairs {
+            assert!(
+                (a - b).abs() <= 1e-5 * a.abs().max(1.0),
+                "frame {frame}: {a} vs {b}"
+            );
+        }
+        plain_differs |= plain.projected.unwrap().mean != fast_error.mean;
+    }
+    // The flight morphs, and the morphed surface is not the plain mesh's.
+    assert!(morphing > 0 && plain_differs);
 }
 
 #[test]

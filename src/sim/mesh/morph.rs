@@ -5,16 +5,50 @@
 //! costs nothing and one that morphs k vertices costs O(k). Lookups are O(1) (a hash map with a
 //! fixed hasher: no iteration order is exposed, and none of the results depends on one).
 //! Clearing keeps the capacity, so a frame-after-frame rebuild stops allocating.
+//!
+//! The hasher is a multiply by an odd 64-bit constant (Fibonacci hashing, as rustc's Fx hash
+//! folds a word; ROAM's queues use the same), not SipHash: the keys are vertex ids, which no
+//! adversary chooses, and an algorithm that rebuilds its morphs every frame (Röttger's) spends
+//! most of its morphing time hashing.
 
 use std::collections::HashMap;
-use std::collections::hash_map::DefaultHasher;
-use std::hash::BuildHasherDefault;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A fast, fixed hash of vertex ids.
+#[derive(Clone, Copy, Debug, Default)]
+struct IdHasher {
+    state: u64,
+}
+
+const ID_HASH_MULTIPLIER: u64 = 0x9e37_79b9_7f4a_7c15;
+
+impl Hasher for IdHasher {
+    fn finish(&self) -> u64 {
+        // The product's high bits are its best mixed; fold them into the low bits, which pick
+        // the bucket.
+        self.state ^ (self.state >> 29)
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            self.write_u64(u64::from(byte));
+        }
+    }
+
+    fn write_u32(&mut self, value: u32) {
+        self.write_u64(u64::from(value));
+    }
+
+    fn write_u64(&mut self, value: u64) {
+        self.state = (self.state.rotate_left(5) ^ value).wrapping_mul(ID_HASH_MULTIPLIER);
+    }
+}
 
 /// Heights of morphing vertices, by vertex id (the other vertices of the mesh keep their
 /// sample's height). Heights are finite (`set` refuses others).
 #[derive(Clone, Debug, Default)]
 pub struct MorphedHeights {
-    heights: HashMap<u32, f32, BuildHasherDefault<DefaultHasher>>,
+    heights: HashMap<u32, f32, BuildHasherDefault<IdHasher>>,
 }
 
 impl MorphedHeights {

@@ -56,6 +56,11 @@ impl RebuiltMesh {
         &self.current
     }
 
+    /// The previous frame's mesh.
+    pub fn previous(&self) -> &VertexSet {
+        &self.previous
+    }
+
     /// Active vertices, in insertion order.
     pub fn active(&self) -> &[u32] {
         &self.active

@@ -11,7 +11,10 @@
 //!   every edge midpoint whose parents are all in it; the block centres the closure added are
 //!   the **forced** subdivisions;
 //! - a triangle belongs to the fan of the smallest subdivided block whose centre is one of its
-//!   corners; a fan is a maximal run of consecutive ring slots covered by its triangles.
+//!   corners; a fan is a maximal run of consecutive ring slots covered by its triangles;
+//! - a drawn vertex's blend is its block's (a centre) or the smaller of its two blocks' (an
+//!   edge midpoint); it is drawn at z̄ + b·(z − z̄), z̄ the mean of the ends of the edge it
+//!   bisects, and **morphs** when that differs from z in exact arithmetic (b < 1, z ≠ z̄).
 //!
 //! O(samples × closure rounds) per call: for tests, not for runs.
 
@@ -46,6 +49,8 @@ pub struct FromScratchFrame {
     pub fans: FanCounts,
     /// Vertices drawn at a height other than their sample's.
     pub morphing: u64,
+    /// The heights those vertices are drawn at, by vertex id (with geomorphing on).
+    pub morphed: std::collections::BTreeMap<u32, f64>,
 }
 
 /// The centre of the block of twice the size containing the block at `centre` (half-size `half`).
@@ -143,31 +148,38 @@ pub fn frame_from_scratch(view: &FromScratchView) -> FromScratchFrame {
     }
 
     let fans = fans_from_triangles(view, &mesh, n_subdivided == 0);
-    let morphing = mesh
-        .iter()
-        .filter(|&id| {
-            let p = lattice.point(id);
-            let byte = match lattice.classify(p) {
-                VertexClass::Corner => return false,
-                VertexClass::Square { .. } => blend_bytes[id as usize],
-                VertexClass::Rotated { .. } => lattice
-                    .parents(p)
-                    .as_slice()
-                    .iter()
-                    .map(|q| blend_bytes[lattice.id(*q) as usize])
-                    .min()
-                    .unwrap_or(u8::MAX),
-            };
-            byte < u8::MAX && hierarchy.vertex_error(p) != 0.0
-        })
-        .count() as u64;
+    let mut morphed = std::collections::BTreeMap::new();
+    for id in mesh.iter() {
+        let p = lattice.point(id);
+        let byte = match lattice.classify(p) {
+            VertexClass::Corner => continue,
+            VertexClass::Square { .. } => blend_bytes[id as usize],
+            VertexClass::Rotated { .. } => lattice
+                .parents(p)
+                .as_slice()
+                .iter()
+                .map(|q| blend_bytes[lattice.id(*q) as usize])
+                .min()
+                .unwrap_or(u8::MAX),
+        };
+        let z = f64::from(hierarchy.height(p));
+        let [a, b] = lattice
+            .bisected_edge(p)
+            .expect("every vertex but a corner bisects an edge");
+        let mean = 0.5 * (f64::from(hierarchy.height(a)) + f64::from(hierarchy.height(b)));
+        if byte < u8::MAX && z != mean {
+            let blend = f64::from(byte) / 255.0;
+            morphed.insert(id, mean + blend * (z - mean));
+        }
+    }
     FromScratchFrame {
         mesh,
         subdivided_by_criterion: n_by_criterion,
         forced: n_subdivided - n_by_criterion,
         blend_bytes,
         fans,
-        morphing,
+        morphing: morphed.len() as u64,
+        morphed,
     }
 }
 

@@ -15,12 +15,24 @@
 //! coarser mesh it replaces. The corners' own heights are the samples'.
 //!
 //! A vertex **morphs** when it is drawn at a height other than its sample's: blend below 1
-//! (byte < 255) and ε ≠ 0. Everything here is O(1) per vertex and allocates nothing; the
-//! heights are what the mesh output will draw once it takes per-vertex heights.
+//! (byte < 255) and ε ≠ 0.
+//!
+//! **The mesh output.** With geomorphing on, every frame's mesh output carries the morphed
+//! heights ([`MorphedHeights`], as `f32`, the heights' own precision) of exactly the morphing
+//! vertices; the others are drawn at their samples. The map is **rebuilt every frame** by
+//! [`rebuild_morphed`], like the mesh itself: one pass over the frame's active vertices, which
+//! the frame has just generated anyway (O(mesh vertices), of which O(morphing vertices) are
+//! hash-map inserts), with no state to keep consistent between frames. An incremental map would
+//! save nothing here: every frame's blends are new, since f moves with the eye. The audit,
+//! popping, culling and `triangles`' geometry all read the morphed surface through the output.
+//! The previous frame's map is kept too, to count the vertices whose drawn height changed
+//! ([`drawn_changes`], the runner's `vertices_changed`).
 
 use super::criterion::morph_factor;
 use super::matrix::QuadtreeMatrix;
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, VertexClass};
+use crate::sim::mesh::MorphedHeights;
+use crate::sim::mesh::rebuilt::RebuiltMesh;
 
 /// The blend byte a vertex is drawn with: a block centre's own, an edge midpoint's the smallest
 /// of its parents', 255 (its own height) for a corner. Meaningful for vertices of the mesh.
@@ -47,14 +59,50 @@ pub fn morphed_height(hierarchy: &Hierarchy, p: GridPoint, blend_byte: u8) -> f6
     z - (1.0 - morph_factor(blend_byte)) * hierarchy.vertex_error(p)
 }
 
-/// Vertices among `active` drawn at a height other than their sample's.
-pub fn count_morphing(hierarchy: &Hierarchy, matrix: &QuadtreeMatrix, active: &[u32]) -> u64 {
+/// Whether a vertex with this blend byte is drawn at a height other than its sample's.
+pub fn morphs(hierarchy: &Hierarchy, p: GridPoint, blend_byte: u8) -> bool {
+    blend_byte < u8::MAX && hierarchy.vertex_error(p) != 0.0
+}
+
+/// Clears `morphed` and fills it with the drawn height of every vertex among `active` that
+/// morphs (and of no other). O(active); allocates only while the map grows.
+pub fn rebuild_morphed(
+    hierarchy: &Hierarchy,
+    matrix: &QuadtreeMatrix,
+    active: &[u32],
+    morphed: &mut MorphedHeights,
+) {
     let lattice = hierarchy.lattice();
-    active
+    morphed.clear();
+    for &id in active {
+        let p = lattice.point(id);
+        let byte = vertex_blend_byte(lattice, matrix, p);
+        if morphs(hierarchy, p, byte) {
+            morphed.set(id, morphed_height(hierarchy, p, byte) as f32);
+        }
+    }
+}
+
+/// The height vertex `id` is drawn at by a mesh with these morphed heights.
+fn drawn(hierarchy: &Hierarchy, morphed: &MorphedHeights, id: u32) -> f32 {
+    morphed
+        .get(id)
+        .unwrap_or_else(|| hierarchy.height(hierarchy.lattice().point(id)))
+}
+
+/// Vertices of this frame's mesh that a renderer would upload again: those not in the previous
+/// frame's mesh, and those drawn at another height than in the previous frame. O(active).
+pub fn drawn_changes(
+    hierarchy: &Hierarchy,
+    mesh: &RebuiltMesh,
+    morphed: &MorphedHeights,
+    previous: &MorphedHeights,
+) -> u64 {
+    mesh.active()
         .iter()
         .filter(|&&id| {
-            let p = lattice.point(id);
-            vertex_blend_byte(lattice, matrix, p) < u8::MAX && hierarchy.vertex_error(p) != 0.0
+            !mesh.previous().contains(id)
+                || drawn(hierarchy, morphed, id) != drawn(hierarchy, previous, id)
         })
         .count() as u64
 }

@@ -5,9 +5,10 @@
 //! subdivides when f = l / (d · C · max(c · d2, 1)) < 1 (eq. 3, `criterion.rs`), with d2 the
 //! block's roughness, precomputed and propagated bottom-up (`roughness.rs`) and stored with the
 //! frame's blend values in one byte per grid point (`matrix.rs`). Subdivided blocks draw triangle
-//! fans (`fans.rs`); blocks out of view can be left coarse (`clip.rs`); the blend values give
-//! every drawn vertex a morphed height (`geomorph.rs`); c can be chosen every frame to hold a
-//! load (`control.rs`). `brute_force.rs` evaluates the same criterion on every block with no
+//! fans (`fans.rs`); blocks out of view can be left coarse (`clip.rs`); with geomorphing on, the
+//! blend values give every drawn vertex a morphed height, which the mesh output carries, so the
+//! audit, popping and culling measure the morphed surface (`geomorph.rs`); c can be chosen every
+//! frame to hold a load (`control.rs`). `brute_force.rs` evaluates the same criterion on every block with no
 //! traversal; `validate.rs` checks the matrix and the frame.
 //!
 //! # The paper on the 4-8 lattice
@@ -89,11 +90,14 @@
 //! (what the fans draw, clipped when clipping is on), `mesh_vertices`, `nodes_visited` (blocks the
 //! traversal reached, clipped ones included), `subdivided` (blocks subdivided by the criterion),
 //! `forced_splits` (blocks subdivided only to keep the mesh conforming), `clipped_nodes`,
-//! `morphing_vertices` (vertices drawn below full blend with a non-zero error; 0 when
-//! geomorphing is off).
+//! `morphing_vertices` (vertices drawn below full blend with a non-zero error: those the mesh
+//! output gives a morphed height; 0 when geomorphing is off). With geomorphing,
+//! `vertices_changed` = vertices inserted since the previous frame plus those drawn at another
+//! height than in it (what a renderer would upload again); without, it is not filled.
 //!
 //! Memory: the matrix (1 byte per grid point), two bits per grid point for the double-buffered
-//! mesh, the active-vertex lists. Per frame: O(blocks visited + mesh).
+//! mesh, the active-vertex lists, and with geomorphing two maps of the morphing vertices'
+//! heights (this frame's and the previous). Per frame: O(blocks visited + mesh).
 
 mod brute_force;
 mod clip;
@@ -125,7 +129,7 @@ use super::columns::rottger as columns;
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::rebuilt::RebuiltMesh;
-use crate::sim::mesh::{MeshOutput, VertexSet};
+use crate::sim::mesh::{MeshOutput, MorphedHeights, VertexSet};
 use crate::sim::stats::FrameStats;
 use refine::{GenerationInput, GenerationState, add_drawn_midpoints, subdivide_top_down};
 
@@ -177,6 +181,10 @@ pub struct Rottger<'h> {
     previous_load: Option<u64>,
     /// Centres of the blocks subdivided this frame, in the order they entered the mesh.
     subdivided: Vec<u32>,
+    /// With geomorphing: the heights of this frame's morphing vertices (the mesh output's),
+    /// and the previous frame's (for `vertices_changed`). Empty without.
+    morphed: MorphedHeights,
+    previous_morphed: MorphedHeights,
     stack: Vec<(GridPoint, u32)>,
 }
 
@@ -211,6 +219,8 @@ impl<'h> Rottger<'h> {
             desired_resolution: config.desired_resolution,
             previous_load: None,
             subdivided: Vec::new(),
+            morphed: MorphedHeights::new(),
+            previous_morphed: MorphedHeights::new(),
             stack: Vec::new(),
         }
     }
@@ -245,8 +255,8 @@ impl<'h> Rottger<'h> {
     }
 
     /// The height the mesh draws vertex `p` at: with geomorphing, z − (1 − b)·ε (see
-    /// `geomorph.rs`); without it, or for a vertex not in the mesh, the sample's height. This is
-    /// what the per-vertex mesh output will hand on.
+    /// `geomorph.rs`); without it, or for a vertex not in the mesh, the sample's height. The
+    /// mesh output hands it on (rounded to `f32`) for every morphing vertex.
     pub fn drawn_height(&self, p: GridPoint) -> f64 {
         let lattice = self.hierarchy.lattice();
         if !self.config.geomorphing || !self.mesh.mesh().contains_point(lattice, p) {
@@ -264,6 +274,7 @@ impl<'h> Rottger<'h> {
             &self.matrix,
             self.mesh.mesh(),
             &self.subdivided,
+            self.config.geomorphing.then_some(&self.morphed),
         )
     }
 
@@ -328,11 +339,24 @@ impl LodAlgorithm for Rottger<'_> {
             &self.subdivided,
             frustum.as_ref(),
         );
-        let morphing = if self.config.geomorphing {
-            geomorph::count_morphing(hierarchy, &self.matrix, self.mesh.active())
+        let vertices_changed = if self.config.geomorphing {
+            std::mem::swap(&mut self.morphed, &mut self.previous_morphed);
+            geomorph::rebuild_morphed(
+                hierarchy,
+                &self.matrix,
+                self.mesh.active(),
+                &mut self.morphed,
+            );
+            Some(geomorph::drawn_changes(
+                hierarchy,
+                &self.mesh,
+                &self.morphed,
+                &self.previous_morphed,
+            ))
         } else {
-            0
+            None
         };
+        let morphing = self.morphed.len();
         if let Some(load) = self.config.load {
             self.previous_load = Some(match load.count {
                 LoadCount::Triangles => fans.triangles,
@@ -347,6 +371,7 @@ impl LodAlgorithm for Rottger<'_> {
         stats.splits = stats.vertices_inserted;
         stats.merges = stats.vertices_deleted;
         stats.metric_evaluations = counts.evaluated;
+        stats.vertices_changed = vertices_changed;
         stats.extra = vec![
             self.desired_resolution,
             f64::from(u8::from(clamped)),
@@ -363,7 +388,11 @@ impl LodAlgorithm for Rottger<'_> {
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
-        MeshOutput::lattice(self.mesh.mesh())
+        if self.config.geomorphing {
+            MeshOutput::morphed_lattice(self.mesh.mesh(), &self.morphed)
+        } else {
+            MeshOutput::lattice(self.mesh.mesh())
+        }
     }
 
     fn triangle_count(&self) -> u64 {
@@ -374,6 +403,8 @@ impl LodAlgorithm for Rottger<'_> {
         self.matrix.memory_bytes()
             + self.mesh.memory_bytes()
             + self.subdivided.capacity() * std::mem::size_of::<u32>()
+            + self.morphed.memory_bytes()
+            + self.previous_morphed.memory_bytes()
             + self.stack.capacity() * std::mem::size_of::<(GridPoint, u32)>()
     }
 

@@ -1,10 +1,12 @@
 //! Unit tests: the criterion's values, the roughness and its propagation, the blend and morph
-//! values, one frame against the brute force.
+//! values, one frame against the brute force, a block at blend 0 against the coarser surface.
 
 use super::*;
 use crate::sim::algorithm::{FrameInput, LodAlgorithm};
+use crate::sim::audit::{AuditSettings, Auditor};
 use crate::sim::hierarchy::{Lattice, VertexClass};
 use crate::sim::mesh::validate::validate_reported;
+use crate::sim::stats::PoppingFrame;
 use crate::sim::terrain::{Heightfield, Spacing};
 use crate::sim::view::{Camera, Pose, ViewSettings};
 use glam::DVec3;
@@ -292,4 +294,105 @@ fn the_base_mesh_is_one_fan_of_two_triangles() {
     assert_eq!(stats.triangles, 2);
     assert_eq!(&stats.extra[2..5], &[1.0, 4.0, 2.0]);
     rottger.validate_frame().unwrap();
+}
+
+/// The change of the drawn surface from `from` to `to` at every sample, seen from far above.
+fn popping_between(hierarchy: &Hierarchy, from: MeshOutput, to: MeshOutput) -> PoppingFrame {
+    let side = hierarchy.field().side() as f64 * 10.0;
+    let overhead = Camera::new(
+        &Pose {
+            position: DVec3::new(0.5 * side, 0.5 * side, 20.0 * side),
+            yaw: 0.0,
+            pitch: -1.5,
+        },
+        camera(DVec3::ZERO).settings,
+    );
+    let mut auditor = Auditor::new(
+        hierarchy,
+        AuditSettings {
+            stride: 1,
+            popping: true,
+        },
+    );
+    auditor.audit(hierarchy, from, &overhead);
+    let popping = auditor.audit(hierarchy, to, &overhead).popping.unwrap();
+    assert_eq!(
+        popping.samples,
+        hierarchy.field().side().pow(2) as u64,
+        "every sample in view"
+    );
+    popping
+}
+
+#[test]
+fn a_block_at_blend_zero_draws_exactly_the_coarser_surface() {
+    let hierarchy = bumpy(33);
+    let lattice = hierarchy.lattice();
+    let mut rottger = Rottger::new(&hierarchy, config(4.0, 30.0));
+    step(&mut rottger, 0, &camera(DVec3::new(60.0, 80.0, 40.0)));
+    let mesh = rottger.vertex_set();
+    let mut tested = 0;
+    for &centre_id in &rottger.subdivided {
+        let centre = lattice.point(centre_id);
+        let VertexClass::Square { half } = lattice.classify(centre) else {
+            unreachable!("only block centres are subdivided");
+        };
+        // The coarser mesh: the frame's without the block's centre and drawn midpoints, every
+        // other vertex drawn as the frame draws it. Blocks whose vertices others need (a
+        // subdivided child, or a neighbour's child beside a midpoint) have none.
+        let mut coarse = mesh.clone();
+        let mut coarse_morphed = rottger.morphed.clone();
+        coarse.remove(centre_id);
+        coarse_morphed.remove(centre_id);
+        for midpoint in lattice.boundary_vertices(centre, half) {
+            if mesh.contains_point(lattice, midpoint) {
+                coarse.remove(lattice.id(midpoint));
+                coarse_morphed.remove(lattice.id(midpoint));
+            }
+        }
+        if crate::sim::mesh::validate::validate(lattice, &coarse).is_err() {
+            continue;
+        }
+        // The frame's mesh with this block's blend at 0.
+        let mut matrix = rottger.matrix.clone();
+        matrix.set_blend_byte(centre_id, 0);
+        let mut at_zero = MorphedHeights::new();
+        geomorph::rebuild_morphed(&hierarchy, &matrix, rottger.mesh.active(), &mut at_zero);
+        let coarser = MeshOutput::morphed_lattice(&coarse, &coarse_morphed);
+        let zero = popping_between(
+            &hierarchy,
+            coarser,
+            MeshOutput::morphed_lattice(mesh, &at_zero),
+        );
+        assert!(
+            zero.max_m <= 1e-4,
+            "block {centre:?} (half {half}) at blend 0 is {} m off the coarser surface",
+            zero.max_m
+        );
+        // At its own blend the block draws something else, where it has relief to draw.
+        let own = popping_between(&hierarchy, coarser, rottger.mesh());
+        tested += usize::from(own.max_m > 0.01);
+    }
+    assert!(tested > 0, "no block with relief to morph");
+}
+
+#[test]
+fn a_wrong_or_missing_morphed_height_in_the_output_is_caught() {
+    let hierarchy = bumpy(17);
+    let mut rottger = Rottger::new(&hierarchy, config(2.0, 0.0));
+    step(&mut rottger, 0, &camera(DVec3::new(50.0, 70.0, 60.0)));
+    rottger.validate_frame().unwrap();
+    let id = rottger.morphed.sorted_ids()[0];
+    let z = rottger.morphed.get(id).unwrap();
+    rottger.morphed.set(id, z + 0.5);
+    let error = rottger.validate_frame().unwrap_err().to_string();
+    assert!(error.contains("in the mesh output"), "{error}");
+    rottger.morphed.remove(id);
+    assert!(rottger.validate_frame().is_err());
+    rottger.morphed.set(id, z);
+    rottger.validate_frame().unwrap();
+    // A morph of a vertex that does not morph (a corner).
+    let corner = hierarchy.lattice().id(GridPoint::new(0, 0));
+    rottger.morphed.set(corner, 1.0);
+    assert!(rottger.validate_frame().is_err());
 }

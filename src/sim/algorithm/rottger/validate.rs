@@ -7,16 +7,19 @@
 //!   is; the top code is the terrain's largest local d2; entries that belong to no block are 0.
 //! - [`validate_frame`]: a block centre is in the mesh iff its blend byte is not 0, and the list
 //!   of subdivided blocks is exactly those; an edge midpoint is in the mesh iff the blocks beside
-//!   it are all subdivided; the fans' triangles add up to the mesh's.
+//!   it are all subdivided; the fans' triangles add up to the mesh's; with geomorphing, the
+//!   morphed heights of the mesh output are exactly those of the vertices that morph, each at
+//!   the height its blend gives (`geomorph.rs`).
 //!
 //! Both are O(samples). The mesh's own closure and triangle count are the mesh validator's.
 
 use super::criterion::propagation_factor;
 use super::fans::count_fans;
+use super::geomorph::{morphed_height, morphs, vertex_blend_byte};
 use super::matrix::QuadtreeMatrix;
 use super::roughness::local_d2;
 use crate::sim::hierarchy::{GridPoint, Hierarchy, VertexClass, square_points};
-use crate::sim::mesh::VertexSet;
+use crate::sim::mesh::{MorphedHeights, VertexSet};
 
 /// The first thing found wrong, as a sentence.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -111,12 +114,14 @@ pub(super) fn validate_roughness(
     Ok(())
 }
 
-/// Checks a frame's blend bytes, subdivided list, midpoints and fans against its mesh.
+/// Checks a frame's blend bytes, subdivided list, midpoints and fans against its mesh, and
+/// the morphed heights (`morphed`, with geomorphing) against the blends.
 pub(super) fn validate_frame(
     hierarchy: &Hierarchy,
     matrix: &QuadtreeMatrix,
     mesh: &VertexSet,
     subdivided: &[u32],
+    morphed: Option<&MorphedHeights>,
 ) -> Result<(), RottgerStateError> {
     let lattice = hierarchy.lattice();
     let mut listed = vec![false; lattice.n_vertices()];
@@ -165,6 +170,41 @@ pub(super) fn validate_frame(
         return fail(format!(
             "the fans draw {} triangles, the mesh has {triangles}",
             fans.triangles
+        ));
+    }
+    if let Some(morphed) = morphed {
+        validate_morphed(hierarchy, matrix, mesh, morphed)?;
+    }
+    Ok(())
+}
+
+/// Every vertex of the mesh that morphs is in `morphed` at its morphed height, and nothing else
+/// is.
+fn validate_morphed(
+    hierarchy: &Hierarchy,
+    matrix: &QuadtreeMatrix,
+    mesh: &VertexSet,
+    morphed: &MorphedHeights,
+) -> Result<(), RottgerStateError> {
+    let lattice = hierarchy.lattice();
+    let mut morphing = 0;
+    for id in mesh.iter() {
+        let p = lattice.point(id);
+        let byte = vertex_blend_byte(lattice, matrix, p);
+        let expected =
+            morphs(hierarchy, p, byte).then(|| morphed_height(hierarchy, p, byte) as f32);
+        if morphed.get(id) != expected {
+            return fail(format!(
+                "vertex {p:?} (blend byte {byte}) is drawn at {:?} in the mesh output, not {expected:?}",
+                morphed.get(id)
+            ));
+        }
+        morphing += usize::from(expected.is_some());
+    }
+    if morphed.len() != morphing {
+        return fail(format!(
+            "the mesh output morphs {} vertices, {morphing} of the mesh morph",
+            morphed.len()
         ));
     }
     Ok(())
