@@ -8,10 +8,10 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 /// Where the camera looks.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Look {
-    /// Yaw follows the horizontal direction of motion: the path's own tangent at the frame
-    /// (its derivative, not a difference of frames, so that frame k of a flight does not depend
-    /// on how many frames follow it), kept from the last moving frame while hovering; pitch is
-    /// fixed.
+    /// Yaw follows the horizontal direction of motion: towards where the path is one frame
+    /// later (evaluated from the path even past the flight's last frame, so that frame k of a
+    /// flight does not depend on how many frames follow it), kept from the last moving frame
+    /// while hovering; pitch is fixed.
     AlongPath { pitch: f64 },
     /// Always at a world point.
     At { target: DVec3 },
@@ -93,7 +93,7 @@ pub(super) fn evaluate(
             Look::Fixed { yaw, pitch } => (yaw, pitch),
             Look::At { target } => look_at(position, target),
             Look::AlongPath { pitch } => {
-                let motion = velocity(path, f as u64, n_frames);
+                let motion = motion(path, f as u64, n_frames);
                 if motion.truncate().length_squared() > 0.0 {
                     last_yaw = motion.y.atan2(motion.x);
                 }
@@ -165,84 +165,12 @@ fn position(path: &FlightPath, frame: u64, n_frames: u64) -> DVec3 {
     }
 }
 
-/// The path's velocity at `frame` (metres per frame; only its direction is used): the derivative
-/// of [`position`], evaluated from the path alone. At a waypoint the outgoing segment's (the
-/// incoming one's at the last).
-fn velocity(path: &FlightPath, frame: u64, n_frames: u64) -> DVec3 {
-    let f = frame as f64;
-    // dt/dframe of the paths parameterised over the whole flight.
-    let rate = if n_frames > 1 {
-        1.0 / (n_frames - 1) as f64
-    } else {
-        0.0
-    };
-    match path {
-        FlightPath::Circle {
-            radius,
-            frames_per_lap,
-            phase,
-            ..
-        } => {
-            let angular = TAU / frames_per_lap;
-            let (s, c) = (phase + angular * f).sin_cos();
-            DVec3::new(-radius * angular * s, radius * angular * c, 0.0)
-        }
-        FlightPath::Line { from, to } => (*to - *from) * rate,
-        FlightPath::Spiral {
-            radius_start,
-            radius_end,
-            altitude_start,
-            altitude_end,
-            turns,
-            phase,
-            ..
-        } => {
-            let t = f * rate;
-            let angle = phase + TAU * turns * t;
-            let radius = radius_start + (radius_end - radius_start) * t;
-            let (d_radius, d_angle) = (radius_end - radius_start, TAU * turns);
-            let (s, c) = angle.sin_cos();
-            DVec3::new(
-                d_radius * c - radius * d_angle * s,
-                d_radius * s + radius * d_angle * c,
-                altitude_end - altitude_start,
-            ) * rate
-        }
-        FlightPath::Waypoints {
-            points,
-            interpolation,
-        } => waypoint_velocity(points, *interpolation, frame),
-        // Recorded flights carry their own yaw; `evaluate` returns them before looking.
-        FlightPath::Recorded { .. } => DVec3::ZERO,
-    }
-}
-
-/// The derivative of [`waypoint_position`] in metres per frame.
-fn waypoint_velocity(points: &[Waypoint], interpolation: Interpolation, frame: u64) -> DVec3 {
-    let k = points
-        .partition_point(|w| w.frame <= frame)
-        .saturating_sub(1)
-        .min(points.len() - 2);
-    let (a, b) = (points[k], points[k + 1]);
-    let duration = (b.frame - a.frame) as f64;
-    let u = ((frame.min(b.frame) - a.frame) as f64 / duration).min(1.0);
-    match interpolation {
-        Interpolation::Linear => (b.position - a.position) / duration,
-        Interpolation::CatmullRom => {
-            let tangent = |index: usize| {
-                let before = points[index.saturating_sub(1)];
-                let after = points[(index + 1).min(points.len() - 1)];
-                (after.position - before.position) / (after.frame - before.frame) as f64
-            };
-            let (m0, m1) = (tangent(k) * duration, tangent(k + 1) * duration);
-            let u2 = u * u;
-            (a.position * (6.0 * u2 - 6.0 * u)
-                + m0 * (3.0 * u2 - 4.0 * u + 1.0)
-                + b.position * (-6.0 * u2 + 6.0 * u)
-                + m1 * (3.0 * u2 - 2.0 * u))
-                / duration
-        }
-    }
+/// Where the path goes from `frame`: from this frame's position to the next one's, both from
+/// the path's own formula, so that the last frame of a flight looks where the path would go
+/// next, exactly as it does when the flight is longer. (Past its last waypoint a waypoint path
+/// stays put, so its last frame keeps the yaw it arrived with.)
+fn motion(path: &FlightPath, frame: u64, n_frames: u64) -> DVec3 {
+    position(path, frame + 1, n_frames) - position(path, frame, n_frames)
 }
 
 fn check_waypoints(points: &[Waypoint]) -> Result<(), FlightError> {
@@ -313,50 +241,16 @@ mod tests {
         let short = evaluate(&path, &look, 100).unwrap();
         let long = evaluate(&path, &look, 101).unwrap();
         assert_eq!(short[..], long[..100]);
-        // The yaw is the tangent's: a quarter turn ahead of the angle from the centre.
+        // The last frame looks along the chord to where the circle goes next: a quarter turn
+        // and half a frame's angle ahead of its angle from the centre.
         let last = short[99];
-        let angle = 0.3 + TAU * 99.0 / 400.0;
-        let expected = (angle + FRAC_PI_2).sin().atan2((angle + FRAC_PI_2).cos());
+        let angle = 0.3 + TAU * 99.5 / 400.0 + FRAC_PI_2;
+        let expected = angle.sin().atan2(angle.cos());
         assert!(
             (last.yaw - expected).abs() < 1e-12,
             "{} vs {expected}",
             last.yaw
         );
-    }
-
-    #[test]
-    fn waypoint_directions_are_the_curves_derivatives() {
-        let points = vec![
-            Waypoint {
-                frame: 0,
-                position: DVec3::new(0.0, 0.0, 100.0),
-            },
-            Waypoint {
-                frame: 40,
-                position: DVec3::new(400.0, 100.0, 120.0),
-            },
-            Waypoint {
-                frame: 100,
-                position: DVec3::new(300.0, 700.0, 90.0),
-            },
-        ];
-        for interpolation in [Interpolation::Linear, Interpolation::CatmullRom] {
-            for frame in [5u64, 39, 41, 70, 99] {
-                let v = waypoint_velocity(&points, interpolation, frame);
-                let next = waypoint_position(&points, interpolation, frame + 1);
-                let numeric = if interpolation == Interpolation::Linear {
-                    // Straight segments: one frame's step is the velocity exactly.
-                    next - waypoint_position(&points, interpolation, frame)
-                } else {
-                    // Smooth inside a segment: the central difference is close.
-                    (next - waypoint_position(&points, interpolation, frame - 1)) / 2.0
-                };
-                assert!(
-                    (v - numeric).length() < 0.05 * numeric.length().max(1.0),
-                    "{interpolation:?} frame {frame}: {v} vs {numeric}"
-                );
-            }
-        }
     }
 
     #[test]
