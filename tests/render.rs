@@ -512,6 +512,7 @@ fn patches_at_each_checked_frame(check: &mut dyn FnMut(&Hierarchy, &Patches, &Fr
             culling: true,
             check_meshes: true,
         },
+        max_triangles: None,
     };
     let mut patches = Patches::new(hierarchy, patches_config());
     let mut runner = FrameRunner::new(&inputs);

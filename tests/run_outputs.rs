@@ -834,3 +834,42 @@ fn a_budget_the_entry_does_not_hold_is_flagged_in_the_report_and_the_summary() {
     assert_eq!(summary["algorithms"][0]["goal"]["held"], false);
     assert_eq!(summary["algorithms"][1]["goal"], serde_json::Value::Null);
 }
+
+#[test]
+fn an_entry_outgrowing_the_declared_triangle_limit_stops_the_run_with_a_clear_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(40);
+    experiment["algorithms"] = serde_json::json!([
+        {"name": "roam", "label": "runaway", "tau_px": 1.0}
+    ]);
+    experiment["limits"] = serde_json::json!({"max_triangles": 20_000});
+    let path = save(dir.path(), "runaway", &experiment);
+    let out = dir.path().join("out");
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: false,
+        threads: Some(1),
+        command_line: None,
+    };
+    let error = run_experiment(&path, &options, &NoProgress)
+        .err()
+        .expect("stopped")
+        .to_string();
+    assert!(error.starts_with("runaway, frame "), "{error}");
+    assert!(
+        error.contains("over the experiment's limit of 20000 (limits.max_triangles)"),
+        "{error}"
+    );
+    assert!(!out.exists(), "nothing written");
+
+    experiment["limits"] = serde_json::json!({"max_triangles": 0});
+    let path = save(dir.path(), "zero", &experiment);
+    let error = roamsim::edge::experiment::load(&path)
+        .err()
+        .expect("invalid")
+        .to_string();
+    assert!(
+        error.contains("limits.max_triangles: 0: expected at least 1"),
+        "{error}"
+    );
+}

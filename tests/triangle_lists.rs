@@ -99,6 +99,7 @@ fn run_with_every_effect(
             culling: true,
             check_meshes: true,
         },
+        max_triangles: None,
     };
     run_algorithm(&inputs, algorithm.name(), algorithm, &mut |_| {}).unwrap()
 }

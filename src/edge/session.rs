@@ -87,7 +87,7 @@ pub struct RunOutcome {
 pub enum RunFailure {
     #[error("{0}")]
     Experiment(#[from] ExperimentError),
-    #[error("mesh check failed: {0}")]
+    #[error("{0}")]
     Mesh(#[from] RunError),
     #[error("{path}: cannot write the output: {source}")]
     Output {
@@ -298,6 +298,7 @@ fn run_point(
         flight: &experiment.flight,
         violations: &experiment.violations,
         effects: experiment.effects,
+        max_triangles: Some(experiment.max_triangles),
     };
     let n_frames = experiment.flight.n_frames();
     progress.start(n_frames * experiment.algorithms.len() as u64);

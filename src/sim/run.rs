@@ -39,9 +39,11 @@ pub struct RunInputs<'a> {
     /// The frames (sorted) that broke the motion bounds, with the bounds each broke.
     pub violations: &'a [SpeedViolation],
     pub effects: Effects,
+    /// Most triangles a frame's mesh may have; more stops the run ([`CheckError::TooManyTriangles`]).
+    pub max_triangles: Option<u64>,
 }
 
-/// A checked run found a broken mesh.
+/// A run stopped: a checked frame found a broken mesh, or a mesh outgrew the run's limit.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{algorithm}, frame {frame}: {error}")]
 pub struct RunError {
@@ -53,10 +55,18 @@ pub struct RunError {
 /// What a checked frame found wrong.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum CheckError {
-    #[error("{0}")]
+    #[error("mesh check failed: {0}")]
     Mesh(#[from] MeshCheckError),
-    #[error("the algorithm declares {declared} extra columns but filled {filled}")]
+    #[error(
+        "mesh check failed: the algorithm declares {declared} extra columns but filled {filled}"
+    )]
     ExtraColumns { declared: usize, filled: usize },
+    #[error(
+        "the mesh has {triangles} triangles, over the experiment's limit of {limit} \
+         (limits.max_triangles): stopped rather than run on; raise the limit, or give the entry a \
+         coarser tolerance, a budget or a target"
+    )]
+    TooManyTriangles { triangles: u64, limit: u64 },
 }
 
 /// Runs `algorithm` over the whole flight; `progress` is called after every frame with the
@@ -166,6 +176,18 @@ impl<'a> FrameRunner<'a> {
         let start = Instant::now();
         algorithm.update(&input, &mut stats);
         stats.update_ns = start.elapsed().as_nanos() as u64;
+        if let Some(limit) = inputs.max_triangles
+            && stats.triangles > limit
+        {
+            return Some(Err(RunError {
+                algorithm: label.to_string(),
+                frame,
+                error: CheckError::TooManyTriangles {
+                    triangles: stats.triangles,
+                    limit,
+                },
+            }));
+        }
 
         let mesh = algorithm.mesh();
         if let Some(checker) = self.checker.as_mut()

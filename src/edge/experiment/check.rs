@@ -47,6 +47,7 @@ pub(super) struct Checked {
     pub(super) algorithms: Vec<AlgorithmSpec>,
     pub(super) effects: Effects,
     pub(super) mesh_exports: Option<MeshExports>,
+    pub(super) max_triangles: u64,
 }
 
 /// Stage 2: every semantic problem, with its field path.
@@ -117,6 +118,17 @@ pub(super) fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, Exper
     if let Some(audit) = &file.effects.audit {
         problems.positive_int("effects.audit.stride", audit.stride);
     }
+    let max_triangles = match file.limits.max_triangles {
+        Some(0) => {
+            problems.add(
+                "limits.max_triangles",
+                "0: expected at least 1 (leave it out for the default of 2000000)",
+            );
+            0
+        }
+        Some(limit) => limit,
+        None => super::format::DEFAULT_MAX_TRIANGLES,
+    };
     let mesh_exports = file
         .outputs
         .meshes
@@ -153,6 +165,7 @@ pub(super) fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, Exper
             check_meshes: false,
         },
         mesh_exports,
+        max_triangles,
     })
 }
 

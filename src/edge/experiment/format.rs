@@ -27,7 +27,23 @@ pub struct ExperimentFile {
     pub effects: EffectsEntry,
     #[serde(default)]
     pub outputs: OutputsEntry,
+    #[serde(default)]
+    pub limits: LimitsEntry,
 }
+
+/// Limits that stop runaway work (default: [`DEFAULT_MAX_TRIANGLES`]).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LimitsEntry {
+    /// Most triangles any entry's mesh may have in a frame; the run stops with an error naming
+    /// the entry and the frame when one exceeds it.
+    #[serde(default)]
+    pub max_triangles: Option<u64>,
+}
+
+/// The default of `limits.max_triangles`: four times the largest mesh of the shipped
+/// experiments (chunked-tau, 0.51 M), a full 1025² mesh's 2.1 M not included.
+pub const DEFAULT_MAX_TRIANGLES: u64 = 2_000_000;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]

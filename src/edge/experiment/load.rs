@@ -37,6 +37,8 @@ pub struct Experiment {
     pub view: ViewSettings,
     /// `view.fovy_deg` as the experiment gives it (the view holds radians): echoed as written.
     pub fovy_deg: f64,
+    /// `limits.max_triangles`: a frame of any entry with more triangles stops the run.
+    pub max_triangles: u64,
     pub speed: SpeedBound,
     pub flight: Flight,
     pub flight_kind: &'static str,

@@ -183,6 +183,7 @@ impl Plan {
             terrain,
             view: checked.view,
             fovy_deg: parsed.view.fovy_deg,
+            max_triangles: checked.max_triangles,
             speed: checked.speed,
             flight,
             flight_kind: path_kind(&parsed.flight.path),

@@ -441,7 +441,7 @@ pub enum RenderFailure {
     UnknownAlgorithm(#[from] UnknownAlgorithm),
     #[error("frame {frame} is past the flight's last frame {last}")]
     FramePastEnd { frame: u64, last: u64 },
-    #[error("mesh check failed: {0}")]
+    #[error("{0}")]
     Mesh(#[from] RunError),
     #[error("{0}")]
     Graphics(#[from] HeadlessError),

@@ -70,6 +70,7 @@ impl Scene {
             flight: &self.experiment.flight,
             violations: &self.experiment.violations,
             effects: self.experiment.effects,
+            max_triangles: Some(self.experiment.max_triangles),
         }
     }
 }

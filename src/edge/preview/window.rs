@@ -44,7 +44,7 @@ pub enum PreviewFailure {
     Experiment(#[from] ExperimentError),
     #[error("{0}")]
     UnknownAlgorithm(#[from] UnknownAlgorithm),
-    #[error("mesh check failed: {0}")]
+    #[error("{0}")]
     Mesh(#[from] RunError),
     #[error("window: {0}")]
     Window(String),
