@@ -8,7 +8,9 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use roamsim::edge::experiment;
-use roamsim::edge::session::{NoProgress, ProgressSink, RunOptions, run_experiment};
+use roamsim::edge::output::end_of_run::end_of_run_text;
+use roamsim::edge::progress::LineProgress;
+use roamsim::edge::session::{ProgressSink, RunOptions, run_experiment};
 use roamsim::edge::terrain_readers::{ReadOptions, format_from_extension, read_terrain};
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::terrain::embed::{Fit, embed};
@@ -59,6 +61,10 @@ enum Command {
         /// meshes do not depend on it; use 1 for timing comparisons.
         #[arg(long)]
         threads: Option<usize>,
+        /// Run only the first N frames of the flight (any flight: parametric, waypoints,
+        /// recorded), exactly as the full run has them: for quick probes.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        frames: Option<u64>,
     },
     /// Check an experiment file without running it; exits non-zero when it is invalid.
     #[command(after_help = EXAMPLES)]
@@ -131,7 +137,8 @@ fn main() -> ExitCode {
             out,
             check,
             threads,
-        } => run(&experiment, out, check, threads),
+            frames,
+        } => run(&experiment, out, check, threads, frames),
         Command::Validate { experiment } => check_experiment(&experiment),
         Command::Info { path } => info(&path),
         #[cfg(feature = "preview")]
@@ -179,17 +186,19 @@ fn run(
     out: Option<PathBuf>,
     check: bool,
     threads: Option<usize>,
+    max_frames: Option<u64>,
 ) -> Result<(), String> {
     let options = RunOptions {
         out_dir: out,
         check_meshes: check,
         threads,
+        max_frames,
     };
     let started = Instant::now();
     let outcome = if std::io::stderr().is_terminal() {
         run_experiment(path, &options, &BarProgress::new())
     } else {
-        run_experiment(path, &options, &NoProgress)
+        run_experiment(path, &options, &LineProgress::to_stderr())
     }
     .map_err(|e| e.to_string())?;
     if !outcome.speed_violation_frames.is_empty() {
@@ -204,14 +213,14 @@ fn run(
         );
     }
     println!(
-        "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s); wrote {}",
+        "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s)",
         outcome.experiment_name,
         outcome.frames,
         started.elapsed().as_secs_f64(),
         outcome.threads,
         outcome.preprocessing_seconds,
-        outcome.out_dir.display()
     );
+    print!("{}", end_of_run_text(&outcome.out_dir, &outcome.points));
     Ok(())
 }
 

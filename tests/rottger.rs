@@ -588,6 +588,7 @@ fn a_checked_run_of_the_real_tile_writes_the_rottger_columns_and_facts() {
         out_dir: Some(out.clone()),
         check_meshes: true,
         threads: Some(1),
+        max_frames: None,
     };
     roamsim::edge::session::run_experiment(&path, &options, &roamsim::edge::session::NoProgress)
         .unwrap();

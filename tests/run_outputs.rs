@@ -17,6 +17,7 @@ fn run_with_threads(experiment: &Path, out: &Path, check_meshes: bool, threads: 
         out_dir: Some(out.to_path_buf()),
         check_meshes,
         threads: Some(threads),
+        max_frames: None,
     };
     run_experiment(experiment, &options, &NoProgress).unwrap();
 }
@@ -490,6 +491,7 @@ fn a_point_that_cannot_run_is_named_and_nothing_is_written() {
             out_dir: Some(out.clone()),
             check_meshes: false,
             threads: Some(1),
+            max_frames: None,
         },
         &NoProgress,
     )
@@ -649,6 +651,7 @@ fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() 
         out_dir: Some(out.clone()),
         check_meshes: false,
         threads: Some(1),
+        max_frames: None,
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()

@@ -98,6 +98,7 @@ fn a_run_lists_the_violations_and_roam_revalidates_exactly_there() {
         out_dir: Some(out.clone()),
         check_meshes: true,
         threads: Some(1),
+        max_frames: None,
     };
     let outcome = run_experiment(&path, &options, &NoProgress).unwrap();
     assert_eq!(outcome.speed_violation_frames, vec![5, 8]);
@@ -155,6 +156,7 @@ fn a_nan_pose_is_refused_before_the_run_with_its_line() {
         out_dir: Some(out.clone()),
         check_meshes: false,
         threads: Some(1),
+        max_frames: None,
     };
     assert!(run_experiment(&path, &options, &NoProgress).is_err());
     assert!(
@@ -218,6 +220,7 @@ fn a_turn_faster_than_the_rotation_bound_is_reported_as_a_rotation_violation() {
         out_dir: Some(out.clone()),
         check_meshes: true,
         threads: Some(1),
+        max_frames: None,
     };
     run_experiment(&path, &options, &NoProgress).unwrap();
     let summary: Value =

@@ -14,6 +14,7 @@
 use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::{StagedDir, check_destination};
 use crate::edge::output::columns::RunColumns;
+use crate::edge::output::end_of_run::PointFigures;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
@@ -38,6 +39,12 @@ pub trait ProgressSink: Sync {
     /// `frames` more frames are done.
     fn advance(&self, frames: u64);
     fn finish(&self);
+    /// The number of algorithm entries about to run (before `start`).
+    fn entries(&self, count: usize) {
+        let _ = count;
+    }
+    /// One more entry has run all its frames.
+    fn entry_finished(&self) {}
     /// Point `index` of `count` of the experiment's top-level sweep is about to load and run.
     fn point(&self, index: usize, count: usize, choice: &str) {
         let _ = (index, count, choice);
@@ -62,6 +69,8 @@ pub struct RunOptions {
     pub check_meshes: bool,
     /// Threads running algorithm entries side by side; `None`: one per core.
     pub threads: Option<usize>,
+    /// Run only the first this many frames of every flight (`--frames N`); `None`: all.
+    pub max_frames: Option<u64>,
 }
 
 /// What a finished run produced.
@@ -72,7 +81,10 @@ pub struct RunOutcome {
     pub speed_violation_frames: Vec<u64>,
     pub preprocessing_seconds: f64,
     pub threads: usize,
+    /// Every point's entries and their report figures, in order (one point without a sweep).
+    pub points: Vec<PointFigures>,
 }
+
 
 /// Why a run produced nothing.
 #[derive(Debug, thiserror::Error)]
@@ -130,11 +142,15 @@ pub fn run_experiment(
         speed_violation_frames: Vec::new(),
         preprocessing_seconds: 0.0,
         threads,
+        points: Vec::new(),
     };
     let mut sweep_points = Vec::new();
     for k in 0..plan.n_points() {
         let mut experiment = plan.load_point(k)?;
         experiment.effects.check_meshes = options.check_meshes;
+        if let Some(n_frames) = options.max_frames {
+            experiment.keep_first_frames(n_frames);
+        }
         let choice_label = plan.choice(k).map(|c| experiment::choice_label(c));
         if let Some(label) = &choice_label {
             progress.point(k, plan.n_points(), label);
@@ -162,6 +178,11 @@ pub fn run_experiment(
         if k == 0 {
             outcome.speed_violation_frames = point.violation_frames;
         }
+        outcome.points.push(PointFigures {
+            choice: choice_label.clone(),
+            folder: folder.clone(),
+            entries: figures.clone(),
+        });
         if let Some(choice) = plan.choice(k) {
             sweep_points.push(SweepPoint {
                 choice: choice.clone(),
@@ -202,7 +223,7 @@ pub fn run_experiment(
 }
 
 /// A folder name for a sweep point: `parameter=value` pairs joined by `_`, anything but letters,
-/// digits and `.=-+` replaced by `-`.
+/// digits and `._=-+` replaced by `-` (field names keep their `_`: `view.fovy_deg=60`).
 fn point_folder(choice: &[(String, serde_json::Value)]) -> String {
     choice
         .iter()
@@ -217,11 +238,11 @@ fn point_folder(choice: &[(String, serde_json::Value)]) -> String {
         .join("_")
 }
 
-/// `text` with anything but ASCII letters, digits and `.=-+` replaced by `-`.
+/// `text` with anything but ASCII letters, digits and `._=-+` replaced by `-`.
 fn file_name_part(text: &str) -> String {
     text.chars()
         .map(|c| {
-            if c.is_ascii_alphanumeric() || ".=-+".contains(c) {
+            if c.is_ascii_alphanumeric() || "._=-+".contains(c) {
                 c
             } else {
                 '-'
@@ -268,6 +289,7 @@ fn run_point(
         effects: experiment.effects,
     };
     let n_frames = experiment.flight.n_frames();
+    progress.entries(experiment.algorithms.len());
     progress.start(n_frames * experiment.algorithms.len() as u64);
     let n_samples = experiment.field.n_samples() as f64;
     let run_one = |(k, spec): (usize, &AlgorithmSpec)| -> Result<AlgorithmResult, RunError> {
@@ -306,6 +328,7 @@ fn run_point(
                 }
             },
         )?;
+        progress.entry_finished();
         Ok(AlgorithmResult {
             memory_bytes: algorithm.memory_bytes(),
             preprocessing,

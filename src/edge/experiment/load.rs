@@ -38,6 +38,8 @@ pub struct Experiment {
     pub speed: SpeedBound,
     pub flight: Flight,
     pub flight_kind: &'static str,
+    /// The flight's length as the file has it, before any `--frames` shortening.
+    pub frames_in_file: u64,
     pub violations: Vec<SpeedViolation>,
     pub algorithms: Vec<AlgorithmSpec>,
     pub effects: Effects,
@@ -46,6 +48,20 @@ pub struct Experiment {
     pub mesh_exports: Option<MeshExports>,
     /// The point of the experiment's top-level sweep this is (`None` without a sweep).
     pub sweep_point: Option<SweepChoice>,
+}
+
+impl Experiment {
+    /// Runs only the first `n_frames` frames of the flight (`roamsim run --frames N`): the
+    /// flight, its speed violations and the mesh exports past the end are cut; the frames kept
+    /// are exactly the full flight's. A flight already that short is left whole.
+    pub fn keep_first_frames(&mut self, n_frames: u64) {
+        self.flight.keep_first(n_frames);
+        let n = self.flight.n_frames();
+        self.violations.retain(|v| v.frame < n);
+        if let Some(exports) = &mut self.mesh_exports {
+            exports.frames.retain(|&f| f < n);
+        }
+    }
 }
 
 /// Which entries' meshes to export at which frames, checked: every frame inside the flight,

@@ -3,6 +3,7 @@
 
 pub mod atomic_dir;
 pub mod columns;
+pub mod end_of_run;
 pub mod frames_csv;
 pub mod label_placement;
 pub mod mesh_ply;

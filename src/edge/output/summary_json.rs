@@ -130,6 +130,7 @@ pub fn summary_json(
         "flight": {
             "kind": experiment.flight_kind,
             "frames": experiment.flight.n_frames(),
+            "frames_in_file": experiment.frames_in_file,
             "speed_bounds": {
                 "horizontal_m_per_frame": experiment.speed.horizontal,
                 "vertical_m_per_frame": experiment.speed.vertical,

@@ -69,4 +69,12 @@ impl Flight {
     pub fn poses(&self) -> &[Pose] {
         &self.poses
     }
+
+    /// Keeps the first `n_frames` frames (at least one; a flight already that short is left
+    /// as it is). The frames kept are exactly those of the whole flight: a shortened run is the
+    /// start of the full run, not a compressed one.
+    pub fn keep_first(&mut self, n_frames: u64) {
+        let n_frames = n_frames.max(1) as usize;
+        self.poses.truncate(n_frames);
+    }
 }
