@@ -120,3 +120,104 @@ fn a_run_prints_each_entrys_figures_and_where_the_files_are_and_progress_without
         "{stderr}"
     );
 }
+
+fn run_quietly(path: &Path, out: &Path) -> Result<(), String> {
+    let options = roamsim::edge::session::RunOptions {
+        out_dir: Some(out.to_path_buf()),
+        check_meshes: false,
+        threads: Some(1),
+        max_frames: None,
+    };
+    roamsim::edge::session::run_experiment(path, &options, &roamsim::edge::session::NoProgress)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn warm_up_frames_are_left_out_of_the_summaries_and_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = waypoint_scene();
+    scene["outputs"] = json!({"warm_up_frames": 10, "plots": false});
+    let path = save(dir.path(), "warm", &scene);
+    let out = dir.path().join("out");
+    run_quietly(&path, &out).unwrap();
+    let summary = read_json(&out.join("summary.json"));
+    assert_eq!(summary["flight"]["warm_up_frames"], 10);
+    let roam = &summary["algorithms"][1];
+    assert_eq!(roam["frames"], 30);
+    assert_eq!(roam["frames_summarised"], 20);
+    // The mean of triangles is over frames 10 to 29 of frames.csv.
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    let triangles: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|c| c[0] == "roam" && c[1].parse::<u64>().unwrap() >= 10)
+        .map(|c| c[2].parse().unwrap())
+        .collect();
+    assert_eq!(triangles.len(), 20);
+    let mean = triangles.iter().sum::<f64>() / 20.0;
+    let summarised = roam["columns"]["triangles"]["mean"].as_f64().unwrap();
+    assert!((summarised - mean).abs() < 1e-9, "{summarised} against {mean}");
+    assert_eq!(csv.lines().count(), 1 + 3 * 30, "frames.csv keeps every frame");
+    assert_eq!(roam["settling"]["column"], "triangles");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("The first 10 frames (0 to 9) are left out"), "{report}");
+}
+
+#[test]
+fn a_warm_up_as_long_as_the_flight_is_refused_with_the_field_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = waypoint_scene();
+    scene["outputs"] = json!({"warm_up_frames": 30});
+    let path = save(dir.path(), "long-warm", &scene);
+    let error = run_quietly(&path, &dir.path().join("out")).unwrap_err();
+    assert!(error.contains("outputs.warm_up_frames: 30 leaves no frame"), "{error}");
+    // --frames shortening below the warm-up says so.
+    scene["outputs"] = json!({"warm_up_frames": 10});
+    let path = save(dir.path(), "short-warm", &scene);
+    let output = roamsim(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        dir.path().join("out2").to_str().unwrap(),
+        "--frames",
+        "5",
+    ]);
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("shortened by --frames from 30"), "{stderr}");
+}
+
+#[test]
+fn the_report_says_when_a_target_entry_had_not_settled() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = waypoint_scene();
+    // A target far beyond what this terrain can give: never within 10 %.
+    scene["algorithms"] = json!([{"name": "roam", "target_triangles": 1000000}]);
+    scene["outputs"] = json!({"plots": false});
+    let path = save(dir.path(), "unsettled", &scene);
+    let out = dir.path().join("out");
+    run_quietly(&path, &out).unwrap();
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains("**Not settled:** roam never came within 10 % of its target (1000000 triangles)"),
+        "{report}"
+    );
+}
+
+#[test]
+fn sweep_folders_keep_the_field_names_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = waypoint_scene();
+    scene["sweep"] = json!({"terrain.synthetic.amplitude_m": [30]});
+    scene["outputs"] = json!({"plots": false});
+    let path = save(dir.path(), "swept", &scene);
+    let out = dir.path().join("out");
+    run_quietly(&path, &out).unwrap();
+    assert!(
+        out.join("terrain.synthetic.amplitude_m=30/report.md").exists(),
+        "{:?}",
+        std::fs::read_dir(&out).unwrap().collect::<Vec<_>>()
+    );
+}

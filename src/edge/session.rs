@@ -15,6 +15,7 @@ use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::{StagedDir, check_destination};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::end_of_run::PointFigures;
+use crate::edge::output::warm_up::summarised_runs;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
@@ -150,6 +151,7 @@ pub fn run_experiment(
         experiment.effects.check_meshes = options.check_meshes;
         if let Some(n_frames) = options.max_frames {
             experiment.keep_first_frames(n_frames);
+            experiment.check_warm_up()?;
         }
         let choice_label = plan.choice(k).map(|c| experiment::choice_label(c));
         if let Some(label) = &choice_label {
@@ -456,7 +458,7 @@ fn write_outputs(
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
         write_run_plots(&plots, &runs, audited)?;
     }
-    Ok(runs
+    Ok(summarised_runs(&runs, experiment.warm_up_frames)
         .iter()
         .zip(&names)
         .zip(&bytes_per_sample)

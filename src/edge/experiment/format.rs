@@ -413,6 +413,9 @@ pub struct OutputsEntry {
     /// Meshes to export (default: none).
     #[serde(default)]
     pub meshes: Option<MeshesEntry>,
+    /// The first frames left out of the summaries (default 0: none).
+    #[serde(default)]
+    pub warm_up_frames: u64,
 }
 
 impl Default for OutputsEntry {
@@ -420,6 +423,7 @@ impl Default for OutputsEntry {
         OutputsEntry {
             plots: true,
             meshes: None,
+            warm_up_frames: 0,
         }
     }
 }

@@ -44,6 +44,9 @@ pub struct Experiment {
     pub algorithms: Vec<AlgorithmSpec>,
     pub effects: Effects,
     pub plots: bool,
+    /// The first frames left out of the summaries (`outputs.warm_up_frames`; see
+    /// `edge::output::warm_up`), fewer than the flight's frames.
+    pub warm_up_frames: u64,
     /// Meshes to write as PLY files (`outputs.meshes`); `None`: none.
     pub mesh_exports: Option<MeshExports>,
     /// The point of the experiment's top-level sweep this is (`None` without a sweep).
@@ -51,6 +54,29 @@ pub struct Experiment {
 }
 
 impl Experiment {
+    /// The warm-up must leave at least one frame to summarise (checked when the flight is
+    /// built, and again after `--frames` shortened it).
+    pub fn check_warm_up(&self) -> Result<(), ExperimentError> {
+        let n_frames = self.flight.n_frames();
+        if self.warm_up_frames < n_frames {
+            return Ok(());
+        }
+        let shortened = if n_frames < self.frames_in_file {
+            format!(" (shortened by --frames from {})", self.frames_in_file)
+        } else {
+            String::new()
+        };
+        Err(ExperimentError::single(
+            &self.file,
+            "outputs.warm_up_frames",
+            format!(
+                "{} leaves no frame to summarise of the {n_frames}-frame flight{shortened}: \
+                 expected fewer warm-up frames than the flight has",
+                self.warm_up_frames
+            ),
+        ))
+    }
+
     /// Runs only the first `n_frames` frames of the flight (`roamsim run --frames N`): the
     /// flight, its speed violations and the mesh exports past the end are cut; the frames kept
     /// are exactly the full flight's. A flight already that short is left whole.

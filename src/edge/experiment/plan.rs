@@ -174,7 +174,7 @@ impl Plan {
             )));
         }
         let violations = speed_violations(&flight, checked.speed);
-        Ok(Experiment {
+        let experiment = Experiment {
             name: parsed.name.clone(),
             description: parsed.description.clone(),
             file: path.to_path_buf(),
@@ -191,8 +191,11 @@ impl Plan {
             effects: checked.effects,
             plots: parsed.outputs.plots,
             mesh_exports: checked.mesh_exports.clone(),
+            warm_up_frames: parsed.outputs.warm_up_frames,
             sweep_point: point.choice.clone(),
-        })
+        };
+        experiment.check_warm_up().map_err(prefix_errors)?;
+        Ok(experiment)
     }
 }
 

@@ -12,3 +12,4 @@ pub mod report_md;
 pub mod run_plots;
 pub mod summary_json;
 pub mod sweep_outputs;
+pub mod warm_up;

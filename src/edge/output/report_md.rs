@@ -9,6 +9,7 @@
 
 use super::columns::{RunColumns, value};
 use super::summary_json::Preprocessing;
+use super::warm_up::{Settling, settling, summarised_runs, warm_up_paragraph};
 use crate::edge::experiment::Experiment;
 use crate::sim::stats::{pareto_front, summarise};
 use std::fmt::Write;
@@ -115,7 +116,8 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
         "| entry | algorithm | triangles | rendered | error max / mean / p95 (px) | update p50 / p95 (µs) | splits + merges per frame | evaluations per split or merge | bytes per sample |"
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|");
-    let rows: Vec<Row> = inputs.runs.iter().map(row).collect();
+    let summarised = summarised_runs(inputs.runs, experiment.warm_up_frames);
+    let rows: Vec<Row> = summarised.iter().map(row).collect();
     for (k, (run, r)) in inputs.runs.iter().zip(&rows).enumerate() {
         let error = r.error.map_or("—".to_string(), |(max, mean, p95)| {
             format!("{max:.2} / {mean:.3} / {p95:.2}")
@@ -163,8 +165,20 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
          shared preprocessed terrain (heights and Wu's node table above the finest level, 5 B/sample) plus the \
          algorithm's own state at the end of the run, per height sample."
     );
-    write_popping(&mut out, inputs.runs);
-    write_triangle_lists(&mut out, inputs.runs);
+    let settled: Vec<Option<Settling>> = inputs
+        .runs
+        .iter()
+        .zip(inputs.names)
+        .zip(&experiment.algorithms)
+        .map(|((run, name), spec)| settling(name, &spec.parameters, run))
+        .collect();
+    let labels: Vec<&str> = inputs.runs.iter().map(|r| r.label).collect();
+    let warm_up = warm_up_paragraph(&labels, &settled, experiment.warm_up_frames);
+    if !warm_up.is_empty() {
+        let _ = writeln!(out, "\n{warm_up}");
+    }
+    write_popping(&mut out, &summarised);
+    write_triangle_lists(&mut out, &summarised);
     write_preprocessing(&mut out, inputs);
     out
 }

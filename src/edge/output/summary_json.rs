@@ -3,6 +3,7 @@
 //! `docs/output-formats.md`.
 
 use super::columns::{RunColumns, numeric_columns, value};
+use super::warm_up::{SETTLED_WITHIN, settling, summarised_runs};
 use crate::edge::experiment::Experiment;
 use crate::sim::flight::BrokenBounds;
 use crate::sim::stats::summarise;
@@ -34,19 +35,23 @@ pub fn summary_json(
 ) -> Value {
     let audited = experiment.effects.audit.is_some();
     let columns = numeric_columns(runs, audited);
+    // Column summaries leave out the warm-up frames; `frames` still counts them all.
+    let summarised = summarised_runs(runs, experiment.warm_up_frames);
     let algorithms: Vec<Value> = runs
         .iter()
+        .zip(&summarised)
+        .map(|(run, summarised)| (run, summarised))
         .zip(parameters)
         .zip(names)
         .zip(facts)
         .zip(entry_preprocessing)
-        .map(|((((run, parameters), name), facts), preprocessing)| {
+        .map(|(((((run, summarised), parameters), name), facts), preprocessing)| {
             let mut summaries = Map::new();
             for column in &columns {
-                let values: Vec<f64> = run
+                let values: Vec<f64> = summarised
                     .frames
                     .iter()
-                    .filter_map(|f| value(run, f, column))
+                    .filter_map(|f| value(summarised, f, column))
                     .collect();
                 if let Some(s) = summarise(&values) {
                     summaries.insert(
@@ -65,6 +70,13 @@ pub fn summary_json(
                     "bytes_per_sample": preprocessing.bytes_per_sample,
                 },
                 "frames": run.frames.len(),
+                "frames_summarised": summarised.frames.len(),
+                "settling": settling(name, parameters, run).map(|s| json!({
+                    "target": s.target,
+                    "column": s.column,
+                    "within": SETTLED_WITHIN,
+                    "first_frame": s.first_frame,
+                })),
                 "columns": summaries,
             })
         })
@@ -131,6 +143,7 @@ pub fn summary_json(
             "kind": experiment.flight_kind,
             "frames": experiment.flight.n_frames(),
             "frames_in_file": experiment.frames_in_file,
+            "warm_up_frames": experiment.warm_up_frames,
             "speed_bounds": {
                 "horizontal_m_per_frame": experiment.speed.horizontal,
                 "vertical_m_per_frame": experiment.speed.vertical,
