@@ -247,6 +247,12 @@ fn check_experiment(path: &Path) -> Result<(), String> {
             experiment.terrain.side,
             experiment.terrain.source
         );
+        if let Some(first) = experiment.below_ground_frames.first() {
+            println!(
+                "note: the eye is below the ground in {} frame(s) (first: frame {first})",
+                experiment.below_ground_frames.len()
+            );
+        }
         if !experiment.violations.is_empty() {
             println!(
                 "note: {} frame(s) break the speed or rotation bounds (first: frame {})",

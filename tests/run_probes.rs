@@ -221,3 +221,83 @@ fn sweep_folders_keep_the_field_names_as_written() {
         std::fs::read_dir(&out).unwrap().collect::<Vec<_>>()
     );
 }
+
+/// A low straight flight across the scene's terrain: heights 0 to about 40 m.
+fn low_line(altitude: Option<&str>, z: f64) -> Value {
+    let mut scene = waypoint_scene();
+    scene["flight"] = json!({"frames": 40, "look": {"fixed": {"yaw_deg": 0, "pitch_deg": -10}},
+                             "path": {"line": {"from_m": [20, 320, z], "to_m": [620, 300, z]}}});
+    if let Some(altitude) = altitude {
+        scene["flight"]["altitude"] = json!(altitude);
+    }
+    scene["outputs"] = json!({"plots": false});
+    scene
+}
+
+#[test]
+fn frames_with_the_eye_below_the_ground_are_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let field = roamsim::edge::experiment::load(&save(dir.path(), "probe", &low_line(None, 0.0)))
+        .unwrap()
+        .field;
+    let (lo, hi) = field.height_range();
+    // At the mean height the line must cross the relief somewhere.
+    let path = save(dir.path(), "low", &low_line(None, f64::from(lo + hi) / 2.0));
+    let experiment = roamsim::edge::experiment::load(&path).unwrap();
+    let below = experiment.below_ground_frames.clone();
+    assert!(!below.is_empty() && below.len() < 40, "{below:?}");
+    for frame in 0..40 {
+        let eye = experiment.flight.pose(frame).position;
+        let ground = experiment.field.ground_height(eye.truncate());
+        assert_eq!(below.contains(&frame), eye.z < ground, "frame {frame}");
+    }
+    let out = dir.path().join("out");
+    run_quietly(&path, &out).unwrap();
+    let summary = read_json(&out.join("summary.json"));
+    assert_eq!(summary["flight"]["eye_below_ground_count"], below.len());
+    assert_eq!(summary["flight"]["eye_below_ground_frames"][0], below[0]);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains(&format!("**Eye below the ground** in {} frame(s)", below.len())));
+    let validate = roamsim(&["validate", path.to_str().unwrap()]);
+    assert!(
+        String::from_utf8_lossy(&validate.stdout).contains("the eye is below the ground in"),
+        "{validate:?}"
+    );
+}
+
+#[test]
+fn an_above_ground_flight_holds_its_clearance_over_the_relief() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = save(dir.path(), "clear", &low_line(Some("above_ground"), 15.0));
+    let experiment = roamsim::edge::experiment::load(&path).unwrap();
+    assert!(experiment.below_ground_frames.is_empty());
+    let mut heights = Vec::new();
+    for frame in 0..40 {
+        let eye = experiment.flight.pose(frame).position;
+        let clearance = eye.z - experiment.field.ground_height(eye.truncate());
+        assert!((clearance - 15.0).abs() < 1e-9, "frame {frame}: {clearance}");
+        heights.push(eye.z);
+    }
+    // It follows the ground: its world height is not constant.
+    assert!(heights.iter().any(|&z| (z - heights[0]).abs() > 1.0), "{heights:?}");
+    // Absolute (the default) is today's behaviour: z as written.
+    let absolute = save(dir.path(), "abs", &low_line(Some("absolute"), 15.0));
+    let experiment = roamsim::edge::experiment::load(&absolute).unwrap();
+    assert_eq!(experiment.flight.pose(7).position.z, 15.0);
+}
+
+#[test]
+fn a_recorded_flight_cannot_be_flown_above_the_ground() {
+    let mut scene = waypoint_scene();
+    scene["flight"] = json!({"path": {"recorded": {"path": "log.csv"}}, "altitude": "above_ground"});
+    let error = roamsim::edge::experiment::check_bytes(
+        Path::new("recorded.json"),
+        scene.to_string().as_bytes(),
+    )
+    .unwrap_err();
+    let text = error.to_string();
+    assert!(
+        text.contains("recorded.json: flight.altitude: a recorded flight brings its own world heights"),
+        "{text}"
+    );
+}

@@ -184,6 +184,7 @@ pub fn run_experiment(
             choice: choice_label.clone(),
             folder: folder.clone(),
             entries: figures.clone(),
+            below_ground_frames: experiment.below_ground_frames.clone(),
         });
         if let Some(choice) = plan.choice(k) {
             sweep_points.push(SweepPoint {

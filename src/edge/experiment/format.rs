@@ -150,6 +150,18 @@ pub struct FlightEntry {
     #[serde(default)]
     pub look: Option<LookEntry>,
     pub path: PathEntry,
+    /// What the path's heights mean (default: absolute world heights).
+    #[serde(default)]
+    pub altitude: Option<AltitudeEntry>,
+}
+
+/// `"absolute"`: the path's z values are world heights; `"above_ground"`: heights above the
+/// ground under the eye.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum AltitudeEntry {
+    Absolute,
+    AboveGround,
 }
 
 #[derive(Debug, Deserialize)]

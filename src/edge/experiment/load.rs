@@ -4,7 +4,7 @@
 
 use super::ExperimentError;
 use super::format::{
-    FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry, TerrainEntry,
+    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry, TerrainEntry,
     TerrainFormatEntry,
 };
 use super::sweep::SweepChoice;
@@ -13,7 +13,9 @@ use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
 use crate::sim::algorithm::AlgorithmConfig;
-use crate::sim::flight::{Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint};
+use crate::sim::flight::{
+    Altitude, Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint,
+};
 use crate::sim::run::Effects;
 use crate::sim::terrain::embed::{Fit, embed};
 use crate::sim::terrain::fill::fill_voids;
@@ -41,6 +43,9 @@ pub struct Experiment {
     /// The flight's length as the file has it, before any `--frames` shortening.
     pub frames_in_file: u64,
     pub violations: Vec<SpeedViolation>,
+    /// The frames whose eye is below the ground (over the terrain; see
+    /// [`Flight::frames_below_ground`]).
+    pub below_ground_frames: Vec<u64>,
     pub algorithms: Vec<AlgorithmSpec>,
     pub effects: Effects,
     pub plots: bool,
@@ -84,6 +89,7 @@ impl Experiment {
         self.flight.keep_first(n_frames);
         let n = self.flight.n_frames();
         self.violations.retain(|v| v.frame < n);
+        self.below_ground_frames.retain(|&f| f < n);
         if let Some(exports) = &mut self.mesh_exports {
             exports.frames.retain(|&f| f < n);
         }
@@ -274,6 +280,7 @@ pub(super) fn build_flight(
     experiment: &Path,
     folder: &Path,
     entry: &FlightEntry,
+    field: &Heightfield,
 ) -> Result<Flight, ExperimentError> {
     let v2 = |a: [f64; 2]| DVec2::new(a[0], a[1]);
     let v3 = |a: [f64; 3]| DVec3::new(a[0], a[1], a[2]);
@@ -366,6 +373,10 @@ pub(super) fn build_flight(
             FlightPath::Recorded { poses }
         }
     };
-    Flight::new(&path, &look, entry.frames.unwrap_or(0))
+    let altitude = match entry.altitude {
+        None | Some(AltitudeEntry::Absolute) => Altitude::Absolute,
+        Some(AltitudeEntry::AboveGround) => Altitude::AboveGround(field),
+    };
+    Flight::with_altitude(&path, &look, entry.frames.unwrap_or(0), altitude)
         .map_err(|e| ExperimentError::single(experiment, "flight", e.to_string()))
 }

@@ -160,7 +160,7 @@ impl Plan {
         let folder = path.parent().unwrap_or(Path::new("."));
         let (field, terrain) =
             load_terrain(path, folder, &parsed.terrain).map_err(prefix_errors)?;
-        let flight = build_flight(path, folder, &parsed.flight).map_err(prefix_errors)?;
+        let flight = build_flight(path, folder, &parsed.flight, &field).map_err(prefix_errors)?;
         if let Some(exports) = &checked.mesh_exports
             && let Some(&frame) = exports.frames.iter().find(|&&f| f >= flight.n_frames())
         {
@@ -174,6 +174,7 @@ impl Plan {
             )));
         }
         let violations = speed_violations(&flight, checked.speed);
+        let below_ground_frames = flight.frames_below_ground(&field);
         let experiment = Experiment {
             name: parsed.name.clone(),
             description: parsed.description.clone(),
@@ -187,6 +188,7 @@ impl Plan {
             frames_in_file: flight.n_frames(),
             flight,
             violations,
+            below_ground_frames,
             algorithms: checked.algorithms.clone(),
             effects: checked.effects,
             plots: parsed.outputs.plots,

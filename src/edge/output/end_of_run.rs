@@ -17,6 +17,8 @@ pub struct PointFigures {
     /// The point's folder inside the output folder (empty without a sweep).
     pub folder: String,
     pub entries: Vec<EntryFigures>,
+    /// The frames whose eye was below the ground.
+    pub below_ground_frames: Vec<u64>,
 }
 
 /// The lines printed after a run: a table per point, then the output files.
@@ -38,6 +40,14 @@ pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
             "  {:<label_width$}  {:>9}  {:>9}  {:>27}  {:>21}",
             "entry", "triangles", "rendered", "error max / mean / p95 (px)", "update p50 / p95 (µs)"
         );
+        if let Some(first) = point.below_ground_frames.first() {
+            let _ = writeln!(
+                text,
+                "  warning: the eye is below the ground in {} frame(s) (first: frame {first}; \
+                 summary.json lists them)",
+                point.below_ground_frames.len()
+            );
+        }
         for entry in &point.entries {
             let row = &entry.row;
             let error = row.error.map_or("—".to_string(), |(max, mean, p95)| {
@@ -96,6 +106,7 @@ mod tests {
                 entry("wu τ=2px", Some((3.5, 0.125, 1.75))),
                 entry("roam", None),
             ],
+            below_ground_frames: Vec::new(),
         }];
         let text = end_of_run_text(Path::new("out/qs"), &points);
         let lines: Vec<&str> = text.lines().collect();
@@ -114,6 +125,7 @@ mod tests {
             choice: Some(choice.to_string()),
             folder: folder.to_string(),
             entries: vec![entry("wu", None)],
+            below_ground_frames: vec![4, 5],
         };
         let text = end_of_run_text(
             Path::new("out/s"),
@@ -122,5 +134,9 @@ mod tests {
         assert!(text.contains("level = 6 (level=6/):"), "{text}");
         assert!(text.contains("level = 7 (level=7/):"), "{text}");
         assert_eq!(text.matches("  wu ").count(), 2, "{text}");
+        assert!(
+            text.contains("warning: the eye is below the ground in 2 frame(s) (first: frame 4"),
+            "{text}"
+        );
     }
 }

@@ -111,6 +111,15 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
             ""
         },
     );
+    if let Some(first) = experiment.below_ground_frames.first() {
+        let _ = writeln!(
+            out,
+            "**Eye below the ground** in {} frame(s) (first: frame {first}); the meshes of those \
+             frames are seen from under the surface. summary.json lists them \
+             (`flight.eye_below_ground_frames`).\n",
+            experiment.below_ground_frames.len()
+        );
+    }
     let _ = writeln!(
         out,
         "| entry | algorithm | triangles | rendered | error max / mean / p95 (px) | update p50 / p95 (µs) | splits + merges per frame | evaluations per split or merge | bytes per sample |"

@@ -144,6 +144,12 @@ pub fn summary_json(
             "frames": experiment.flight.n_frames(),
             "frames_in_file": experiment.frames_in_file,
             "warm_up_frames": experiment.warm_up_frames,
+            "eye_below_ground_count": experiment.below_ground_frames.len(),
+            "eye_below_ground_frames": experiment
+                .below_ground_frames
+                .iter()
+                .take(MAX_LISTED_VIOLATIONS)
+                .collect::<Vec<_>>(),
             "speed_bounds": {
                 "horizontal_m_per_frame": experiment.speed.horizontal,
                 "vertical_m_per_frame": experiment.speed.vertical,
