@@ -120,6 +120,30 @@ enum Command {
         #[arg(long)]
         roles: bool,
     },
+    /// (Needs a build with the `preview` feature.)
+    #[cfg(not(feature = "preview"))]
+    #[command(hide = true, disable_help_flag = true)]
+    Preview {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        rest: Vec<String>,
+    },
+    /// (Needs a build with the `preview` feature.)
+    #[cfg(not(feature = "preview"))]
+    #[command(hide = true, disable_help_flag = true)]
+    Render {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        rest: Vec<String>,
+    },
+}
+
+/// What `preview` and `render` answer in a build without the feature that draws.
+#[cfg(not(feature = "preview"))]
+fn needs_preview_feature(command: &str) -> Result<(), String> {
+    Err(format!(
+        "`{command}` draws with wgpu, which this build leaves out: build with the `preview` \
+         feature, e.g. `cargo run --release --features preview -- {command} EXPERIMENT …` \
+         (README, \"Seeing the meshes\")"
+    ))
 }
 
 #[cfg(feature = "preview")]
@@ -141,6 +165,10 @@ fn main() -> ExitCode {
         } => run(&experiment, out, check, threads, frames),
         Command::Validate { experiment } => check_experiment(&experiment),
         Command::Info { path } => info(&path),
+        #[cfg(not(feature = "preview"))]
+        Command::Preview { .. } => needs_preview_feature("preview"),
+        #[cfg(not(feature = "preview"))]
+        Command::Render { .. } => needs_preview_feature("render"),
         #[cfg(feature = "preview")]
         Command::Preview {
             experiment,

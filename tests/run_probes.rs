@@ -105,7 +105,7 @@ fn a_run_prints_each_entrys_figures_and_where_the_files_are_and_progress_without
     ]);
     assert!(output.status.success(), "{output:?}");
     let stdout = String::from_utf8(output.stdout).unwrap();
-    assert!(stdout.contains("error max / mean / p95 (px)"), "{stdout}");
+    assert!(stdout.contains("error max / mean / mean of p95 (px)"), "{stdout}");
     for label in ["wu", "roam", "reference"] {
         assert!(
             stdout.lines().any(|l| l.trim_start().starts_with(label)),
@@ -300,4 +300,47 @@ fn a_recorded_flight_cannot_be_flown_above_the_ground() {
         text.contains("recorded.json: flight.altitude: a recorded flight brings its own world heights"),
         "{text}"
     );
+}
+
+#[test]
+fn the_report_says_what_its_p95_is_and_marks_from_scratch_operation_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = waypoint_scene();
+    scene["outputs"] = json!({"plots": false});
+    let path = save(dir.path(), "words", &scene);
+    let out = dir.path().join("out");
+    run_quietly(&path, &out).unwrap();
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("| error max / mean / mean of p95 (px) |"), "{report}");
+    let row = |label: &str| {
+        report
+            .lines()
+            .find(|l| l.starts_with(&format!("| {label} | ")))
+            .unwrap()
+            .to_string()
+    };
+    assert!(row("reference").contains(" †"), "{}", row("reference"));
+    assert!(!row("wu").contains('†'), "{}", row("wu"));
+    assert!(!row("roam").contains('†'), "{}", row("roam"));
+    assert!(report.contains("not comparable with an incremental algorithm's"));
+    // Wu's b in frames of travel, and beside it in metres (× the 10 m horizontal bound).
+    let summary = read_json(&out.join("summary.json"));
+    let columns = &summary["algorithms"][0]["columns"];
+    for stat in ["mean", "p50", "p95", "max"] {
+        let frames = columns["base_b"][stat].as_f64().unwrap();
+        let metres = columns["base_b_m"][stat].as_f64().unwrap();
+        assert_eq!(metres, frames * 10.0, "{stat}");
+    }
+}
+
+#[cfg(not(feature = "preview"))]
+#[test]
+fn render_and_preview_without_the_feature_say_how_to_get_them() {
+    for command in ["render", "preview"] {
+        let output = roamsim(&[command, "x.json", "--frames", "0", "--out", "o"]);
+        assert!(!output.status.success());
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.contains("--features preview"), "{stderr}");
+        assert!(!stderr.contains("unrecognized subcommand"), "{stderr}");
+    }
 }

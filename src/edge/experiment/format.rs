@@ -109,11 +109,14 @@ pub struct SyntheticEntry {
     /// Side 2^level + 1.
     pub level: u32,
     pub seed: u64,
+    /// The corners' and the top level's displacement in metres; heights are not centred on the
+    /// origin and can span more than ± this (docs/experiment-format.md).
     pub amplitude_m: f64,
     /// The horizontal length over which `amplitude_m` applies (default: the terrain's extent
     /// along x): terrains of different sizes with the same scale share their small-scale relief.
     #[serde(default)]
     pub amplitude_scale_m: Option<f64>,
+    /// A Hurst exponent in [0, 1]: higher is smoother.
     pub roughness: f64,
     pub spacing_m: SpacingEntry,
     /// World position of sample (0, 0) at height 0 (default: the world origin).

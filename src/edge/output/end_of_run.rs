@@ -37,8 +37,8 @@ pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
         }
         let _ = writeln!(
             text,
-            "  {:<label_width$}  {:>9}  {:>9}  {:>27}  {:>21}",
-            "entry", "triangles", "rendered", "error max / mean / p95 (px)", "update p50 / p95 (µs)"
+            "  {:<label_width$}  {:>9}  {:>9}  {:>35}  {:>21}",
+            "entry", "triangles", "rendered", "error max / mean / mean of p95 (px)", "update p50 / p95 (µs)"
         );
         if let Some(first) = point.below_ground_frames.first() {
             let _ = writeln!(
@@ -56,7 +56,7 @@ pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
             let update = format!("{:.1} / {:.1}", row.update_p50_us, row.update_p95_us);
             let _ = writeln!(
                 text,
-                "  {:<label_width$}  {:>9.0}  {:>9.0}  {:>27}  {:>21}",
+                "  {:<label_width$}  {:>9.0}  {:>9.0}  {:>35}  {:>21}",
                 entry.label, row.triangles, row.rendered, error, update
             );
         }

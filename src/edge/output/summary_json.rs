@@ -5,9 +5,13 @@
 use super::columns::{RunColumns, numeric_columns, value};
 use super::warm_up::{SETTLED_WITHIN, settling, summarised_runs};
 use crate::edge::experiment::Experiment;
+use crate::sim::algorithm::columns::wu::BASE_B;
 use crate::sim::flight::BrokenBounds;
 use crate::sim::stats::summarise;
 use serde_json::{Map, Value, json};
+
+/// The summary of Wu's b in metres (b × the horizontal speed bound), beside `base_b`.
+pub const BASE_B_METRES: &str = "base_b_m";
 
 /// The format version of `summary.json`.
 pub const SUMMARY_FORMAT_VERSION: u32 = 1;
@@ -59,6 +63,14 @@ pub fn summary_json(
                         json!({"mean": s.mean, "p50": s.p50, "p95": s.p95, "max": s.max}),
                     );
                 }
+            }
+            // Wu's b is in frames of travel at the horizontal speed bound; beside it in metres.
+            if let Some(b) = summaries.get(BASE_B).cloned() {
+                let metres = |stat: &str| b[stat].as_f64().map(|v| v * experiment.speed.horizontal);
+                summaries.insert(
+                    BASE_B_METRES.to_string(),
+                    json!({"mean": metres("mean"), "p50": metres("p50"), "p95": metres("p95"), "max": metres("max")}),
+                );
             }
             json!({
                 "label": run.label,
