@@ -20,7 +20,7 @@ use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
 use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
-use crate::edge::output::run_plots::write_run_plots;
+use crate::edge::output::run_plots::{RunPlotInputs, write_run_plots};
 use crate::edge::output::summary_json::{Preprocessing, summary_json};
 use crate::edge::output::sweep_outputs::{
     EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
@@ -457,7 +457,18 @@ fn write_outputs(
     if experiment.plots {
         let plots = dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
-        write_run_plots(&plots, &runs, audited)?;
+        let violation_frames: Vec<u64> = experiment.violations.iter().map(|v| v.frame).collect();
+        write_run_plots(
+            &plots,
+            &RunPlotInputs {
+                runs: &runs,
+                names: &names,
+                audited,
+                speed_violation_frames: &violation_frames,
+                horizontal_m_per_frame: experiment.speed.horizontal,
+                warm_up_frames: experiment.warm_up_frames,
+            },
+        )?;
     }
     Ok(summarised_runs(&runs, experiment.warm_up_frames)
         .iter()
