@@ -194,22 +194,22 @@ fn write_base_plot(
         let (min, max, mean) = figures[0];
         vec![
             Marker {
-                label: format!("max {max} ({:.0} m)", metres(max)),
+                label: format!("max {max} ({:.0}\u{a0}m)", metres(max)),
                 y: max,
             },
             Marker {
-                label: format!("mean {mean:.2} ({:.0} m)", metres(mean)),
+                label: format!("mean {mean:.2} ({:.0}\u{a0}m)", metres(mean)),
                 y: mean,
             },
             Marker {
-                label: format!("min {min} ({:.0} m)", metres(min)),
+                label: format!("min {min} ({:.0}\u{a0}m)", metres(min)),
                 y: min,
             },
         ]
     } else {
         for (s, (min, max, mean)) in series.iter_mut().zip(&figures) {
             s.label = format!(
-                "{} (min {min}, max {max}, mean {mean:.2}; mean {:.0} m)",
+                "{} (min {min}, max {max}, mean {mean:.2}; mean {:.0}\u{a0}m)",
                 s.label,
                 metres(*mean)
             );

@@ -41,8 +41,9 @@ pub(super) struct LinePlan<'a> {
 pub(super) struct PlannedSeries<'a> {
     label: &'a str,
     color: RGBColor,
-    /// The label of an earlier series with exactly the same points, which this one hides.
-    same_as: Option<&'a str>,
+    /// The label of an earlier series this one hides (see [`coincidence`]), and whether the
+    /// points are exactly the same.
+    same_as: Option<(&'a str, bool)>,
     /// Unbroken, non-empty runs of plottable points; a run of one point (or of one point
     /// repeated) is drawn as a dot.
     runs: Vec<Vec<(f64, f64)>>,
@@ -80,6 +81,8 @@ impl<'a> LinePlan<'a> {
         let has_data = x_bounds.min_max.is_some();
         let x_range = padded_range(x_bounds, X_MARGIN, X_MARGIN);
         let y_range = padded_range(y_bounds, Y_MARGIN, Y_MARGIN);
+        // Two series within a pixel or two of each other everywhere hide one another.
+        let axis_span = y_range.end - y_range.start;
         let y_range = if log_y {
             let decades = with_a_whole_decade(y_range);
             10f64.powf(decades.start)..10f64.powf(decades.end)
@@ -103,8 +106,8 @@ impl<'a> LinePlan<'a> {
                 };
                 let same_as = chart.series[..series_idx]
                     .iter()
-                    .find(|earlier| !earlier.points.is_empty() && earlier.points == series.points)
-                    .map(|earlier| earlier.label.as_str());
+                    .find_map(|earlier| coincidence(earlier, series, &axis_y, axis_span))
+                    .map(|(earlier, exact)| (earlier.label.as_str(), exact));
                 PlannedSeries {
                     label: &series.label,
                     color: PALETTE[series_idx % PALETTE.len()],
@@ -142,9 +145,11 @@ impl<'a> LinePlan<'a> {
             .map(|series| LegendEntry {
                 text: match (series.runs.is_empty(), series.same_as) {
                     (true, _) => format!("{} (no data)", series.label),
-                    (false, Some(earlier)) => {
-                        format!("{} (= {earlier}, drawn over it)", series.label)
-                    }
+                    (false, Some((earlier, exact))) => format!(
+                        "{} ({} {earlier}, drawn over it)",
+                        series.label,
+                        if exact { "=" } else { "≈" }
+                    ),
                     (false, None) => series.label.to_string(),
                 },
                 color: series.color,
@@ -158,6 +163,33 @@ impl<'a> LinePlan<'a> {
         }
         entries
     }
+}
+
+/// The fraction of the y axis's span within which two series' points count as coinciding:
+/// about two pixels of the plot's height.
+const COINCIDING_FRACTION_OF_SPAN: f64 = 0.004;
+
+/// `earlier`, and whether the points are identical, when `later` has points at the same x
+/// values that are all within [`COINCIDING_FRACTION_OF_SPAN`] of `axis_span` of `earlier`'s on
+/// the axis (`axis_y`: log10 on a logarithmic axis), so that drawing `later` hides `earlier`.
+fn coincidence<'s>(
+    earlier: &'s super::Series,
+    later: &super::Series,
+    axis_y: &dyn Fn(f64) -> f64,
+    axis_span: f64,
+) -> Option<(&'s super::Series, bool)> {
+    if earlier.points.is_empty() || earlier.points.len() != later.points.len() {
+        return None;
+    }
+    if earlier.points == later.points {
+        return Some((earlier, true));
+    }
+    let tolerance = COINCIDING_FRACTION_OF_SPAN * axis_span;
+    let close = earlier.points.iter().zip(&later.points).all(|(a, b)| {
+        let (ya, yb) = (axis_y(a.1), axis_y(b.1));
+        a.0 == b.0 && ((ya - yb).abs() <= tolerance || (ya.is_nan() && yb.is_nan()))
+    });
+    close.then_some((earlier, false))
 }
 
 impl Drawing for LinePlan<'_> {

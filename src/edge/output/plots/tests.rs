@@ -517,6 +517,21 @@ fn a_series_hidden_under_an_identical_one_says_so_in_the_legend() {
     };
     let (_, svg) = written_line_chart(dir.path(), "same", &chart);
     assert!(svg.contains("wu τ=2 (= reference τ=2, drawn over it)"), "{svg}");
+    // Within a pixel of each other everywhere: as hidden, said with ≈.
+    let base: Vec<(f64, f64)> = (0..50).map(|f| (f as f64, 1000.0 + f as f64)).collect();
+    let near: Vec<(f64, f64)> = base.iter().map(|&(x, y)| (x, y + 0.05)).collect();
+    let apart: Vec<(f64, f64)> = base.iter().map(|&(x, y)| (x, y + 20.0)).collect();
+    let chart = LineChart {
+        series: &[
+            series("roam", base),
+            series("roam-rebuild", near),
+            series("other", apart),
+        ],
+        ..chart
+    };
+    let (_, svg) = written_line_chart(dir.path(), "near", &chart);
+    assert!(svg.contains("roam-rebuild (≈ roam, drawn over it)"), "{svg}");
+    assert!(!svg.contains("other (≈"), "{svg}");
 }
 
 #[test]
