@@ -50,7 +50,12 @@ fn frames_shortens_a_waypoint_flight_to_its_first_frames() {
     let full = dir.path().join("full");
     let short = dir.path().join("short");
     let run = |out: &Path, extra: &[&str]| {
-        let mut args = vec!["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        let mut args = vec![
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
         args.extend_from_slice(&["--threads", "1"]);
         args.extend_from_slice(extra);
         let output = roamsim(&args);
@@ -63,9 +68,7 @@ fn frames_shortens_a_waypoint_flight_to_its_first_frames() {
     let (full_csv, short_csv) = (csv(&full), csv(&short));
     assert_eq!(short_csv.lines().count(), 1 + 3 * 7);
     // The first frames are the full run's, count for count (timings aside).
-    let counts = |line: &str| -> String {
-        line.split(',').take(8).collect::<Vec<_>>().join(",")
-    };
+    let counts = |line: &str| -> String { line.split(',').take(8).collect::<Vec<_>>().join(",") };
     let full_rows: Vec<String> = full_csv
         .lines()
         .filter(|l| {
@@ -105,7 +108,10 @@ fn a_run_prints_each_entrys_figures_and_where_the_files_are_and_progress_without
     ]);
     assert!(output.status.success(), "{output:?}");
     let stdout = String::from_utf8(output.stdout).unwrap();
-    assert!(stdout.contains("error max / mean / mean of p95 (px)"), "{stdout}");
+    assert!(
+        stdout.contains("error max / mean / mean of p95 (px)"),
+        "{stdout}"
+    );
     for label in ["wu", "roam", "reference"] {
         assert!(
             stdout.lines().any(|l| l.trim_start().starts_with(label)),
@@ -158,11 +164,21 @@ fn warm_up_frames_are_left_out_of_the_summaries_and_recorded() {
     assert_eq!(triangles.len(), 20);
     let mean = triangles.iter().sum::<f64>() / 20.0;
     let summarised = roam["columns"]["triangles"]["mean"].as_f64().unwrap();
-    assert!((summarised - mean).abs() < 1e-9, "{summarised} against {mean}");
-    assert_eq!(csv.lines().count(), 1 + 3 * 30, "frames.csv keeps every frame");
+    assert!(
+        (summarised - mean).abs() < 1e-9,
+        "{summarised} against {mean}"
+    );
+    assert_eq!(
+        csv.lines().count(),
+        1 + 3 * 30,
+        "frames.csv keeps every frame"
+    );
     assert_eq!(roam["settling"]["column"], "triangles");
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains("The first 10 frames (0 to 9) are left out"), "{report}");
+    assert!(
+        report.contains("The first 10 frames (0 to 9) are left out"),
+        "{report}"
+    );
 }
 
 #[test]
@@ -172,7 +188,10 @@ fn a_warm_up_as_long_as_the_flight_is_refused_with_the_field_named() {
     scene["outputs"] = json!({"warm_up_frames": 30});
     let path = save(dir.path(), "long-warm", &scene);
     let error = run_quietly(&path, &dir.path().join("out")).unwrap_err();
-    assert!(error.contains("outputs.warm_up_frames: 30 leaves no frame"), "{error}");
+    assert!(
+        error.contains("outputs.warm_up_frames: 30 leaves no frame"),
+        "{error}"
+    );
     // --frames shortening below the warm-up says so.
     scene["outputs"] = json!({"warm_up_frames": 10});
     let path = save(dir.path(), "short-warm", &scene);
@@ -201,7 +220,9 @@ fn the_report_says_when_a_target_entry_had_not_settled() {
     run_quietly(&path, &out).unwrap();
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(
-        report.contains("**Not settled:** roam never came within 10 % of its target (1000000 triangles)"),
+        report.contains(
+            "**Not settled:** roam never came within 10 % of its target (1000000 triangles)"
+        ),
         "{report}"
     );
 }
@@ -216,7 +237,8 @@ fn sweep_folders_keep_the_field_names_as_written() {
     let out = dir.path().join("out");
     run_quietly(&path, &out).unwrap();
     assert!(
-        out.join("terrain.synthetic.amplitude_m=30/report.md").exists(),
+        out.join("terrain.synthetic.amplitude_m=30/report.md")
+            .exists(),
         "{:?}",
         std::fs::read_dir(&out).unwrap().collect::<Vec<_>>()
     );
@@ -257,7 +279,10 @@ fn frames_with_the_eye_below_the_ground_are_reported() {
     assert_eq!(summary["flight"]["eye_below_ground_count"], below.len());
     assert_eq!(summary["flight"]["eye_below_ground_frames"][0], below[0]);
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains(&format!("**Eye below the ground** in {} frame(s)", below.len())));
+    assert!(report.contains(&format!(
+        "**Eye below the ground** in {} frame(s)",
+        below.len()
+    )));
     let validate = roamsim(&["validate", path.to_str().unwrap()]);
     assert!(
         String::from_utf8_lossy(&validate.stdout).contains("the eye is below the ground in"),
@@ -275,11 +300,17 @@ fn an_above_ground_flight_holds_its_clearance_over_the_relief() {
     for frame in 0..40 {
         let eye = experiment.flight.pose(frame).position;
         let clearance = eye.z - experiment.field.ground_height(eye.truncate());
-        assert!((clearance - 15.0).abs() < 1e-9, "frame {frame}: {clearance}");
+        assert!(
+            (clearance - 15.0).abs() < 1e-9,
+            "frame {frame}: {clearance}"
+        );
         heights.push(eye.z);
     }
     // It follows the ground: its world height is not constant.
-    assert!(heights.iter().any(|&z| (z - heights[0]).abs() > 1.0), "{heights:?}");
+    assert!(
+        heights.iter().any(|&z| (z - heights[0]).abs() > 1.0),
+        "{heights:?}"
+    );
     // Absolute (the default) is today's behaviour: z as written.
     let absolute = save(dir.path(), "abs", &low_line(Some("absolute"), 15.0));
     let experiment = roamsim::edge::experiment::load(&absolute).unwrap();
@@ -289,7 +320,8 @@ fn an_above_ground_flight_holds_its_clearance_over_the_relief() {
 #[test]
 fn a_recorded_flight_cannot_be_flown_above_the_ground() {
     let mut scene = waypoint_scene();
-    scene["flight"] = json!({"path": {"recorded": {"path": "log.csv"}}, "altitude": "above_ground"});
+    scene["flight"] =
+        json!({"path": {"recorded": {"path": "log.csv"}}, "altitude": "above_ground"});
     let error = roamsim::edge::experiment::check_bytes(
         Path::new("recorded.json"),
         scene.to_string().as_bytes(),
@@ -297,7 +329,9 @@ fn a_recorded_flight_cannot_be_flown_above_the_ground() {
     .unwrap_err();
     let text = error.to_string();
     assert!(
-        text.contains("recorded.json: flight.altitude: a recorded flight brings its own world heights"),
+        text.contains(
+            "recorded.json: flight.altitude: a recorded flight brings its own world heights"
+        ),
         "{text}"
     );
 }
@@ -311,7 +345,10 @@ fn the_report_says_what_its_p95_is_and_marks_from_scratch_operation_counts() {
     let out = dir.path().join("out");
     run_quietly(&path, &out).unwrap();
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains("| error max / mean / mean of p95 (px) |"), "{report}");
+    assert!(
+        report.contains("| error max / mean / mean of p95 (px) |"),
+        "{report}"
+    );
     let row = |label: &str| {
         report
             .lines()

@@ -15,7 +15,6 @@ use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::{StagedDir, check_destination};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::end_of_run::PointFigures;
-use crate::edge::output::warm_up::summarised_runs;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
@@ -26,6 +25,7 @@ use crate::edge::output::sweep_outputs::{
     EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
     write_sweep_plots,
 };
+use crate::edge::output::warm_up::summarised_runs;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{RunError, RunInputs, run_algorithm_with};
 use crate::sim::stats::FrameStats;
@@ -85,7 +85,6 @@ pub struct RunOutcome {
     /// Every point's entries and their report figures, in order (one point without a sweep).
     pub points: Vec<PointFigures>,
 }
-
 
 /// Why a run produced nothing.
 #[derive(Debug, thiserror::Error)]

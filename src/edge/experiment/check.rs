@@ -7,10 +7,10 @@
 //! algorithms' own), run by `--check`.
 
 use super::format::{
-    AlgorithmEntry, AltitudeEntry, DistanceEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry,
-    LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry, ReferenceParameters,
-    RefineEntry, RoamParameters, RottgerParameters, TerrainEntry, TerrainFormatEntry, WuParameters,
-    ZoneEntry,
+    AlgorithmEntry, AltitudeEntry, DistanceEntry, ExperimentFile, FORMAT_VERSION, FitEntry,
+    FlightEntry, LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry,
+    ReferenceParameters, RefineEntry, RoamParameters, RottgerParameters, TerrainEntry,
+    TerrainFormatEntry, WuParameters, ZoneEntry,
 };
 use super::load::{AlgorithmSpec, MeshExports};
 use super::sweep::{MAX_SWEEP_POINTS, cartesian, choice_label};

@@ -4,8 +4,8 @@
 
 use super::ExperimentError;
 use super::format::{
-    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry, TerrainEntry,
-    TerrainFormatEntry,
+    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry,
+    TerrainEntry, TerrainFormatEntry,
 };
 use super::sweep::SweepChoice;
 use crate::edge::flight_log::read_flight_log;

@@ -38,7 +38,11 @@ pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
         let _ = writeln!(
             text,
             "  {:<label_width$}  {:>9}  {:>9}  {:>35}  {:>21}",
-            "entry", "triangles", "rendered", "error max / mean / mean of p95 (px)", "update p50 / p95 (µs)"
+            "entry",
+            "triangles",
+            "rendered",
+            "error max / mean / mean of p95 (px)",
+            "update p50 / p95 (µs)"
         );
         if let Some(first) = point.below_ground_frames.first() {
             let _ = writeln!(
@@ -113,7 +117,11 @@ mod tests {
         assert!(lines[0].contains("triangles") && lines[0].contains("update p50 / p95 (µs)"));
         assert!(lines[1].starts_with("  wu τ=2px"), "{}", lines[1]);
         for figure in ["10240", "5120", "3.50 / 0.125 / 1.75", "81.2 / 140.0"] {
-            assert!(lines[1].contains(figure), "{figure} missing from {}", lines[1]);
+            assert!(
+                lines[1].contains(figure),
+                "{figure} missing from {}",
+                lines[1]
+            );
         }
         assert!(lines[2].contains("—"), "{}", lines[2]);
         assert!(text.contains("wrote out/qs/: report.md"), "{text}");

@@ -3,11 +3,11 @@
 //! algorithm label.
 
 use super::columns::{RunColumns, value};
-use super::warm_up::summarised_runs;
 use super::plots::{
     LineChart, Marker, PlotError, ScatterChart, ScatterPoint, Series, write_line_chart,
     write_scatter_chart,
 };
+use super::warm_up::summarised_runs;
 use crate::sim::algorithm::columns::rottger::DESIRED_RESOLUTION_C;
 use crate::sim::algorithm::columns::wu::BASE_B;
 use crate::sim::stats::{pareto_front, summarise};

@@ -224,12 +224,20 @@ mod tests {
             50,
         );
         assert!(text.contains("The first 50 frames (0 to 49)"), "{text}");
-        assert!(text.contains("wu budget first came within 10 % of its target (1000 triangles) at frame 200"), "{text}");
+        assert!(
+            text.contains(
+                "wu budget first came within 10 % of its target (1000 triangles) at frame 200"
+            ),
+            "{text}"
+        );
         assert!(!text.contains("roam"), "settled inside the warm-up: {text}");
         assert!(text.contains("rottger never came within 10 %"), "{text}");
         assert!(!text.contains("wu τ=2px"), "{text}");
         let no_warm_up = warm_up_paragraph(&["wu budget"], &[late], 0);
-        assert!(no_warm_up.contains("`outputs.warm_up_frames`"), "{no_warm_up}");
+        assert!(
+            no_warm_up.contains("`outputs.warm_up_frames`"),
+            "{no_warm_up}"
+        );
         assert!(warm_up_paragraph(&["x"], &[None], 0).is_empty());
     }
 }

@@ -2,11 +2,11 @@
 
 use super::decimation::drawable_runs;
 use super::legend::{Legend, LegendEntry, fit_text, spread_apart};
+use super::scatter::with_a_whole_decade;
+use super::ticks::log_tick_label;
 use super::ticks::{
     AxisTexts, Bounds, TickFormat, configure_axes, is_plottable, padded_range, y_label_area_width,
 };
-use super::scatter::with_a_whole_decade;
-use super::ticks::log_tick_label;
 use super::{
     Drawing, LineChart, MARKED_X_COLOR, MARKER_COLOR, MARKER_FONT_SIZE, MARKER_MAX_TEXT_WIDTH,
     Marker, PALETTE, PANEL_GAP, RenderTarget, X_MARGIN, Y_MARGIN, draw_no_data_note, draw_title,
@@ -237,11 +237,25 @@ impl Drawing for LinePlan<'_> {
         if self.log_y {
             let mut chart = builder
                 .build_cartesian_2d(self.x_range.clone(), self.y_range.clone().log_scale())?;
-            self.draw_on(root, &mut chart, &format_x, &|y: &f64| log_tick_label(*y), &panels, target)
+            self.draw_on(
+                root,
+                &mut chart,
+                &format_x,
+                &|y: &f64| log_tick_label(*y),
+                &panels,
+                target,
+            )
         } else {
             let mut chart =
                 builder.build_cartesian_2d(self.x_range.clone(), self.y_range.clone())?;
-            self.draw_on(root, &mut chart, &format_x, &|y: &f64| y_format.label(*y), &panels, target)
+            self.draw_on(
+                root,
+                &mut chart,
+                &format_x,
+                &|y: &f64| y_format.label(*y),
+                &panels,
+                target,
+            )
         }
     }
 }

@@ -2,15 +2,16 @@
 //! with placed labels.
 
 use super::super::label_placement::{DOT_RADIUS, PixelBox, place_labels};
+use super::legend::{Legend, LegendEntry};
 use super::ticks::{
     AxisTexts, Bounds, TickFormat, configure_axes, is_plottable, log_tick_label, padded_range,
     y_label_area_width,
 };
-use super::legend::{Legend, LegendEntry};
 use super::{
-    Drawing, LEADER_COLOR, PALETTE, PANEL_GAP, POINT_LABEL_FONT_SIZE, RenderTarget, SCATTER_FRONT_COLOR,
-    SCATTER_LABEL_ROOM_X, SCATTER_LABEL_ROOM_Y, SCATTER_POINT_COLOR, SCATTER_X_MARGIN,
-    ScatterChart, ScatterPoint, TEXT_COLOR, Y_MARGIN, draw_no_data_note, draw_title, text_style,
+    Drawing, LEADER_COLOR, PALETTE, PANEL_GAP, POINT_LABEL_FONT_SIZE, RenderTarget,
+    SCATTER_FRONT_COLOR, SCATTER_LABEL_ROOM_X, SCATTER_LABEL_ROOM_Y, SCATTER_POINT_COLOR,
+    SCATTER_X_MARGIN, ScatterChart, ScatterPoint, TEXT_COLOR, Y_MARGIN, draw_no_data_note,
+    draw_title, text_style,
 };
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
@@ -48,7 +49,8 @@ pub(super) struct PlannedPoint<'a> {
 }
 
 /// Marker shapes for a group's variants, in order (repeated from the sixth variant on).
-pub(super) const VARIANT_SHAPES: [&str; 5] = ["circle", "square", "triangle", "diamond", "triangle down"];
+pub(super) const VARIANT_SHAPES: [&str; 5] =
+    ["circle", "square", "triangle", "diamond", "triangle down"];
 
 impl<'a> ScatterPlan<'a> {
     pub(super) fn new(chart: &ScatterChart<'a>) -> ScatterPlan<'a> {
@@ -152,7 +154,9 @@ impl<'a> ScatterPlan<'a> {
         if !entries.is_empty() && self.max_variants > 1 {
             let shapes = VARIANT_SHAPES[..self.max_variants.min(VARIANT_SHAPES.len())].join(", ");
             entries.push(LegendEntry {
-                text: format!("marker: the entry's variant within its algorithm, in entry order ({shapes})"),
+                text: format!(
+                    "marker: the entry's variant within its algorithm, in entry order ({shapes})"
+                ),
                 color: WHITE,
             });
         }
@@ -330,9 +334,19 @@ fn draw_shape<DB: DrawingBackend>(
             root.draw(&Circle::new((x, y), r as u32, color.filled()))?;
             return root.draw(&Circle::new((x, y), r as u32, WHITE.stroke_width(1)));
         }
-        1 => vec![(x - r, y - r), (x + r, y - r), (x + r, y + r), (x - r, y + r)],
+        1 => vec![
+            (x - r, y - r),
+            (x + r, y - r),
+            (x + r, y + r),
+            (x - r, y + r),
+        ],
         2 => vec![(x, y - r - 1), (x + r + 1, y + r), (x - r - 1, y + r)],
-        3 => vec![(x, y - r - 2), (x + r + 2, y), (x, y + r + 2), (x - r - 2, y)],
+        3 => vec![
+            (x, y - r - 2),
+            (x + r + 2, y),
+            (x, y + r + 2),
+            (x - r - 2, y),
+        ],
         _ => vec![(x - r - 1, y - r), (x + r + 1, y - r), (x, y + r + 1)],
     };
     root.draw(&Polygon::new(outline.clone(), color.filled()))?;

@@ -454,9 +454,22 @@ fn svg_texts(svg: &str) -> Vec<String> {
 #[test]
 fn a_log_y_axis_shows_series_orders_of_magnitude_apart_and_skips_non_positive_values() {
     let dir = tempfile::tempdir().unwrap();
-    let big = series("big", (0..100).map(|f| (f as f64, 50_000.0 + f as f64)).collect());
-    let small = series("small", (0..100).map(|f| (f as f64, 20.0 + (f % 7) as f64)).collect());
-    let with_zero = series("zero at 5", (0..10).map(|f| (f as f64, if f == 5 { 0.0 } else { 300.0 })).collect());
+    let big = series(
+        "big",
+        (0..100).map(|f| (f as f64, 50_000.0 + f as f64)).collect(),
+    );
+    let small = series(
+        "small",
+        (0..100)
+            .map(|f| (f as f64, 20.0 + (f % 7) as f64))
+            .collect(),
+    );
+    let with_zero = series(
+        "zero at 5",
+        (0..10)
+            .map(|f| (f as f64, if f == 5 { 0.0 } else { 300.0 }))
+            .collect(),
+    );
     let chart = LineChart {
         title: "log",
         x_label: "frame",
@@ -493,9 +506,16 @@ fn marked_frames_are_drawn_as_bands_and_counted_in_the_legend() {
         marked_x_label: "frames breaking the speed bounds",
     };
     let (png, svg) = written_line_chart(dir.path(), "marked", &chart);
-    assert!(svg.contains("frames breaking the speed bounds (3)"), "{svg}");
+    assert!(
+        svg.contains("frames breaking the speed bounds (3)"),
+        "{svg}"
+    );
     // Three bands the height of the plot, well over a hundred pixels each.
-    assert!(png.n_pixels_of(MARKED_X_COLOR) > 3 * 300, "{}", png.n_pixels_of(MARKED_X_COLOR));
+    assert!(
+        png.n_pixels_of(MARKED_X_COLOR) > 3 * 300,
+        "{}",
+        png.n_pixels_of(MARKED_X_COLOR)
+    );
 }
 
 #[test]
@@ -516,7 +536,10 @@ fn a_series_hidden_under_an_identical_one_says_so_in_the_legend() {
         marked_x_label: "",
     };
     let (_, svg) = written_line_chart(dir.path(), "same", &chart);
-    assert!(svg.contains("wu τ=2 (= reference τ=2, drawn over it)"), "{svg}");
+    assert!(
+        svg.contains("wu τ=2 (= reference τ=2, drawn over it)"),
+        "{svg}"
+    );
     // Within a pixel of each other everywhere: as hidden, said with ≈.
     let base: Vec<(f64, f64)> = (0..50).map(|f| (f as f64, 1000.0 + f as f64)).collect();
     let near: Vec<(f64, f64)> = base.iter().map(|&(x, y)| (x, y + 0.05)).collect();
@@ -530,14 +553,18 @@ fn a_series_hidden_under_an_identical_one_says_so_in_the_legend() {
         ..chart
     };
     let (_, svg) = written_line_chart(dir.path(), "near", &chart);
-    assert!(svg.contains("roam-rebuild (≈ roam, drawn over it)"), "{svg}");
+    assert!(
+        svg.contains("roam-rebuild (≈ roam, drawn over it)"),
+        "{svg}"
+    );
     assert!(!svg.contains("other (≈"), "{svg}");
 }
 
 #[test]
 fn a_long_legend_label_wraps_and_is_never_cut() {
     let dir = tempfile::tempdir().unwrap();
-    let label = "wu budget 12000 conservative zone (min -40, max 54, mean 3.25; mean 33 m) final-word";
+    let label =
+        "wu budget 12000 conservative zone (min -40, max 54, mean 3.25; mean 33 m) final-word";
     let chart = LineChart {
         title: "long",
         x_label: "frame",
@@ -552,7 +579,10 @@ fn a_long_legend_label_wraps_and_is_never_cut() {
     let texts = svg_texts(&svg);
     assert!(!texts.iter().any(|t| t.contains('…')), "{texts:?}");
     assert!(texts.iter().any(|t| t.ends_with("final-word")), "{texts:?}");
-    assert!(texts.iter().any(|t| t.starts_with("wu budget")), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t.starts_with("wu budget")),
+        "{texts:?}"
+    );
 }
 
 #[test]
@@ -584,9 +614,15 @@ fn a_grouped_scatter_colours_groups_shapes_variants_and_labels_only_the_front() 
     let svg = std::fs::read_to_string(dir.path().join("grouped.svg")).unwrap();
     let texts = svg_texts(&svg);
     for group in ["wu", "roam", "lindstrom"] {
-        assert!(texts.iter().any(|t| t == group), "no legend row {group}: {texts:?}");
+        assert!(
+            texts.iter().any(|t| t == group),
+            "no legend row {group}: {texts:?}"
+        );
     }
-    assert!(texts.iter().any(|t| t == "wu τ=1px with a long label"), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t == "wu τ=1px with a long label"),
+        "{texts:?}"
+    );
     assert!(
         !texts.iter().any(|t| t.starts_with("roam τ=")),
         "points off the front are not labelled: {texts:?}"
