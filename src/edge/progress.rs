@@ -78,11 +78,9 @@ impl LineState {
         } else {
             String::new()
         };
-        let percent = if self.total_frames > 0 {
-            100 * self.frames_done / self.total_frames
-        } else {
-            100
-        };
+        let percent = (100 * self.frames_done)
+            .checked_div(self.total_frames)
+            .unwrap_or(100);
         // A progress line that cannot be written is not worth failing the run for.
         let _ = writeln!(
             self.out,

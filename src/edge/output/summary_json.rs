@@ -44,7 +44,6 @@ pub fn summary_json(
     let algorithms: Vec<Value> = runs
         .iter()
         .zip(&summarised)
-        .map(|(run, summarised)| (run, summarised))
         .zip(parameters)
         .zip(names)
         .zip(facts)
