@@ -130,9 +130,10 @@ pub struct PlotError {
 /// One colour per series from a fixed palette of eight, in series order (it repeats from the
 /// ninth series on); a legend to the right of the plot lists the series labels (a label too
 /// long for the legend wraps onto more rows, never cut), and each marker is a dashed grey line
-/// with its label just right of the plot. A series whose points are exactly those of an
-/// earlier one is drawn over it and says so in the legend ("= <earlier label>, drawn over
-/// it"), so that a hidden line is never silently missing.
+/// with its label just right of the plot. A series whose points are those of an earlier one
+/// (exactly, or within about two pixels at every x) is drawn over it and says so in the legend
+/// (`= <earlier label>, drawn over it`, or `≈`), so that a hidden line is never silently
+/// missing. With `log_y` the y axis is logarithmic; `marked_x` draws pale red bands.
 pub fn write_line_chart(dir: &Path, stem: &str, chart: &LineChart) -> Result<(), PlotError> {
     write_png_and_svg(dir, stem, &LinePlan::new(chart))
 }
