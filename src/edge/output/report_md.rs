@@ -196,7 +196,12 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
         .map(|((run, name), spec)| settling(name, &spec.parameters, run))
         .collect();
     let labels: Vec<&str> = inputs.runs.iter().map(|r| r.label).collect();
-    let warm_up = warm_up_paragraph(&labels, &settled, experiment.warm_up_frames);
+    let warm_up = warm_up_paragraph(
+        &labels,
+        &settled,
+        experiment.warm_up_frames,
+        experiment.flight.n_frames(),
+    );
     if !warm_up.is_empty() {
         let _ = writeln!(out, "\n{warm_up}");
     }

@@ -15,8 +15,8 @@
 //! mesh), `roam`'s, `roam-rebuild`'s, `geomipmap`'s and `chunked`'s `target_triangles`,
 //! `rottger`'s `target_triangles` (its fan triangles) or `target_fan_vertices` — has *settled*
 //! at the first frame whose held count is within [`SETTLED_WITHIN`] of the target. `report.md`
-//! names every entry that settled only at or after the first summarised frame, or never, so a
-//! reader knows which summaries still contain the approach to the target. Entries without a
+//! names every entry that settled only after more than [`NEGLIGIBLE_APPROACH`] of the summarised
+//! frames, or never, so a reader knows which summaries still contain the approach to the target. Entries without a
 //! target (a fixed τ) have nothing to settle to and are not judged.
 
 use super::columns::{RunColumns, value};
@@ -25,6 +25,11 @@ use serde_json::Value;
 
 /// The relative distance from its target at which an entry counts as settled: 10 %.
 pub const SETTLED_WITHIN: f64 = 0.10;
+
+/// The share of the summarised frames an approach to the target may take before `report.md`
+/// names the entry as not settled: 2 % (a controller's first two frames of a 400-frame flight
+/// move its means by little).
+pub const NEGLIGIBLE_APPROACH: f64 = 0.02;
 
 /// The runs as their summaries see them: each without its first `warm_up_frames` frames.
 pub fn summarised_runs<'a>(runs: &[RunColumns<'a>], warm_up_frames: u64) -> Vec<RunColumns<'a>> {
@@ -101,7 +106,9 @@ pub fn warm_up_paragraph(
     labels: &[&str],
     settling: &[Option<Settling>],
     warm_up_frames: u64,
+    n_frames: u64,
 ) -> String {
+    let summarised = n_frames.saturating_sub(warm_up_frames);
     let mut sentences = Vec::new();
     if warm_up_frames > 0 {
         sentences.push(format!(
@@ -114,7 +121,10 @@ pub fn warm_up_paragraph(
         let Some(settled) = settled else { continue };
         let within = format!("{:.0} %", SETTLED_WITHIN * 100.0);
         match settled.first_frame {
-            Some(frame) if frame < warm_up_frames.max(1) => {}
+            // Settled inside the warm-up, or after a negligible part of the summarised frames.
+            Some(frame)
+                if frame.saturating_sub(warm_up_frames) as f64
+                    <= NEGLIGIBLE_APPROACH * summarised as f64 => {}
             Some(frame) => sentences.push(format!(
                 "**Not settled:** {} first came within {within} of its target ({:.0} {}) at \
                  frame {frame}, so the summarised frames {} include its approach to the target{}.",
@@ -222,6 +232,7 @@ mod tests {
             &["wu budget", "roam", "rottger", "wu τ=2px"],
             &[late.clone(), early, never, None],
             50,
+            1000,
         );
         assert!(text.contains("The first 50 frames (0 to 49)"), "{text}");
         assert!(
@@ -233,11 +244,21 @@ mod tests {
         assert!(!text.contains("roam"), "settled inside the warm-up: {text}");
         assert!(text.contains("rottger never came within 10 %"), "{text}");
         assert!(!text.contains("wu τ=2px"), "{text}");
-        let no_warm_up = warm_up_paragraph(&["wu budget"], &[late], 0);
+        let no_warm_up = warm_up_paragraph(&["wu budget"], &[late], 0, 1000);
         assert!(
             no_warm_up.contains("`outputs.warm_up_frames`"),
             "{no_warm_up}"
         );
-        assert!(warm_up_paragraph(&["x"], &[None], 0).is_empty());
+        assert!(warm_up_paragraph(&["x"], &[None], 0, 1000).is_empty());
+        // Two frames of approach in a 400-frame flight are negligible; forty are not.
+        let at = |frame| {
+            Some(Settling {
+                target: 1000.0,
+                column: "triangles",
+                first_frame: Some(frame),
+            })
+        };
+        assert!(warm_up_paragraph(&["rottger"], &[at(2)], 0, 400).is_empty());
+        assert!(!warm_up_paragraph(&["rottger"], &[at(40)], 0, 400).is_empty());
     }
 }
