@@ -8,12 +8,17 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use roamsim::edge::experiment;
-use roamsim::edge::session::{NoProgress, ProgressSink, RunOptions, run_experiment};
-use roamsim::edge::terrain_readers::{ReadOptions, format_from_extension, read_terrain};
-use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::edge::experiment::TerrainReport;
+use roamsim::edge::output::end_of_run::end_of_run_text;
+use roamsim::edge::progress::LineProgress;
+use roamsim::edge::session::{ProgressSink, RunOptions, run_experiment};
+use roamsim::edge::terrain_info::{describe_preprocessing, describe_terrain};
+use roamsim::edge::terrain_readers::{
+    RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
+};
+use roamsim::sim::terrain::Spacing;
 use roamsim::sim::terrain::embed::{Fit, embed};
 use roamsim::sim::terrain::fill::fill_voids;
-use roamsim::sim::terrain::{Heightfield, Spacing};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -59,6 +64,10 @@ enum Command {
         /// meshes do not depend on it; use 1 for timing comparisons.
         #[arg(long)]
         threads: Option<usize>,
+        /// Run only the first N frames of the flight (any flight: parametric, waypoints,
+        /// recorded), exactly as the full run has them: for quick probes.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        frames: Option<u64>,
     },
     /// Check an experiment file without running it; exits non-zero when it is invalid.
     #[command(after_help = EXAMPLES)]
@@ -66,8 +75,21 @@ enum Command {
     /// Describe a terrain file or an experiment's terrain, with preprocessing time and memory.
     #[command(after_help = EXAMPLES)]
     Info {
-        /// An experiment (.json) or a terrain file (.hgt, .png, .tif, .tiff, .asc).
+        /// An experiment (.json) or a terrain file (.hgt, .png, .tif, .tiff, .asc, or a raw file
+        /// with --raw-columns, --raw-rows and --raw-sample).
         path: PathBuf,
+        /// A raw file's columns (samples per row).
+        #[arg(long, requires_all = ["raw_rows", "raw_sample"])]
+        raw_columns: Option<usize>,
+        /// A raw file's rows.
+        #[arg(long, requires_all = ["raw_columns", "raw_sample"])]
+        raw_rows: Option<usize>,
+        /// A raw file's sample type and byte order.
+        #[arg(long, value_enum, requires_all = ["raw_columns", "raw_rows"])]
+        raw_sample: Option<RawSampleChoice>,
+        /// A raw file's first row is the south edge (default: the north edge, as most are).
+        #[arg(long, requires = "raw_sample")]
+        raw_south_first: bool,
     },
     /// Replay an experiment's flight in a window: the meshes, their wireframe by level, the
     /// statistics in the title. Keys: Space pause · → step · A/B switch the left/right
@@ -114,6 +136,54 @@ enum Command {
         #[arg(long)]
         roles: bool,
     },
+    /// (Needs a build with the `preview` feature.)
+    #[cfg(not(feature = "preview"))]
+    #[command(hide = true, disable_help_flag = true)]
+    Preview {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        rest: Vec<String>,
+    },
+    /// (Needs a build with the `preview` feature.)
+    #[cfg(not(feature = "preview"))]
+    #[command(hide = true, disable_help_flag = true)]
+    Render {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        rest: Vec<String>,
+    },
+}
+
+/// What `preview` and `render` answer in a build without the feature that draws.
+#[cfg(not(feature = "preview"))]
+fn needs_preview_feature(command: &str) -> Result<(), String> {
+    Err(format!(
+        "`{command}` draws with wgpu, which this build leaves out: build with the `preview` \
+         feature, e.g. `cargo run --release --features preview -- {command} EXPERIMENT …` \
+         (README, \"Seeing the meshes\")"
+    ))
+}
+
+/// Raw sample types, as the experiment format names them.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum RawSampleChoice {
+    I16le,
+    I16be,
+    U16le,
+    U16be,
+    F32le,
+    F32be,
+}
+
+impl RawSampleChoice {
+    fn sample(self) -> RawSample {
+        match self {
+            RawSampleChoice::I16le => RawSample::I16Le,
+            RawSampleChoice::I16be => RawSample::I16Be,
+            RawSampleChoice::U16le => RawSample::U16Le,
+            RawSampleChoice::U16be => RawSample::U16Be,
+            RawSampleChoice::F32le => RawSample::F32Le,
+            RawSampleChoice::F32be => RawSample::F32Be,
+        }
+    }
 }
 
 #[cfg(feature = "preview")]
@@ -131,9 +201,31 @@ fn main() -> ExitCode {
             out,
             check,
             threads,
-        } => run(&experiment, out, check, threads),
+            frames,
+        } => run(&experiment, out, check, threads, frames),
         Command::Validate { experiment } => check_experiment(&experiment),
-        Command::Info { path } => info(&path),
+        Command::Info {
+            path,
+            raw_columns,
+            raw_rows,
+            raw_sample,
+            raw_south_first,
+        } => {
+            let raw = match (raw_columns, raw_rows, raw_sample) {
+                (Some(columns), Some(rows), Some(sample)) => Some(RawLayout {
+                    columns,
+                    rows,
+                    sample: sample.sample(),
+                    north_first: !raw_south_first,
+                }),
+                _ => None,
+            };
+            info(&path, raw)
+        }
+        #[cfg(not(feature = "preview"))]
+        Command::Preview { .. } => needs_preview_feature("preview"),
+        #[cfg(not(feature = "preview"))]
+        Command::Render { .. } => needs_preview_feature("render"),
         #[cfg(feature = "preview")]
         Command::Preview {
             experiment,
@@ -179,18 +271,20 @@ fn run(
     out: Option<PathBuf>,
     check: bool,
     threads: Option<usize>,
+    max_frames: Option<u64>,
 ) -> Result<(), String> {
     let options = RunOptions {
         out_dir: out,
         check_meshes: check,
         threads,
         command_line: Some(std::env::args().collect()),
+        max_frames,
     };
     let started = Instant::now();
     let outcome = if std::io::stderr().is_terminal() {
         run_experiment(path, &options, &BarProgress::new())
     } else {
-        run_experiment(path, &options, &NoProgress)
+        run_experiment(path, &options, &LineProgress::to_stderr())
     }
     .map_err(|e| e.to_string())?;
     if !outcome.speed_violation_frames.is_empty() {
@@ -208,7 +302,7 @@ fn run(
         eprintln!("warning: {flag} (report.md, \"Budgets and targets\")");
     }
     println!(
-        "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s){}; wrote {}",
+        "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s){}",
         outcome.experiment_name,
         outcome.frames,
         started.elapsed().as_secs_f64(),
@@ -222,8 +316,8 @@ fn run(
         } else {
             String::new()
         },
-        outcome.out_dir.display()
     );
+    print!("{}", end_of_run_text(&outcome.out_dir, &outcome.points));
     Ok(())
 }
 
@@ -250,6 +344,12 @@ fn check_experiment(path: &Path) -> Result<(), String> {
             experiment.terrain.side,
             experiment.terrain.source
         );
+        if let Some(first) = experiment.below_ground_frames.first() {
+            println!(
+                "note: the eye is below the ground in {} frame(s) (first: frame {first})",
+                experiment.below_ground_frames.len()
+            );
+        }
         if !experiment.violations.is_empty() {
             println!(
                 "note: {} frame(s) break the speed or rotation bounds (first: frame {})",
@@ -261,12 +361,19 @@ fn check_experiment(path: &Path) -> Result<(), String> {
     Ok(())
 }
 
-fn info(path: &Path) -> Result<(), String> {
+fn info(path: &Path, raw: Option<RawLayout>) -> Result<(), String> {
     let is_experiment = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if !is_experiment {
-        return info_terrain_file(path);
+        return info_terrain_file(path, raw);
+    }
+    if raw.is_some() {
+        return Err(format!(
+            "{}: the --raw-… options describe a raw terrain file; an experiment declares its \
+             terrain's layout in terrain.file.format",
+            path.display()
+        ));
     }
     let plan = experiment::plan(path).map_err(|e| e.to_string())?;
     for k in 0..plan.n_points() {
@@ -279,55 +386,69 @@ fn info(path: &Path) -> Result<(), String> {
             );
         }
         let experiment = plan.load_point(k).map_err(|e| e.to_string())?;
-        let t = &experiment.terrain;
-        println!("terrain        {} ({})", t.source, t.format);
-        println!("source size    {} × {}", t.source_columns, t.source_rows);
-        println!(
-            "embedded       {}² (padding {} columns, {} rows; crop origin {:?})",
-            t.side, t.padded_columns, t.padded_rows, t.crop_origin
-        );
-        println!("voids filled   {}", t.voids_filled);
-        println!(
-            "spacing        dx {:.3} m, dy {:.3} m (from {})",
-            t.spacing.dx, t.spacing.dy, t.spacing_from
-        );
-        describe_preprocessing(experiment.field);
+        print!("{}", describe_terrain(&experiment.terrain));
+        print!("{}", describe_preprocessing(experiment.field));
     }
     Ok(())
 }
 
-fn info_terrain_file(path: &Path) -> Result<(), String> {
-    let format = format_from_extension(path).map_err(|e| e.to_string())?;
-    let loaded = read_terrain(path, format, &ReadOptions::AS_STORED).map_err(|e| e.to_string())?;
-    println!("terrain        {}", path.display());
-    println!(
-        "source size    {} × {}",
-        loaded.grid.width(),
-        loaded.grid.height()
-    );
-    println!("voids          {}", loaded.grid.void_indices().len());
-    let spacing = match loaded.spacing {
-        Some(s) => {
-            println!(
-                "spacing        dx {:.3} m, dy {:.3} m (from the file)",
-                s.dx, s.dy
-            );
-            s
-        }
-        None => {
-            println!("spacing        not declared by the file (1 m assumed here)");
-            Spacing { dx: 1.0, dy: 1.0 }
-        }
+/// A terrain file described as an experiment would load it with `fit: pad` and no options.
+fn info_terrain_file(path: &Path, raw: Option<RawLayout>) -> Result<(), String> {
+    let format = match raw {
+        Some(layout) => TerrainFormat::Raw(layout),
+        None => format_from_extension(path).map_err(|e| {
+            format!(
+                "{e} (for a raw file give --raw-columns, --raw-rows and --raw-sample, e.g. \
+                 --raw-columns 1025 --raw-rows 1025 --raw-sample i16le)"
+            )
+        })?,
     };
-    let (filled, _) = fill_voids(loaded.grid).map_err(|e| format!("{}: {e}", path.display()))?;
-    let (field, report) =
+    let loaded = read_terrain(path, format, &ReadOptions::AS_STORED).map_err(|e| e.to_string())?;
+    let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
+    let (spacing, spacing_from) = match (loaded.spacing, &loaded.spacing_note) {
+        (Some(s), Some(note)) => (s, format!("file: {note}")),
+        (Some(s), None) => (s, "file".to_string()),
+        (None, note) => (
+            Spacing { dx: 1.0, dy: 1.0 },
+            format!(
+                "file: none usable{}; 1 m assumed here, an experiment must give spacing_m",
+                note.as_ref().map_or(String::new(), |n| format!(" ({n})"))
+            ),
+        ),
+    };
+    let (filled, fill) = fill_voids(loaded.grid).map_err(|e| format!("{}: {e}", path.display()))?;
+    let (field, embedded) =
         embed(&filled, Fit::Pad, spacing).map_err(|e| format!("{}: {e}", path.display()))?;
-    println!(
-        "embedded       {}² by padding ({} columns, {} rows)",
-        report.side, report.padded_columns, report.padded_rows
-    );
-    describe_preprocessing(field);
+    let (lo, hi) = field.height_range();
+    let report = TerrainReport {
+        source: path.display().to_string(),
+        format: format_label(format).to_string(),
+        source_columns,
+        source_rows,
+        side: field.side(),
+        padded_columns: embedded.padded_columns,
+        padded_rows: embedded.padded_rows,
+        crop_origin: embedded.crop_origin,
+        voids_filled: fill.voids_filled,
+        spacing,
+        spacing_from,
+        height_min_m: lo,
+        height_max_m: hi,
+    };
+    print!("{}", describe_terrain(&report));
+    print!("{}", describe_preprocessing(field));
     Ok(())
+}
+
+/// The format as the experiment format names it.
+fn format_label(format: TerrainFormat) -> &'static str {
+    match format {
+        TerrainFormat::Hgt => "hgt",
+        TerrainFormat::Png => "png",
+        TerrainFormat::GeoTiff => "geotiff",
+        TerrainFormat::AsciiGrid => "ascii_grid",
+        TerrainFormat::Raw(_) => "raw",
+    }
 }
 
 #[cfg(feature = "preview")]
@@ -363,29 +484,6 @@ fn render(request: roamsim::edge::preview::headless::RenderRequest) -> Result<()
     Ok(())
 }
 
-fn describe_preprocessing(field: Heightfield) {
-    let (lo, hi) = field.height_range();
-    let n_samples = field.n_samples();
-    println!("heights        {lo} .. {hi} m");
-    let start = Instant::now();
-    let hierarchy = Hierarchy::new(field);
-    let seconds = start.elapsed().as_secs_f64();
-    println!(
-        "preprocessing  {:.3} s ({:.1} ns per sample, one O(samples) pass)",
-        seconds,
-        seconds * 1e9 / n_samples as f64
-    );
-    println!(
-        "memory         {:.2} bytes per sample (heights + Wu node errors and height ranges)",
-        hierarchy.bytes_per_sample()
-    );
-    let root = hierarchy.lattice().root();
-    println!(
-        "root error     {} m",
-        hierarchy.node_error(root, hierarchy.lattice().cells() / 2)
-    );
-}
-
 /// One indicatif bar for all the frames of all the entries (a new bar for each sweep point).
 struct BarProgress {
     bar: std::sync::Mutex<ProgressBar>,
@@ -418,6 +516,10 @@ impl ProgressSink for BarProgress {
 
     fn advance(&self, frames: u64) {
         self.bar().inc(frames);
+    }
+
+    fn notice(&self, message: &str) {
+        self.bar().println(format!("note: {message}"));
     }
 
     fn finish(&self) {

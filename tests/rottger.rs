@@ -632,6 +632,7 @@ fn a_checked_run_of_the_real_tile_writes_the_rottger_columns_and_facts() {
         check_meshes: true,
         threads: Some(1),
         command_line: None,
+        max_frames: None,
     };
     roamsim::edge::session::run_experiment(&path, &options, &roamsim::edge::session::NoProgress)
         .unwrap();

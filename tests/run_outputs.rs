@@ -18,6 +18,7 @@ fn run_with_threads(experiment: &Path, out: &Path, check_meshes: bool, threads: 
         check_meshes,
         threads: Some(threads),
         command_line: None,
+        max_frames: None,
     };
     run_experiment(experiment, &options, &NoProgress).unwrap();
 }
@@ -262,9 +263,62 @@ fn info_reports_preprocessing_time_and_bytes_per_sample() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("1201 × 1201") && stdout.contains("2049²"),
+        stdout.contains("1201 columns × 1201 rows") && stdout.contains("2049 × 2049 samples"),
         "{stdout}"
     );
+}
+
+/// The label column of `info`'s report.
+fn info_labels(stdout: &str) -> Vec<String> {
+    stdout
+        .lines()
+        .map(|l| l.split("  ").next().unwrap().trim().to_string())
+        .collect()
+}
+
+#[test]
+fn info_is_one_plain_report_for_a_terrain_file_an_experiment_and_a_raw_file() {
+    let file = roamsim(&["info", "experiments/data/N48E009.hgt"]);
+    let experiment = roamsim(&["info", "experiments/quickstart.json"]);
+    let dir = tempfile::tempdir().unwrap();
+    let raw = dir.path().join("heights.raw");
+    let samples: Vec<u8> = (0..17 * 9)
+        .flat_map(|k: i16| (k * 3).to_le_bytes())
+        .collect();
+    std::fs::write(&raw, samples).unwrap();
+    let raw_path = raw.to_str().unwrap();
+    let refused = roamsim(&["info", raw_path]);
+    let raw_info = roamsim(&[
+        "info",
+        raw_path,
+        "--raw-columns",
+        "17",
+        "--raw-rows",
+        "9",
+        "--raw-sample",
+        "i16le",
+    ]);
+    assert!(!refused.status.success());
+    let refusal = String::from_utf8_lossy(&refused.stderr);
+    assert!(refusal.contains("--raw-columns"), "{refusal}");
+    let texts: Vec<String> = [&file, &experiment, &raw_info]
+        .iter()
+        .map(|o| {
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            String::from_utf8_lossy(&o.stdout).into_owned()
+        })
+        .collect();
+    for text in &texts {
+        assert!(!text.contains("Some(") && !text.contains("None"), "{text}");
+        assert_eq!(info_labels(text), info_labels(&texts[0]), "{text}");
+    }
+    assert!(
+        texts[1].contains("cropped from column 88, row 88"),
+        "{}",
+        texts[1]
+    );
+    assert!(texts[2].contains("17 columns × 9 rows"), "{}", texts[2]);
+    assert!(texts[2].contains("1 m assumed here"), "{}", texts[2]);
 }
 
 #[test]
@@ -486,6 +540,7 @@ fn a_point_that_cannot_run_is_named_and_nothing_is_written() {
             check_meshes: false,
             threads: Some(1),
             command_line: None,
+            max_frames: None,
         },
         &NoProgress,
     )
@@ -646,6 +701,7 @@ fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() 
         check_meshes: false,
         threads: Some(1),
         command_line: None,
+        max_frames: None,
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -678,6 +734,7 @@ fn run_refused(experiment: &Path, out: &Path) -> String {
         check_meshes: false,
         threads: Some(1),
         command_line: None,
+        max_frames: None,
     };
     let error = run_experiment(experiment, &options, &watch)
         .err()
@@ -759,6 +816,7 @@ fn zero_threads_is_refused() {
         check_meshes: false,
         threads: Some(0),
         command_line: None,
+        max_frames: None,
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -850,6 +908,7 @@ fn an_entry_outgrowing_the_declared_triangle_limit_stops_the_run_with_a_clear_me
         check_meshes: false,
         threads: Some(1),
         command_line: None,
+        max_frames: None,
     };
     let error = run_experiment(&path, &options, &NoProgress)
         .err()

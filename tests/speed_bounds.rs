@@ -99,6 +99,7 @@ fn a_run_lists_the_violations_and_roam_revalidates_exactly_there() {
         check_meshes: true,
         threads: Some(1),
         command_line: None,
+        max_frames: None,
     };
     let outcome = run_experiment(&path, &options, &NoProgress).unwrap();
     assert_eq!(outcome.speed_violation_frames, vec![5, 8]);
@@ -157,6 +158,7 @@ fn a_nan_pose_is_refused_before_the_run_with_its_line() {
         check_meshes: false,
         threads: Some(1),
         command_line: None,
+        max_frames: None,
     };
     assert!(run_experiment(&path, &options, &NoProgress).is_err());
     assert!(
@@ -221,6 +223,7 @@ fn a_turn_faster_than_the_rotation_bound_is_reported_as_a_rotation_violation() {
         check_meshes: true,
         threads: Some(1),
         command_line: None,
+        max_frames: None,
     };
     run_experiment(&path, &options, &NoProgress).unwrap();
     let summary: Value =

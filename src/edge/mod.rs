@@ -8,5 +8,7 @@ pub mod flight_log;
 pub mod output;
 #[cfg(feature = "preview")]
 pub mod preview;
+pub mod progress;
 pub mod session;
+pub mod terrain_info;
 pub mod terrain_readers;

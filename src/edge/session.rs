@@ -14,17 +14,19 @@
 use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::atomic_dir::{CommitError, OutputLocationError, StagedDir};
 use crate::edge::output::columns::RunColumns;
+use crate::edge::output::end_of_run::PointFigures;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::goal_check::{GoalCheck, check_goal};
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::plots::PlotError;
 use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
-use crate::edge::output::run_plots::write_run_plots;
+use crate::edge::output::run_plots::{RunPlotInputs, write_run_plots};
 use crate::edge::output::summary_json::{Preprocessing, RunRecord, summary_json};
 use crate::edge::output::sweep_outputs::{
     EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
     write_sweep_plots,
 };
+use crate::edge::output::warm_up::summarised_runs;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{RunError, RunInputs, run_algorithm_with};
 use crate::sim::stats::FrameStats;
@@ -39,10 +41,54 @@ pub trait ProgressSink: Sync {
     /// `frames` more frames are done.
     fn advance(&self, frames: u64);
     fn finish(&self);
+    /// The number of algorithm entries about to run (before `start`).
+    fn entries(&self, count: usize) {
+        let _ = count;
+    }
+    /// One more entry has run all its frames.
+    fn entry_finished(&self) {}
     /// Point `index` of `count` of the experiment's top-level sweep is about to load and run.
     fn point(&self, index: usize, count: usize, choice: &str) {
         let _ = (index, count, choice);
     }
+    /// Something the user should know while the run goes on (see [`large_work_notice`]).
+    fn notice(&self, message: &str) {
+        eprintln!("note: {message}");
+    }
+}
+
+/// A first frame with this many triangles is worth a word before the rest of the run.
+pub const LARGE_MESH_TRIANGLES: u64 = 1_000_000;
+/// A flight projected to take this long (seconds, from its first frame) is worth a word.
+pub const LONG_RUN_SECONDS: f64 = 300.0;
+
+/// What to tell the user after an entry's first frame when its work looks large: a mesh of
+/// [`LARGE_MESH_TRIANGLES`] or more, or a flight projected at the first frame's pace to take
+/// [`LONG_RUN_SECONDS`] or more. `None` when neither.
+pub fn large_work_notice(
+    label: &str,
+    triangles: u64,
+    first_frame_seconds: f64,
+    n_frames: u64,
+    max_triangles: u64,
+) -> Option<String> {
+    let projected = first_frame_seconds * n_frames as f64;
+    if triangles < LARGE_MESH_TRIANGLES && projected < LONG_RUN_SECONDS {
+        return None;
+    }
+    let duration = if projected >= 3600.0 {
+        format!("{:.1} h", projected / 3600.0)
+    } else if projected >= 60.0 {
+        format!("{:.0} min", projected / 60.0)
+    } else {
+        format!("{projected:.0} s")
+    };
+    Some(format!(
+        "entry '{label}': frame 0 has {triangles} triangles and took {first_frame_seconds:.2} s; \
+         at that pace its {n_frames} frames take about {duration} (incremental algorithms are \
+         usually faster after their first frame). A frame over {max_triangles} triangles stops \
+         the run (limits.max_triangles); --frames N makes a shorter probe"
+    ))
 }
 
 /// Progress that goes nowhere.
@@ -52,6 +98,7 @@ impl ProgressSink for NoProgress {
     fn start(&self, _: u64) {}
     fn advance(&self, _: u64) {}
     fn finish(&self) {}
+    fn notice(&self, _: &str) {}
 }
 
 /// How to run.
@@ -65,6 +112,8 @@ pub struct RunOptions {
     pub threads: Option<usize>,
     /// The command line that asked for the run, recorded in `summary.json`.
     pub command_line: Option<Vec<String>>,
+    /// Run only the first this many frames of every flight (`--frames N`); `None`: all.
+    pub max_frames: Option<u64>,
 }
 
 /// What a finished run produced.
@@ -80,6 +129,8 @@ pub struct RunOutcome {
     pub speed_violation_frames: Vec<u64>,
     pub preprocessing_seconds: f64,
     pub threads: usize,
+    /// Every point's entries and their report figures, in order (one point without a sweep).
+    pub points: Vec<PointFigures>,
 }
 
 /// Why a run produced nothing.
@@ -149,11 +200,16 @@ pub fn run_experiment(
         speed_violation_frames: Vec::new(),
         preprocessing_seconds: 0.0,
         threads,
+        points: Vec::new(),
     };
     let mut sweep_points = Vec::new();
     for k in 0..plan.n_points() {
         let mut experiment = plan.load_point(k)?;
         experiment.effects.check_meshes = options.check_meshes;
+        if let Some(n_frames) = options.max_frames {
+            experiment.keep_first_frames(n_frames);
+            experiment.check_warm_up()?;
+        }
         let choice_label = plan.choice(k).map(|c| experiment::choice_label(c));
         if let Some(label) = &choice_label {
             progress.point(k, plan.n_points(), label);
@@ -196,6 +252,12 @@ pub fn run_experiment(
         if k == 0 {
             outcome.speed_violation_frames = point.violation_frames;
         }
+        outcome.points.push(PointFigures {
+            choice: choice_label.clone(),
+            folder: folder.clone(),
+            entries: figures.clone(),
+            below_ground_frames: experiment.below_ground_frames.clone(),
+        });
         if let Some(choice) = plan.choice(k) {
             sweep_points.push(SweepPoint {
                 choice: choice.clone(),
@@ -234,7 +296,7 @@ pub fn run_experiment(
 }
 
 /// A folder name for a sweep point: `parameter=value` pairs joined by `_`, anything but letters,
-/// digits and `.=-+` replaced by `-`.
+/// digits and `._=-+` replaced by `-` (field names keep their `_`: `view.fovy_deg=60`).
 fn point_folder(choice: &[(String, serde_json::Value)]) -> String {
     choice
         .iter()
@@ -249,11 +311,11 @@ fn point_folder(choice: &[(String, serde_json::Value)]) -> String {
         .join("_")
 }
 
-/// `text` with anything but ASCII letters, digits and `.=-+` replaced by `-`.
+/// `text` with anything but ASCII letters, digits and `._=-+` replaced by `-`.
 fn file_name_part(text: &str) -> String {
     text.chars()
         .map(|c| {
-            if c.is_ascii_alphanumeric() || ".=-+".contains(c) {
+            if c.is_ascii_alphanumeric() || "._=-+".contains(c) {
                 c
             } else {
                 '-'
@@ -301,6 +363,7 @@ fn run_point(
         max_triangles: Some(experiment.max_triangles),
     };
     let n_frames = experiment.flight.n_frames();
+    progress.entries(experiment.algorithms.len());
     progress.start(n_frames * experiment.algorithms.len() as u64);
     let n_samples = experiment.field.n_samples() as f64;
     let run_one = |(k, spec): (usize, &AlgorithmSpec)| -> Result<AlgorithmResult, RunError> {
@@ -318,6 +381,7 @@ fn run_point(
         };
         let mut meshes = Vec::new();
         let mut reported = 0;
+        let frames_started = Instant::now();
         let frames = run_algorithm_with(
             &inputs,
             &spec.label,
@@ -332,6 +396,17 @@ fn run_point(
                     };
                     meshes.push((frame, mesh_ply(&hierarchy, algorithm.mesh(), &header)));
                 }
+                if frame == 0
+                    && let Some(message) = large_work_notice(
+                        &spec.label,
+                        outcome.stats.triangles,
+                        frames_started.elapsed().as_secs_f64(),
+                        n_frames,
+                        experiment.max_triangles,
+                    )
+                {
+                    progress.notice(&message);
+                }
                 let done = frame + 1;
                 if done.is_multiple_of(16) || done == n_frames {
                     progress.advance(done - reported);
@@ -339,6 +414,7 @@ fn run_point(
                 }
             },
         )?;
+        progress.entry_finished();
         Ok(AlgorithmResult {
             memory_bytes: algorithm.memory_bytes(),
             preprocessing,
@@ -465,9 +541,20 @@ fn write_outputs(
     if experiment.plots {
         let plots = dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
-        write_run_plots(&plots, &runs, audited)?;
+        let violation_frames: Vec<u64> = experiment.violations.iter().map(|v| v.frame).collect();
+        write_run_plots(
+            &plots,
+            &RunPlotInputs {
+                runs: &runs,
+                names: &names,
+                audited,
+                speed_violation_frames: &violation_frames,
+                horizontal_m_per_frame: experiment.speed.horizontal,
+                warm_up_frames: experiment.warm_up_frames,
+            },
+        )?;
     }
-    Ok(runs
+    Ok(summarised_runs(&runs, experiment.warm_up_frames)
         .iter()
         .zip(&names)
         .zip(&bytes_per_sample)
@@ -478,4 +565,27 @@ fn write_outputs(
             bytes_per_sample: *bytes,
         })
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_large_first_frame_or_a_long_projected_run_is_announced_with_its_figures() {
+        assert_eq!(
+            large_work_notice("small", 20_000, 0.01, 1000, 2_000_000),
+            None
+        );
+        let big = large_work_notice("roam τ=0.1px", 2_700_000, 1.0, 1000, 4_000_000)
+            .expect("2.7 M triangles");
+        assert!(
+            big.contains("frame 0 has 2700000 triangles and took 1.00 s"),
+            "{big}"
+        );
+        assert!(big.contains("its 1000 frames take about 17 min"), "{big}");
+        assert!(big.contains("limits.max_triangles"), "{big}");
+        let slow = large_work_notice("slow", 50_000, 0.5, 10_000, 2_000_000).expect("83 min");
+        assert!(slow.contains("about 1.4 h"), "{slow}");
+    }
 }

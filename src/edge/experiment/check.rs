@@ -7,10 +7,10 @@
 //! algorithms' own), run by `--check`.
 
 use super::format::{
-    AlgorithmEntry, DistanceEntry, ExperimentFile, FORMAT_VERSION, FitEntry, FlightEntry,
-    LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry, ReferenceParameters,
-    RefineEntry, RoamParameters, RottgerParameters, TerrainEntry, TerrainFormatEntry, WuParameters,
-    ZoneEntry,
+    AlgorithmEntry, AltitudeEntry, DistanceEntry, ExperimentFile, FORMAT_VERSION, FitEntry,
+    FlightEntry, LindstromParameters, LookEntry, MeshesEntry, NestingEntry, PathEntry,
+    ReferenceParameters, RefineEntry, RoamParameters, RottgerParameters, TerrainEntry,
+    TerrainFormatEntry, WuParameters, ZoneEntry,
 };
 use super::load::{AlgorithmSpec, MeshExports};
 use super::sweep::{MAX_SWEEP_POINTS, cartesian, choice_label};
@@ -351,6 +351,14 @@ fn check_flight(flight: &FlightEntry, problems: &mut Problems) {
             format!("{frames}: expected 1 to {MAX_FRAMES}"),
         ),
         _ => {}
+    }
+    if flight.altitude == Some(AltitudeEntry::AboveGround)
+        && matches!(flight.path, PathEntry::Recorded { .. })
+    {
+        problems.add(
+            "flight.altitude",
+            "a recorded flight brings its own world heights: expected \"absolute\" or no altitude field",
+        );
     }
     match (&flight.look, &flight.path) {
         (Some(_), PathEntry::Orbit { .. } | PathEntry::Recorded { .. }) => problems.add(

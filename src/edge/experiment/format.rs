@@ -125,11 +125,14 @@ pub struct SyntheticEntry {
     /// Side 2^level + 1.
     pub level: u32,
     pub seed: u64,
+    /// The corners' and the top level's displacement in metres; heights are not centred on the
+    /// origin and can span more than ± this (docs/experiment-format.md).
     pub amplitude_m: f64,
     /// The horizontal length over which `amplitude_m` applies (default: the terrain's extent
     /// along x): terrains of different sizes with the same scale share their small-scale relief.
     #[serde(default)]
     pub amplitude_scale_m: Option<f64>,
+    /// A Hurst exponent in [0, 1]: higher is smoother.
     pub roughness: f64,
     pub spacing_m: SpacingEntry,
     /// World position of sample (0, 0) at height 0 (default: the world origin).
@@ -166,6 +169,18 @@ pub struct FlightEntry {
     #[serde(default)]
     pub look: Option<LookEntry>,
     pub path: PathEntry,
+    /// What the path's heights mean (default: absolute world heights).
+    #[serde(default)]
+    pub altitude: Option<AltitudeEntry>,
+}
+
+/// `"absolute"`: the path's z values are world heights; `"above_ground"`: heights above the
+/// ground under the eye.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum AltitudeEntry {
+    Absolute,
+    AboveGround,
 }
 
 #[derive(Debug, Deserialize)]
@@ -429,6 +444,9 @@ pub struct OutputsEntry {
     /// Meshes to export (default: none).
     #[serde(default)]
     pub meshes: Option<MeshesEntry>,
+    /// The first frames left out of the summaries (default 0: none).
+    #[serde(default)]
+    pub warm_up_frames: u64,
 }
 
 impl Default for OutputsEntry {
@@ -436,6 +454,7 @@ impl Default for OutputsEntry {
         OutputsEntry {
             plots: true,
             meshes: None,
+            warm_up_frames: 0,
         }
     }
 }

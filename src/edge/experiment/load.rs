@@ -4,8 +4,8 @@
 
 use super::ExperimentError;
 use super::format::{
-    FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry, TerrainEntry,
-    TerrainFormatEntry,
+    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry,
+    TerrainEntry, TerrainFormatEntry,
 };
 use super::sweep::SweepChoice;
 use crate::edge::flight_log::read_flight_log;
@@ -13,7 +13,9 @@ use crate::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
 };
 use crate::sim::algorithm::AlgorithmConfig;
-use crate::sim::flight::{Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint};
+use crate::sim::flight::{
+    Altitude, Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint,
+};
 use crate::sim::run::Effects;
 use crate::sim::terrain::embed::{Fit, embed};
 use crate::sim::terrain::fill::fill_voids;
@@ -42,14 +44,60 @@ pub struct Experiment {
     pub speed: SpeedBound,
     pub flight: Flight,
     pub flight_kind: &'static str,
+    /// The flight's length as the file has it, before any `--frames` shortening.
+    pub frames_in_file: u64,
     pub violations: Vec<SpeedViolation>,
+    /// The frames whose eye is below the ground (over the terrain; see
+    /// [`Flight::frames_below_ground`]).
+    pub below_ground_frames: Vec<u64>,
     pub algorithms: Vec<AlgorithmSpec>,
     pub effects: Effects,
     pub plots: bool,
+    /// The first frames left out of the summaries (`outputs.warm_up_frames`; see
+    /// `edge::output::warm_up`), fewer than the flight's frames.
+    pub warm_up_frames: u64,
     /// Meshes to write as PLY files (`outputs.meshes`); `None`: none.
     pub mesh_exports: Option<MeshExports>,
     /// The point of the experiment's top-level sweep this is (`None` without a sweep).
     pub sweep_point: Option<SweepChoice>,
+}
+
+impl Experiment {
+    /// The warm-up must leave at least one frame to summarise (checked when the flight is
+    /// built, and again after `--frames` shortened it).
+    pub fn check_warm_up(&self) -> Result<(), ExperimentError> {
+        let n_frames = self.flight.n_frames();
+        if self.warm_up_frames < n_frames {
+            return Ok(());
+        }
+        let shortened = if n_frames < self.frames_in_file {
+            format!(" (shortened by --frames from {})", self.frames_in_file)
+        } else {
+            String::new()
+        };
+        Err(ExperimentError::single(
+            &self.file,
+            "outputs.warm_up_frames",
+            format!(
+                "{} leaves no frame to summarise of the {n_frames}-frame flight{shortened}: \
+                 expected fewer warm-up frames than the flight has",
+                self.warm_up_frames
+            ),
+        ))
+    }
+
+    /// Runs only the first `n_frames` frames of the flight (`roamsim run --frames N`): the
+    /// flight, its speed violations and the mesh exports past the end are cut; the frames kept
+    /// are exactly the full flight's. A flight already that short is left whole.
+    pub fn keep_first_frames(&mut self, n_frames: u64) {
+        self.flight.keep_first(n_frames);
+        let n = self.flight.n_frames();
+        self.violations.retain(|v| v.frame < n);
+        self.below_ground_frames.retain(|&f| f < n);
+        if let Some(exports) = &mut self.mesh_exports {
+            exports.frames.retain(|&f| f < n);
+        }
+    }
 }
 
 /// Which entries' meshes to export at which frames, checked: every frame inside the flight,
@@ -247,6 +295,7 @@ pub(super) fn build_flight(
     experiment: &Path,
     folder: &Path,
     entry: &FlightEntry,
+    field: &Heightfield,
 ) -> Result<Flight, ExperimentError> {
     let v2 = |a: [f64; 2]| DVec2::new(a[0], a[1]);
     let v3 = |a: [f64; 3]| DVec3::new(a[0], a[1], a[2]);
@@ -339,6 +388,10 @@ pub(super) fn build_flight(
             FlightPath::Recorded { poses }
         }
     };
-    Flight::new(&path, &look, entry.frames.unwrap_or(0))
+    let altitude = match entry.altitude {
+        None | Some(AltitudeEntry::Absolute) => Altitude::Absolute,
+        Some(AltitudeEntry::AboveGround) => Altitude::AboveGround(field),
+    };
+    Flight::with_altitude(&path, &look, entry.frames.unwrap_or(0), altitude)
         .map_err(|e| ExperimentError::single(experiment, "flight", e.to_string()))
 }

@@ -160,7 +160,7 @@ impl Plan {
         let folder = path.parent().unwrap_or(Path::new("."));
         let (field, terrain) =
             load_terrain(path, folder, &parsed.terrain).map_err(prefix_errors)?;
-        let flight = build_flight(path, folder, &parsed.flight).map_err(prefix_errors)?;
+        let flight = build_flight(path, folder, &parsed.flight, &field).map_err(prefix_errors)?;
         if let Some(exports) = &checked.mesh_exports
             && let Some(&frame) = exports.frames.iter().find(|&&f| f >= flight.n_frames())
         {
@@ -174,7 +174,8 @@ impl Plan {
             )));
         }
         let violations = speed_violations(&flight, checked.speed);
-        Ok(Experiment {
+        let below_ground_frames = flight.frames_below_ground(&field);
+        let experiment = Experiment {
             name: parsed.name.clone(),
             description: parsed.description.clone(),
             file: path.to_path_buf(),
@@ -185,15 +186,20 @@ impl Plan {
             fovy_deg: parsed.view.fovy_deg,
             max_triangles: checked.max_triangles,
             speed: checked.speed,
-            flight,
             flight_kind: path_kind(&parsed.flight.path),
+            frames_in_file: flight.n_frames(),
+            flight,
             violations,
+            below_ground_frames,
             algorithms: checked.algorithms.clone(),
             effects: checked.effects,
             plots: parsed.outputs.plots,
             mesh_exports: checked.mesh_exports.clone(),
+            warm_up_frames: parsed.outputs.warm_up_frames,
             sweep_point: point.choice.clone(),
-        })
+        };
+        experiment.check_warm_up().map_err(prefix_errors)?;
+        Ok(experiment)
     }
 }
 

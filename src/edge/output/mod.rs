@@ -3,6 +3,7 @@
 
 pub mod atomic_dir;
 pub mod columns;
+pub mod end_of_run;
 pub mod frames_csv;
 pub mod goal_check;
 pub mod label_placement;
@@ -12,3 +13,4 @@ pub mod report_md;
 pub mod run_plots;
 pub mod summary_json;
 pub mod sweep_outputs;
+pub mod warm_up;

@@ -12,9 +12,14 @@ use super::goal_check::{
     FRAME_TOLERANCE, GoalCheck, MEAN_TOLERANCE, STRAY_SHARE, STRAY_STRETCH, check_goal,
 };
 use super::summary_json::Preprocessing;
+use super::warm_up::{Settling, settling, summarised_runs, warm_up_paragraph};
 use crate::edge::experiment::Experiment;
 use crate::sim::stats::{pareto_front, summarise};
 use std::fmt::Write;
+
+/// Algorithms whose `splits` count every node their from-scratch rebuild activates (merges 0),
+/// marked † in the report's table.
+pub const FROM_SCRATCH_ACTIVATIONS: &[&str] = &["reference", "roam-rebuild"];
 
 /// What the report is made from.
 pub struct ReportInputs<'a> {
@@ -113,22 +118,38 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
             ""
         },
     );
+    if let Some(first) = experiment.below_ground_frames.first() {
+        let _ = writeln!(
+            out,
+            "**Eye below the ground** in {} frame(s) (first: frame {first}); the meshes of those \
+             frames are seen from under the surface. summary.json lists them \
+             (`flight.eye_below_ground_frames`).\n",
+            experiment.below_ground_frames.len()
+        );
+    }
     let _ = writeln!(
         out,
-        "| entry | algorithm | triangles | rendered | error max / mean / p95 (px) | update p50 / p95 (µs) | splits + merges per frame | evaluations per split or merge | bytes per sample |"
+        "| entry | algorithm | triangles | rendered | error max / mean / mean of p95 (px) | update p50 / p95 (µs) | splits + merges per frame | evaluations per split or merge | bytes per sample |"
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|");
-    let rows: Vec<Row> = inputs.runs.iter().map(row).collect();
+    let summarised = summarised_runs(inputs.runs, experiment.warm_up_frames);
+    let rows: Vec<Row> = summarised.iter().map(row).collect();
     for (k, (run, r)) in inputs.runs.iter().zip(&rows).enumerate() {
         let error = r.error.map_or("—".to_string(), |(max, mean, p95)| {
             format!("{max:.2} / {mean:.3} / {p95:.2}")
         });
+        // A from-scratch rebuild's "splits" are every activation of the frame's rebuild.
+        let mark = if FROM_SCRATCH_ACTIVATIONS.contains(&inputs.names[k]) {
+            " †"
+        } else {
+            ""
+        };
         let per_operation = r
             .evaluations_per_operation
-            .map_or("—".to_string(), |e| format!("{e:.1}"));
+            .map_or("—".to_string(), |e| format!("{e:.1}{mark}"));
         let _ = writeln!(
             out,
-            "| {} | {} | {:.0} | {:.0} | {} | {:.1} / {:.1} | {:.1} | {} | {:.2} |",
+            "| {} | {} | {:.0} | {:.0} | {} | {:.1} / {:.1} | {:.1}{mark} | {} | {:.2} |",
             run.label.replace('|', "\\|"),
             inputs.names[k],
             r.triangles,
@@ -159,16 +180,37 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
         out,
         "\n**Columns.** *triangles*, *rendered*: means per frame of the whole mesh and of the \
          triangles meeting the view volume. *error*: the audited projected screen-space error — the \
-         largest of any frame, and the means over frames of each frame's mean and 95th percentile. \
+         largest of any frame, the mean over frames of each frame's mean, and the mean over frames of \
+         each frame's 95th percentile over its samples (not a 95th percentile over frames). \
          *update*: median and 95th percentile of the per-frame update time. *splits + merges*: the \
-         algorithm's operations per frame. *evaluations per split or merge*: metric (or valid-life) \
+         algorithm's operations per frame; † marks an algorithm that rebuilds its mesh from scratch \
+         every frame (`reference`, `roam-rebuild`), whose splits count every activation of the \
+         rebuild (merges 0): not comparable with an incremental algorithm's splits and merges, and \
+         neither are its evaluations per split or merge. *evaluations per split or merge*: metric (or valid-life) \
          evaluations over the flight divided by its splits and merges. *bytes per sample*: the \
          shared preprocessed terrain (heights and Wu's node table above the finest level, 5 B/sample) plus the \
          algorithm's own state at the end of the run, per height sample."
     );
-    write_goals(&mut out, inputs);
-    write_popping(&mut out, inputs.runs);
-    write_triangle_lists(&mut out, inputs.runs);
+    let settled: Vec<Option<Settling>> = inputs
+        .runs
+        .iter()
+        .zip(inputs.names)
+        .zip(&experiment.algorithms)
+        .map(|((run, _), spec)| settling(spec.config.count_goal(), run))
+        .collect();
+    let labels: Vec<&str> = inputs.runs.iter().map(|r| r.label).collect();
+    let warm_up = warm_up_paragraph(
+        &labels,
+        &settled,
+        experiment.warm_up_frames,
+        experiment.flight.n_frames(),
+    );
+    if !warm_up.is_empty() {
+        let _ = writeln!(out, "\n{warm_up}");
+    }
+    write_goals(&mut out, experiment, &summarised);
+    write_popping(&mut out, &summarised);
+    write_triangle_lists(&mut out, &summarised);
     write_preprocessing(&mut out, inputs);
     out
 }
@@ -196,13 +238,13 @@ fn cell(value: Option<f64>, digits: usize) -> String {
     value.map_or("—".to_string(), |v| format!("{v:.digits$}"))
 }
 
-/// How every budget or target entry held its count, with the flags of `goal_check`.
-fn write_goals(out: &mut String, inputs: &ReportInputs) {
-    let checks: Vec<(&str, GoalCheck)> = inputs
-        .experiment
+/// How every budget or target entry held its count over the summarised frames (the warm-up
+/// left out), with the flags of `goal_check`.
+fn write_goals(out: &mut String, experiment: &Experiment, runs: &[RunColumns]) {
+    let checks: Vec<(&str, GoalCheck)> = experiment
         .algorithms
         .iter()
-        .zip(inputs.runs)
+        .zip(runs)
         .filter_map(|(spec, run)| {
             let goal = spec.config.count_goal()?;
             Some((run.label, check_goal(run, goal)?))

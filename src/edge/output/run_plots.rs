@@ -7,15 +7,47 @@ use super::plots::{
     LineChart, Marker, PlotError, ScatterChart, ScatterPoint, Series, write_line_chart,
     write_scatter_chart,
 };
+use super::warm_up::summarised_runs;
 use crate::sim::algorithm::columns::rottger::DESIRED_RESOLUTION_C;
 use crate::sim::algorithm::columns::wu::BASE_B;
 use crate::sim::stats::{pareto_front, summarise};
 use std::path::Path;
 
-/// Writes `triangles`, `update_time`, `error` and `accuracy_vs_time` (when audited), `popping`
-/// (when some frame measured it), `base_b` (when an algorithm reports Wu's base) and
-/// `desired_resolution_c` (when one reports Röttger's c) as PNG and SVG into `dir`.
-pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result<(), PlotError> {
+/// What the standard plots of a run are drawn from.
+pub struct RunPlotInputs<'a> {
+    pub runs: &'a [RunColumns<'a>],
+    /// Each run's algorithm name (`wu`, `roam`, …): the accuracy plot's colour groups.
+    pub names: &'a [&'a str],
+    pub audited: bool,
+    /// Frames that broke the speed or rotation bounds: marked on every per-frame plot.
+    pub speed_violation_frames: &'a [u64],
+    /// The horizontal speed bound (m/frame), the unit of Wu's b.
+    pub horizontal_m_per_frame: f64,
+    /// The first frames the summaries leave out (`outputs.warm_up_frames`): the accuracy plot,
+    /// a summary, leaves them out too; per-frame plots keep them.
+    pub warm_up_frames: u64,
+}
+
+/// The legend text of the frames marked on per-frame plots.
+const VIOLATION_LABEL: &str = "frames breaking the speed bounds";
+
+/// Series whose positive means differ by more than this factor get a logarithmic y axis.
+const LOG_AXIS_ABOVE_RATIO: f64 = 10.0;
+
+/// Writes `triangles` and `update_time` (logarithmic y: entries differ by orders of magnitude),
+/// `triangles_rendered` (when culling made some frame's rendered count differ from its mesh),
+/// `error` and `accuracy_vs_time` (when audited), `popping` (when some frame measured it),
+/// `base_b` (when an algorithm reports Wu's base) and `desired_resolution_c` (when one reports
+/// Röttger's c) as PNG and SVG into `dir`. Every per-frame plot marks the frames that broke the
+/// speed bounds; `error` and `popping` use a logarithmic y axis when their entries' means differ
+/// by more than ten times.
+pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotError> {
+    let runs = inputs.runs;
+    let marked: Vec<f64> = inputs
+        .speed_violation_frames
+        .iter()
+        .map(|&f| f as f64)
+        .collect();
     let series_of = |column: &str, scale: f64| -> Vec<Series> {
         runs.iter()
             .map(|run| Series {
@@ -28,42 +60,65 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
             })
             .collect()
     };
-    write_line_chart(
-        dir,
-        "triangles",
-        &LineChart {
-            title: "Triangles per frame",
-            x_label: "frame",
-            y_label: "triangles",
-            series: &series_of("triangles", 1.0),
-            markers: &[],
-        },
-    )?;
-    write_line_chart(
-        dir,
-        "update_time",
-        &LineChart {
-            title: "Update time per frame",
-            x_label: "frame",
-            y_label: "update time (µs)",
-            series: &series_of("update_ns", 1e-3),
-            markers: &[],
-        },
-    )?;
-    write_base_plot(dir, runs)?;
-    write_desired_resolution_plot(dir, runs)?;
-    if audited {
-        write_accuracy_vs_time(dir, runs)?;
+    let line = |stem: &str, title: &str, y_label: &str, series: &[Series], log_y: bool| {
         write_line_chart(
             dir,
-            "error",
+            stem,
             &LineChart {
-                title: "Audited projected screen-space error per frame (p95 over samples in view)",
+                title,
                 x_label: "frame",
-                y_label: "error p95 (px)",
-                series: &series_of("audit_projected_p95_px", 1.0),
+                y_label,
+                series,
                 markers: &[],
+                log_y,
+                marked_x: &marked,
+                marked_x_label: VIOLATION_LABEL,
             },
+        )
+    };
+    line(
+        "triangles",
+        "Triangles per frame (whole mesh)",
+        "triangles (log scale)",
+        &series_of("triangles", 1.0),
+        true,
+    )?;
+    let culled = runs
+        .iter()
+        .any(|r| r.frames.iter().any(|f| f.triangles_rendered != f.triangles));
+    if culled {
+        line(
+            "triangles_rendered",
+            "Rendered triangles per frame (meeting the view volume)",
+            "rendered triangles (log scale)",
+            &series_of("triangles_rendered", 1.0),
+            true,
+        )?;
+    }
+    line(
+        "update_time",
+        "Update time per frame",
+        "update time (µs, log scale)",
+        &series_of("update_ns", 1e-3),
+        true,
+    )?;
+    write_base_plot(dir, runs, &marked, inputs.horizontal_m_per_frame)?;
+    write_desired_resolution_plot(dir, runs)?;
+    if inputs.audited {
+        let summarised = summarised_runs(runs, inputs.warm_up_frames);
+        write_accuracy_vs_time(dir, &summarised, inputs.names)?;
+        let error = series_of("audit_projected_p95_px", 1.0);
+        let log_error = differ_by_orders(&error);
+        line(
+            "error",
+            "Audited projected screen-space error per frame (p95 over samples in view)",
+            if log_error {
+                "error p95 (px, log scale)"
+            } else {
+                "error p95 (px)"
+            },
+            &error,
+            log_error,
         )?;
         let popped = runs.iter().any(|r| {
             r.frames
@@ -71,25 +126,48 @@ pub fn write_run_plots(dir: &Path, runs: &[RunColumns], audited: bool) -> Result
                 .any(|f| f.audit.is_some_and(|a| a.popping.is_some()))
         });
         if popped {
-            write_line_chart(
-                dir,
+            let popping = series_of("popping_rmse_px", 1.0);
+            let log_popping = differ_by_orders(&popping);
+            line(
                 "popping",
-                &LineChart {
-                    title: "Popping: RMSE of the drawn surface's change since the previous frame",
-                    x_label: "frame",
-                    y_label: "popping RMSE (projected px)",
-                    series: &series_of("popping_rmse_px", 1.0),
-                    markers: &[],
+                "Popping: RMSE of the drawn surface's change since the previous frame",
+                if log_popping {
+                    "popping RMSE (projected px, log scale)"
+                } else {
+                    "popping RMSE (projected px)"
                 },
+                &popping,
+                log_popping,
             )?;
         }
     }
     Ok(())
 }
 
+/// Whether the series' means over their positive values differ by more than
+/// [`LOG_AXIS_ABOVE_RATIO`].
+fn differ_by_orders(series: &[Series]) -> bool {
+    let means: Vec<f64> = series
+        .iter()
+        .filter_map(|s| {
+            let positive: Vec<f64> = s.points.iter().map(|p| p.1).filter(|y| *y > 0.0).collect();
+            summarise(&positive).map(|summary| summary.mean)
+        })
+        .collect();
+    let lo = means.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = means.iter().copied().fold(0.0, f64::max);
+    means.len() > 1 && hi > LOG_AXIS_ABOVE_RATIO * lo
+}
+
 /// b per frame for every run that has it. One run: its min, max and mean as marked lines.
 /// Several: the same figures in each legend label.
-fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
+fn write_base_plot(
+    dir: &Path,
+    runs: &[RunColumns],
+    marked: &[f64],
+    horizontal_m_per_frame: f64,
+) -> Result<(), PlotError> {
+    let metres = |b: f64| b * horizontal_m_per_frame;
     let mut series = Vec::new();
     let mut figures = Vec::new();
     for run in runs.iter().filter(|r| r.extra_columns.contains(&BASE_B)) {
@@ -116,21 +194,25 @@ fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
         let (min, max, mean) = figures[0];
         vec![
             Marker {
-                label: format!("max {max}"),
+                label: format!("max {max} ({:.0}\u{a0}m)", metres(max)),
                 y: max,
             },
             Marker {
-                label: format!("mean {mean:.2}"),
+                label: format!("mean {mean:.2} ({:.0}\u{a0}m)", metres(mean)),
                 y: mean,
             },
             Marker {
-                label: format!("min {min}"),
+                label: format!("min {min} ({:.0}\u{a0}m)", metres(min)),
                 y: min,
             },
         ]
     } else {
         for (s, (min, max, mean)) in series.iter_mut().zip(&figures) {
-            s.label = format!("{} (min {min}, max {max}, mean {mean:.2})", s.label);
+            s.label = format!(
+                "{} (min {min}, max {max}, mean {mean:.2}; mean {:.0}\u{a0}m)",
+                s.label,
+                metres(*mean)
+            );
         }
         Vec::new()
     };
@@ -140,9 +222,14 @@ fn write_base_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
         &LineChart {
             title: "Base b of the life axis per frame",
             x_label: "frame",
-            y_label: "b (frames)",
+            y_label: &format!(
+                "b (frames of travel at {horizontal_m_per_frame} m/frame; × {horizontal_m_per_frame} = metres)"
+            ),
             series: &series,
             markers: &markers,
+            log_y: false,
+            marked_x: marked,
+            marked_x_label: VIOLATION_LABEL,
         },
     )
 }
@@ -179,16 +266,24 @@ fn write_desired_resolution_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), 
             y_label: "log10 c",
             series: &series,
             markers: &[],
+            log_y: false,
+            marked_x: &[],
+            marked_x_label: "",
         },
     )
 }
 
 /// Audited p95 error (mean over frames) against median update time, one point per entry, the
 /// Pareto front joined.
-fn write_accuracy_vs_time(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
+fn write_accuracy_vs_time(
+    dir: &Path,
+    runs: &[RunColumns],
+    names: &[&str],
+) -> Result<(), PlotError> {
     let points: Vec<ScatterPoint> = runs
         .iter()
-        .map(|run| {
+        .zip(names)
+        .map(|(run, name)| {
             let column = |name: &str| -> Vec<f64> {
                 run.frames
                     .iter()
@@ -199,6 +294,7 @@ fn write_accuracy_vs_time(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotErr
                 label: run.label.to_string(),
                 x: summarise(&column("update_ns")).map_or(f64::NAN, |s| s.p50 / 1e3),
                 y: summarise(&column("audit_projected_p95_px")).map_or(f64::NAN, |s| s.mean),
+                group: name.to_string(),
             }
         })
         .collect();
@@ -207,7 +303,7 @@ fn write_accuracy_vs_time(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotErr
         dir,
         "accuracy_vs_time",
         &ScatterChart {
-            title: "What accuracy costs in time (Pareto front in red)",
+            title: "What accuracy costs in time (Pareto front in red, labelled)",
             x_label: "median update time per frame (µs, log scale)",
             y_label: "audited projected error, p95 (px)",
             points: &points,

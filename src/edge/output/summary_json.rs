@@ -4,10 +4,15 @@
 
 use super::columns::{RunColumns, numeric_columns, value};
 use super::goal_check::check_goal;
+use super::warm_up::{SETTLED_WITHIN, settling, summarised_runs};
 use crate::edge::experiment::Experiment;
+use crate::sim::algorithm::columns::wu::BASE_B;
 use crate::sim::flight::BrokenBounds;
 use crate::sim::stats::summarise;
 use serde_json::{Map, Value, json};
+
+/// The summary of Wu's b in metres (b × the horizontal speed bound), beside `base_b`.
+pub const BASE_B_METRES: &str = "base_b_m";
 
 /// The format version of `summary.json`.
 pub const SUMMARY_FORMAT_VERSION: u32 = 1;
@@ -61,16 +66,19 @@ pub fn summary_json(
 ) -> Value {
     let audited = experiment.effects.audit.is_some();
     let columns = numeric_columns(runs, audited);
+    // Column summaries leave out the warm-up frames; `frames` still counts them all.
+    let summarised = summarised_runs(runs, experiment.warm_up_frames);
     let algorithms: Vec<Value> = runs
         .iter()
+        .zip(&summarised)
         .zip(parameters)
         .zip(names)
         .zip(facts)
         .zip(entry_preprocessing)
         .zip(&experiment.algorithms)
-        .map(|(((((run, parameters), name), facts), preprocessing), spec)| {
+        .map(|((((((run, summarised), parameters), name), facts), preprocessing), spec)| {
             let goal = spec.config.count_goal().and_then(|goal| {
-                let check = check_goal(run, goal)?;
+                let check = check_goal(summarised, goal)?;
                 Some(json!({
                     "column": goal.column,
                     "target": goal.target,
@@ -85,10 +93,10 @@ pub fn summary_json(
             });
             let mut summaries = Map::new();
             for column in &columns {
-                let values: Vec<f64> = run
+                let values: Vec<f64> = summarised
                     .frames
                     .iter()
-                    .filter_map(|f| value(run, f, column))
+                    .filter_map(|f| value(summarised, f, column))
                     .collect();
                 if let Some(s) = summarise(&values) {
                     summaries.insert(
@@ -96,6 +104,14 @@ pub fn summary_json(
                         json!({"mean": s.mean, "p50": s.p50, "p95": s.p95, "max": s.max}),
                     );
                 }
+            }
+            // Wu's b is in frames of travel at the horizontal speed bound; beside it in metres.
+            if let Some(b) = summaries.get(BASE_B).cloned() {
+                let metres = |stat: &str| b[stat].as_f64().map(|v| v * experiment.speed.horizontal);
+                summaries.insert(
+                    BASE_B_METRES.to_string(),
+                    json!({"mean": metres("mean"), "p50": metres("p50"), "p95": metres("p95"), "max": metres("max")}),
+                );
             }
             json!({
                 "label": run.label,
@@ -107,6 +123,13 @@ pub fn summary_json(
                     "bytes_per_sample": preprocessing.bytes_per_sample,
                 },
                 "frames": run.frames.len(),
+                "frames_summarised": summarised.frames.len(),
+                "settling": settling(spec.config.count_goal(), run).map(|s| json!({
+                    "target": s.target,
+                    "column": s.column,
+                    "within": SETTLED_WITHIN,
+                    "first_frame": s.first_frame,
+                })),
                 "goal": goal,
                 "columns": summaries,
             })
@@ -175,6 +198,14 @@ pub fn summary_json(
         "flight": {
             "kind": experiment.flight_kind,
             "frames": experiment.flight.n_frames(),
+            "frames_in_file": experiment.frames_in_file,
+            "warm_up_frames": experiment.warm_up_frames,
+            "eye_below_ground_count": experiment.below_ground_frames.len(),
+            "eye_below_ground_frames": experiment
+                .below_ground_frames
+                .iter()
+                .take(MAX_LISTED_VIOLATIONS)
+                .collect::<Vec<_>>(),
             "speed_bounds": {
                 "horizontal_m_per_frame": experiment.speed.horizontal,
                 "vertical_m_per_frame": experiment.speed.vertical,

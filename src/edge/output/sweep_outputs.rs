@@ -282,9 +282,12 @@ pub fn write_sweep_plots(dir: &Path, run: &SweepRun) -> Result<(), PlotError> {
         &LineChart {
             title: "Median update time per frame across the sweep",
             x_label: &x_label,
-            y_label: "median update time (µs)",
+            y_label: "median update time (µs, log scale)",
             series: &series_of(&|e| e.row.update_p50_us),
             markers: &[],
+            log_y: true,
+            marked_x: &[],
+            marked_x_label: "",
         },
     )?;
     write_line_chart(
@@ -296,6 +299,9 @@ pub fn write_sweep_plots(dir: &Path, run: &SweepRun) -> Result<(), PlotError> {
             y_label: "bytes per sample",
             series: &series_of(&|e| e.bytes_per_sample),
             markers: &[],
+            log_y: false,
+            marked_x: &[],
+            marked_x_label: "",
         },
     )
 }

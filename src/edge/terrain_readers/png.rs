@@ -13,6 +13,18 @@ use crate::sim::terrain::{SampleGrid, Spacing};
 use std::io::Cursor;
 use std::path::Path;
 
+/// What a refused colour PNG is told: roamsim does not guess which of the colour encodings of
+/// heights (grey stored as RGB, Mapbox Terrain-RGB, Terrarium, a colour ramp) the file uses.
+const HOW_TO_CONVERT_COLOUR: &str = ". roamsim does not guess how colour encodes height: \
+    a grey image saved as RGB converts with `magick IN.png -colorspace Gray -depth 16 OUT.png` \
+    (ImageMagick) or `gdal_translate -b 1 -ot UInt16 IN.png OUT.png` (GDAL); an encoded DEM \
+    (Mapbox Terrain-RGB: h = −10000 + 0.1·(65536·R + 256·G + B); Terrarium: h = 256·R + G + \
+    B/256 − 32768) must be decoded to heights first, e.g. into a float32 GeoTIFF";
+
+/// What a refused grey-with-alpha PNG is told.
+const HOW_TO_DROP_ALPHA: &str = ": drop the alpha channel, e.g. `magick IN.png -alpha off \
+    OUT.png`, and mark voids with `nodata` instead";
+
 /// Reads a grayscale PNG; the spacing is always `None`.
 pub(super) fn read(
     path: &Path,
@@ -31,11 +43,16 @@ pub(super) fn read(
         (::png::ColorType::Grayscale, ::png::BitDepth::Eight) => 1,
         (::png::ColorType::Grayscale, ::png::BitDepth::Sixteen) => 2,
         (color_type, bit_depth) => {
+            let how = match color_type {
+                ::png::ColorType::Rgb | ::png::ColorType::Rgba => HOW_TO_CONVERT_COLOUR,
+                ::png::ColorType::GrayscaleAlpha => HOW_TO_DROP_ALPHA,
+                _ => "",
+            };
             return Err(TerrainReadError::new(
                 path,
                 format!(
                     "the PNG is {}-bit {}; expected 8- or 16-bit grayscale \
-                     (no alpha, no palette, no colour)",
+                     (no alpha, no palette, no colour){how}",
                     bit_depth as u8,
                     colour_type_name(color_type)
                 ),
@@ -191,6 +208,8 @@ mod tests {
         assert!(error.contains("heights.png"), "{error}");
         assert!(error.contains("8-bit RGBA"), "{error}");
         assert!(error.contains("expected 8- or 16-bit grayscale"), "{error}");
+        assert!(error.contains("-colorspace Gray -depth 16"), "{error}");
+        assert!(error.contains("Terrarium"), "{error}");
 
         let four_bit = encode(
             4,

@@ -113,8 +113,10 @@ impl AlgorithmConfig {
         let goal = |column, target| Some(CountGoal { column, target });
         match self {
             AlgorithmConfig::Wu(config) => config.budget.and_then(|budget| {
+                // With the in-view count kept, the budget holds the triangles of in-view
+                // blocks (Wu's count); else the whole mesh.
                 let column = if config.cone_culling {
-                    "triangles_rendered"
+                    columns::wu::TRIANGLES_IN_VIEW_BLOCKS
                 } else {
                     "triangles"
                 };

@@ -8,9 +8,10 @@
 mod path;
 mod speed;
 
-pub use path::{FlightPath, Interpolation, Look, Waypoint};
+pub use path::{Altitude, FlightPath, Interpolation, Look, Waypoint};
 pub use speed::{BrokenBounds, SpeedViolation, speed_violations};
 
+use crate::sim::terrain::Heightfield;
 use crate::sim::view::Pose;
 
 /// A replayable flight: one pose per frame.
@@ -38,8 +39,33 @@ impl Flight {
     /// Evaluates `path` over `n_frames` frames (recorded paths bring their own frame count and
     /// poses, and ignore `n_frames` and `look`).
     pub fn new(path: &FlightPath, look: &Look, n_frames: u64) -> Result<Flight, FlightError> {
-        let poses = path::evaluate(path, look, n_frames)?;
+        Flight::with_altitude(path, look, n_frames, Altitude::Absolute)
+    }
+
+    /// [`Flight::new`] with the path's heights read as `altitude` says (recorded paths keep
+    /// their own heights).
+    pub fn with_altitude(
+        path: &FlightPath,
+        look: &Look,
+        n_frames: u64,
+        altitude: Altitude,
+    ) -> Result<Flight, FlightError> {
+        let poses = path::evaluate(path, look, n_frames, altitude)?;
         Flight::from_poses(poses)
+    }
+
+    /// The frames whose eye is below the ground ([`Heightfield::ground_height`]), over the
+    /// terrain only (no ground is defined beyond its border).
+    pub fn frames_below_ground(&self, field: &Heightfield) -> Vec<u64> {
+        self.poses
+            .iter()
+            .enumerate()
+            .filter(|(_, pose)| {
+                let xy = pose.position.truncate();
+                field.covers(xy) && pose.position.z < field.ground_height(xy)
+            })
+            .map(|(frame, _)| frame as u64)
+            .collect()
     }
 
     /// A flight from explicit poses (a recorded camera log).
@@ -68,5 +94,13 @@ impl Flight {
 
     pub fn poses(&self) -> &[Pose] {
         &self.poses
+    }
+
+    /// Keeps the first `n_frames` frames (at least one; a flight already that short is left
+    /// as it is). The frames kept are exactly those of the whole flight: a shortened run is the
+    /// start of the full run, not a compressed one.
+    pub fn keep_first(&mut self, n_frames: u64) {
+        let n_frames = n_frames.max(1) as usize;
+        self.poses.truncate(n_frames);
     }
 }

@@ -1,6 +1,7 @@
 //! Parametric flight paths and the rules for where the camera looks.
 
 use super::FlightError;
+use crate::sim::terrain::Heightfield;
 use crate::sim::view::Pose;
 use glam::{DVec2, DVec3};
 use std::f64::consts::{FRAC_PI_2, TAU};
@@ -67,10 +68,22 @@ pub enum FlightPath {
     Recorded { poses: Vec<Pose> },
 }
 
+/// What a path's heights mean.
+#[derive(Clone, Copy, Debug)]
+pub enum Altitude<'a> {
+    /// World heights (z), as written.
+    Absolute,
+    /// Heights above the ground under the eye: each frame's z is the path's z plus the
+    /// terrain's [`Heightfield::ground_height`] at the frame's (x, y), evaluated after the path
+    /// is interpolated (the path interpolates the clearance, not the world height).
+    AboveGround(&'a Heightfield),
+}
+
 pub(super) fn evaluate(
     path: &FlightPath,
     look: &Look,
     n_frames: u64,
+    altitude: Altitude,
 ) -> Result<Vec<Pose>, FlightError> {
     if let FlightPath::Recorded { poses } = path {
         return Ok(poses.clone());
@@ -85,7 +98,17 @@ pub(super) fn evaluate(
     if n_frames == 0 {
         return Err(FlightError::NoFrames);
     }
-    let positions: Vec<DVec3> = (0..n_frames).map(|f| position(path, f, n_frames)).collect();
+    let positions: Vec<DVec3> = (0..n_frames)
+        .map(|f| {
+            let p = position(path, f, n_frames);
+            match altitude {
+                Altitude::Absolute => p,
+                Altitude::AboveGround(field) => {
+                    DVec3::new(p.x, p.y, p.z + field.ground_height(p.truncate()))
+                }
+            }
+        })
+        .collect();
     let mut poses = Vec::with_capacity(positions.len());
     let mut last_yaw = 0.0;
     for (f, &position) in positions.iter().enumerate() {
@@ -238,8 +261,8 @@ mod tests {
             phase: 0.3,
         };
         let look = Look::AlongPath { pitch: -0.3 };
-        let short = evaluate(&path, &look, 100).unwrap();
-        let long = evaluate(&path, &look, 101).unwrap();
+        let short = evaluate(&path, &look, 100, Altitude::Absolute).unwrap();
+        let long = evaluate(&path, &look, 101, Altitude::Absolute).unwrap();
         assert_eq!(short[..], long[..100]);
         // The last frame looks along the chord to where the circle goes next: a quarter turn
         // and half a frame's angle ahead of its angle from the centre.

@@ -9,7 +9,7 @@
 //! part of it is real data (the rest is padding), so the audit measures real samples only.
 
 use crate::sim::view::Pose;
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 /// Grid spacing in metres along x (columns) and y (rows).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -190,6 +190,30 @@ impl Heightfield {
             })
     }
 
+    /// The ground's world height under world point `(x, y)`: the bilinear interpolation of the
+    /// four samples of the cell holding it (continuous everywhere, exact at samples). Points
+    /// outside the terrain take the height of the nearest point of its border.
+    pub fn ground_height(&self, world_xy: DVec2) -> f64 {
+        let cells = (self.side - 1) as f64;
+        let u = ((world_xy.x - self.origin.x) / self.spacing.dx).clamp(0.0, cells);
+        let v = ((world_xy.y - self.origin.y) / self.spacing.dy).clamp(0.0, cells);
+        // The cell's south-west corner, kept inside so that the far border uses the last cell.
+        let i = (u.floor() as usize).min(self.side - 2);
+        let j = (v.floor() as usize).min(self.side - 2);
+        let (fu, fv) = (u - i as f64, v - j as f64);
+        let z = |i: usize, j: usize| f64::from(self.height(i, j));
+        let south = z(i, j) * (1.0 - fu) + z(i + 1, j) * fu;
+        let north = z(i, j + 1) * (1.0 - fu) + z(i + 1, j + 1) * fu;
+        self.origin.z + south * (1.0 - fv) + north * fv
+    }
+
+    /// Whether world point `(x, y)` lies over the terrain (its border included).
+    pub fn covers(&self, world_xy: DVec2) -> bool {
+        let (width, depth) = self.extent();
+        let local = world_xy - self.origin.truncate();
+        (0.0..=width).contains(&local.x) && (0.0..=depth).contains(&local.y)
+    }
+
     /// Extent of the terrain in metres along x and y.
     pub fn extent(&self) -> (f64, f64) {
         let cells = (self.side - 1) as f64;
@@ -237,5 +261,24 @@ mod tests {
     fn spacing_must_be_positive() {
         let error = Heightfield::new(3, vec![0.0; 9], Spacing { dx: 0.0, dy: 1.0 }).unwrap_err();
         assert_eq!(error, HeightfieldError::BadSpacing { dx: 0.0, dy: 1.0 });
+    }
+
+    #[test]
+    fn the_ground_height_is_bilinear_in_world_coordinates_and_clamped_outside() {
+        // Heights 0..8 row by row: z = i + 3j at sample (i, j), spacing 10 m, origin (100, 200, 5).
+        let heights: Vec<f32> = (0..9).map(|k| k as f32).collect();
+        let field = Heightfield::new(3, heights, Spacing { dx: 10.0, dy: 10.0 })
+            .unwrap()
+            .with_origin(DVec3::new(100.0, 200.0, 5.0));
+        let at = |x: f64, y: f64| field.ground_height(DVec2::new(x, y));
+        assert_eq!(at(100.0, 200.0), 5.0);
+        assert_eq!(at(120.0, 220.0), 5.0 + 8.0);
+        // A plane is reproduced exactly inside cells.
+        assert!((at(105.0, 215.0) - (5.0 + 0.5 + 3.0 * 1.5)).abs() < 1e-12);
+        // Outside: the nearest border point.
+        assert_eq!(at(50.0, 200.0), 5.0);
+        assert_eq!(at(500.0, 500.0), 5.0 + 8.0);
+        assert!(field.covers(DVec2::new(120.0, 200.0)));
+        assert!(!field.covers(DVec2::new(120.1, 200.0)));
     }
 }

@@ -36,9 +36,12 @@ pub(super) struct LegendEntry {
     pub(super) color: RGBColor,
 }
 
-/// The legend box: one row per entry, a colour swatch then the label. Zero width when empty.
+/// The legend box: one row per entry, a colour swatch then the label; a label wider than the
+/// legend wraps at spaces onto rows of its own without a swatch (a single word too wide
+/// for a row is cut). Zero width when empty.
 pub(super) struct Legend {
-    entries: Vec<LegendEntry>,
+    /// Rows: the text, and the swatch colour on an entry's first row only.
+    entries: Vec<(String, Option<RGBColor>)>,
     /// Total width including the gap before it.
     pub(super) width: i32,
     box_width: i32,
@@ -47,31 +50,44 @@ pub(super) struct Legend {
 impl Legend {
     pub(super) fn measure<DB: DrawingBackend>(
         root: &DrawingArea<DB, Shift>,
-        mut entries: Vec<LegendEntry>,
+        entries: Vec<LegendEntry>,
     ) -> Result<Legend, DrawingAreaErrorKind<DB::ErrorType>> {
         if entries.is_empty() {
             return Ok(Legend {
-                entries,
+                entries: Vec::new(),
                 width: 0,
                 box_width: 0,
             });
         }
-        // Rows that do not fit in the image height are summarised in a last row.
-        let max_rows = ((IMAGE_SIZE.1 as i32 - 140) / LEGEND_ROW_HEIGHT).max(1) as usize;
-        if entries.len() > max_rows {
-            let n_hidden = entries.len() - (max_rows - 1);
-            entries.truncate(max_rows - 1);
-            entries.push(LegendEntry {
-                text: format!("… and {n_hidden} more"),
-                color: WHITE,
-            });
-        }
         let style = text_style(LEGEND_FONT_SIZE);
-        let mut widest_text = 0;
-        for entry in &mut entries {
-            entry.text = fit_text(root, &entry.text, &style, LEGEND_MAX_TEXT_WIDTH)?;
-            widest_text = widest_text.max(root.estimate_text_size(&entry.text, &style)?.0 as i32);
+        // Each entry's rows: its label wrapped to the legend's width.
+        let mut wrapped: Vec<(Vec<String>, RGBColor)> = Vec::with_capacity(entries.len());
+        for entry in &entries {
+            let mut lines = Vec::new();
+            for line in wrap_text(root, &entry.text, &style, LEGEND_MAX_TEXT_WIDTH)? {
+                lines.push(fit_text(root, &line, &style, LEGEND_MAX_TEXT_WIDTH)?);
+            }
+            wrapped.push((lines, entry.color));
         }
+        // Entries whose rows do not fit in the image height are summarised in a last row.
+        let max_rows = ((IMAGE_SIZE.1 as i32 - 140) / LEGEND_ROW_HEIGHT).max(1) as usize;
+        let mut rows: Vec<(String, Option<RGBColor>)> = Vec::new();
+        for (k, (lines, color)) in wrapped.iter().enumerate() {
+            let room_after = if k + 1 < wrapped.len() { 1 } else { 0 };
+            if rows.len() + lines.len() + room_after > max_rows {
+                let n_hidden = wrapped.len() - k;
+                rows.push((format!("… and {n_hidden} more"), None));
+                break;
+            }
+            for (line_idx, line) in lines.iter().enumerate() {
+                rows.push((line.clone(), (line_idx == 0).then_some(*color)));
+            }
+        }
+        let mut widest_text = 0;
+        for (line, _) in &rows {
+            widest_text = widest_text.max(root.estimate_text_size(line, &style)?.0 as i32);
+        }
+        let entries = rows;
         let box_width = LEGEND_PADDING * 2 + LEGEND_SWATCH_WIDTH + 8 + widest_text;
         Ok(Legend {
             entries,
@@ -95,18 +111,20 @@ impl Legend {
             LEGEND_BORDER_COLOR.stroke_width(1),
         ))?;
         let style = text_style(LEGEND_FONT_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
-        for (row_idx, entry) in self.entries.iter().enumerate() {
+        for (row_idx, (text, color)) in self.entries.iter().enumerate() {
             let row_center = top + LEGEND_PADDING + 9 + LEGEND_ROW_HEIGHT * row_idx as i32;
             let swatch_left = left + LEGEND_PADDING;
-            root.draw(&PathElement::new(
-                [
-                    (swatch_left, row_center),
-                    (swatch_left + LEGEND_SWATCH_WIDTH, row_center),
-                ],
-                entry.color.stroke_width(3),
-            ))?;
+            if let Some(color) = color {
+                root.draw(&PathElement::new(
+                    [
+                        (swatch_left, row_center),
+                        (swatch_left + LEGEND_SWATCH_WIDTH, row_center),
+                    ],
+                    color.stroke_width(3),
+                ))?;
+            }
             root.draw(&Text::new(
-                entry.text.as_str(),
+                text.as_str(),
                 (
                     swatch_left + LEGEND_SWATCH_WIDTH + 8,
                     row_center + target.text_center_nudge(LEGEND_FONT_SIZE),
@@ -116,6 +134,32 @@ impl Legend {
         }
         Ok(())
     }
+}
+
+/// `text` split at spaces into lines no wider than `max_width` (a word wider than that on a
+/// line of its own).
+pub(super) fn wrap_text<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    text: &str,
+    style: &TextStyle,
+    max_width: u32,
+) -> Result<Vec<String>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut current = String::new();
+    for word in text.split(' ') {
+        let candidate = if current.is_empty() {
+            word.to_string()
+        } else {
+            format!("{current} {word}")
+        };
+        if current.is_empty() || root.estimate_text_size(&candidate, style)?.0 <= max_width {
+            current = candidate;
+        } else {
+            lines.push(std::mem::replace(&mut current, word.to_string()));
+        }
+    }
+    lines.push(current);
+    Ok(lines)
 }
 
 /// The text itself if it is at most `max_width` pixels wide, else its longest prefix that fits

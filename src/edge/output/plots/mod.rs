@@ -28,8 +28,9 @@
 //!
 //! What it deliberately does not do: compute statistics, pick which quantities to plot, or
 //! decide file names beyond `<stem>.png`/`<stem>.svg`; those belong to the callers. The scatter
-//! chart is meant for tens of labelled points (one per algorithm or setting): every point is
-//! drawn and labelled, each label placed where it overlaps no other label and no dot
+//! chart is meant for tens of points (one per algorithm or setting): every point is drawn;
+//! without groups every point is labelled, with groups (colour per group, marker shape per
+//! variant, a legend) only the front's points are; each label placed where it overlaps no other label and no dot
 //! (`label_placement.rs`), joined to its point by a grey leader line when it had to move away.
 //!
 //! The parts: `line.rs` (the line chart's plan and drawing), `decimation.rs` (breaks and the
@@ -78,6 +79,13 @@ pub struct LineChart<'a> {
     pub y_label: &'a str,
     pub series: &'a [Series],
     pub markers: &'a [Marker],
+    /// Draw y on a base-10 logarithmic axis, for series that differ by orders of magnitude.
+    /// Points with y ≤ 0 cannot be drawn there and break their line.
+    pub log_y: bool,
+    /// x values marked by a thin vertical band across the plot (e.g. frames that broke the speed
+    /// bounds), listed in the legend under `marked_x_label` when there are any.
+    pub marked_x: &'a [f64],
+    pub marked_x_label: &'a str,
 }
 
 /// One labelled point on a [`ScatterChart`].
@@ -86,6 +94,10 @@ pub struct ScatterPoint {
     pub label: String,
     pub x: f64,
     pub y: f64,
+    /// The point's group (e.g. its algorithm). Empty for every point: one colour, every point
+    /// labelled. Otherwise each group has a colour and a legend row, each point of a group a
+    /// marker shape by its order in the group (its variant), and only front points are labelled.
+    pub group: String,
 }
 
 /// What a scatter chart shows. The axis ranges are computed from the points.
@@ -116,14 +128,21 @@ pub struct PlotError {
 /// Writes `<dir>/<stem>.png` (1200×700) and `<dir>/<stem>.svg`; `dir` must exist.
 ///
 /// One colour per series from a fixed palette of eight, in series order (it repeats from the
-/// ninth series on); a legend to the right of the plot lists the series labels, and
-/// each marker is a dashed grey line with its label just right of the plot.
+/// ninth series on); a legend to the right of the plot lists the series labels (a label too
+/// long for the legend wraps onto more rows, never cut), and each marker is a dashed grey line
+/// with its label just right of the plot. A series whose points are those of an earlier one
+/// (exactly, or within about two pixels at every x) is drawn over it and says so in the legend
+/// (`= <earlier label>, drawn over it`, or `≈`), so that a hidden line is never silently
+/// missing. With `log_y` the y axis is logarithmic; `marked_x` draws pale red bands.
 pub fn write_line_chart(dir: &Path, stem: &str, chart: &LineChart) -> Result<(), PlotError> {
     write_png_and_svg(dir, stem, &LinePlan::new(chart))
 }
 
-/// Writes `<dir>/<stem>.png` (1200×700) and `<dir>/<stem>.svg`; each point is labelled with its
-/// text and the front is drawn as a line through its points, which are highlighted.
+/// Writes `<dir>/<stem>.png` (1200×700) and `<dir>/<stem>.svg`; the front is drawn as a line
+/// through its points, which are highlighted. Without groups every point is labelled with its
+/// text; with groups, colours tell groups apart (a legend names them), marker shapes the
+/// variants within a group, and only the front's points carry labels, so that tens of points
+/// stay readable.
 pub fn write_scatter_chart(dir: &Path, stem: &str, chart: &ScatterChart) -> Result<(), PlotError> {
     write_png_and_svg(dir, stem, &ScatterPlan::new(chart))
 }
@@ -178,6 +197,8 @@ const LEGEND_BORDER_COLOR: RGBColor = RGBColor(0xbb, 0xbb, 0xbb);
 const SCATTER_POINT_COLOR: RGBColor = PALETTE[0];
 const SCATTER_FRONT_COLOR: RGBColor = PALETTE[3];
 const LEADER_COLOR: RGBColor = RGBColor(0xaa, 0xaa, 0xaa);
+/// The vertical bands of [`LineChart::marked_x`]: a pale red, behind the series.
+const MARKED_X_COLOR: RGBColor = RGBColor(0xf4, 0xb6, 0xb6);
 
 /// Fractions of the data span added on each side of an axis.
 const X_MARGIN: f64 = 0.02;

@@ -2,14 +2,16 @@
 //! with placed labels.
 
 use super::super::label_placement::{DOT_RADIUS, PixelBox, place_labels};
+use super::legend::{Legend, LegendEntry};
 use super::ticks::{
     AxisTexts, Bounds, TickFormat, configure_axes, is_plottable, log_tick_label, padded_range,
     y_label_area_width,
 };
 use super::{
-    Drawing, LEADER_COLOR, POINT_LABEL_FONT_SIZE, RenderTarget, SCATTER_FRONT_COLOR,
-    SCATTER_LABEL_ROOM_X, SCATTER_LABEL_ROOM_Y, SCATTER_POINT_COLOR, SCATTER_X_MARGIN,
-    ScatterChart, ScatterPoint, TEXT_COLOR, Y_MARGIN, draw_no_data_note, draw_title, text_style,
+    Drawing, LEADER_COLOR, PALETTE, PANEL_GAP, POINT_LABEL_FONT_SIZE, RenderTarget,
+    SCATTER_FRONT_COLOR, SCATTER_LABEL_ROOM_X, SCATTER_LABEL_ROOM_Y, SCATTER_POINT_COLOR,
+    SCATTER_X_MARGIN, ScatterChart, ScatterPoint, TEXT_COLOR, Y_MARGIN, draw_no_data_note,
+    draw_title, text_style,
 };
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
@@ -30,13 +32,25 @@ pub(super) struct ScatterPlan<'a> {
     points: Vec<PlannedPoint<'a>>,
     /// The drawable front points, in front order.
     front: Vec<(f64, f64)>,
+    /// The groups' names in order of first appearance; empty for an ungrouped chart.
+    groups: Vec<&'a str>,
+    /// The most variants any group has.
+    max_variants: usize,
 }
 
 pub(super) struct PlannedPoint<'a> {
     label: &'a str,
     position: (f64, f64),
     on_front: bool,
+    /// The point's group's index among the groups, in order of first appearance (grouped
+    /// charts only), and its variant: its position within its group.
+    group: Option<usize>,
+    variant: usize,
 }
+
+/// Marker shapes for a group's variants, in order (repeated from the sixth variant on).
+pub(super) const VARIANT_SHAPES: [&str; 5] =
+    ["circle", "square", "triangle", "diamond", "triangle down"];
 
 impl<'a> ScatterPlan<'a> {
     pub(super) fn new(chart: &ScatterChart<'a>) -> ScatterPlan<'a> {
@@ -50,15 +64,38 @@ impl<'a> ScatterPlan<'a> {
                 *flag = true;
             }
         }
+        let grouped = chart.points.iter().any(|p| !p.group.is_empty());
+        let mut groups: Vec<&str> = Vec::new();
+        let mut variants: Vec<usize> = Vec::new();
+        let mut membership = Vec::with_capacity(chart.points.len());
+        for point in chart.points {
+            let group_idx = match groups.iter().position(|g| *g == point.group) {
+                Some(idx) => idx,
+                None => {
+                    groups.push(&point.group);
+                    variants.push(0);
+                    groups.len() - 1
+                }
+            };
+            membership.push((group_idx, variants[group_idx]));
+            variants[group_idx] += 1;
+        }
+        if !grouped {
+            groups.clear();
+        }
+        let max_variants = variants.iter().copied().max().unwrap_or(0);
         let points: Vec<PlannedPoint> = chart
             .points
             .iter()
             .zip(on_front)
-            .filter(|(point, _)| drawable(point))
-            .map(|(point, on_front)| PlannedPoint {
+            .zip(membership)
+            .filter(|((point, _), _)| drawable(point))
+            .map(|((point, on_front), (group_idx, variant))| PlannedPoint {
                 label: &point.label,
                 position: (point.x, point.y),
                 on_front,
+                group: grouped.then_some(group_idx),
+                variant,
             })
             .collect();
         let front = chart
@@ -98,7 +135,38 @@ impl<'a> ScatterPlan<'a> {
             log_x,
             points,
             front,
+            groups,
+            max_variants,
         }
+    }
+
+    /// The legend of a grouped chart: one row per group in its colour, and what the shapes mean.
+    pub(super) fn legend_entries(&self) -> Vec<LegendEntry> {
+        let mut entries: Vec<LegendEntry> = self
+            .groups
+            .iter()
+            .enumerate()
+            .map(|(k, group)| LegendEntry {
+                text: group.to_string(),
+                color: PALETTE[k % PALETTE.len()],
+            })
+            .collect();
+        if !entries.is_empty() && self.max_variants > 1 {
+            let shapes = VARIANT_SHAPES[..self.max_variants.min(VARIANT_SHAPES.len())].join(", ");
+            entries.push(LegendEntry {
+                text: format!(
+                    "marker: the entry's variant within its algorithm, in entry order ({shapes})"
+                ),
+                color: WHITE,
+            });
+        }
+        if !entries.is_empty() {
+            entries.push(LegendEntry {
+                text: "ringed in red and labelled: on the front".to_string(),
+                color: SCATTER_FRONT_COLOR,
+            });
+        }
+        entries
     }
 
     /// Everything after the coordinate system is chosen, for either kind of x axis.
@@ -137,8 +205,11 @@ impl<'a> ScatterPlan<'a> {
         let label_style = text_style(POINT_LABEL_FONT_SIZE)
             .color(&TEXT_COLOR)
             .pos(Pos::new(HPos::Left, VPos::Top));
-        // Front points first: their labels get the best spots.
-        let mut order: Vec<usize> = (0..self.points.len()).collect();
+        // Front points first: their labels get the best spots. A grouped chart labels only them.
+        let grouped = !self.groups.is_empty();
+        let mut order: Vec<usize> = (0..self.points.len())
+            .filter(|&k| !grouped || self.points[k].on_front)
+            .collect();
         order.sort_by_key(|&k| !self.points[k].on_front);
         let pixels: Vec<(i32, i32)> = order
             .iter()
@@ -166,19 +237,38 @@ impl<'a> ScatterPlan<'a> {
                 ))?;
             }
         }
-        for (&k, &pixel) in order.iter().zip(&pixels) {
-            let point = &self.points[k];
-            let color = if point.on_front {
-                SCATTER_FRONT_COLOR
-            } else {
-                SCATTER_POINT_COLOR
-            };
-            root.draw(&Circle::new(pixel, DOT_RADIUS as u32, color.filled()))?;
-            root.draw(&Circle::new(
-                pixel,
-                DOT_RADIUS as u32,
-                WHITE.stroke_width(1),
-            ))?;
+        if grouped {
+            // Every point, front ones last so they are on top.
+            let mut all: Vec<usize> = (0..self.points.len()).collect();
+            all.sort_by_key(|&k| self.points[k].on_front);
+            for k in all {
+                let point = &self.points[k];
+                let pixel = chart.backend_coord(&point.position);
+                let color = PALETTE[point.group.unwrap_or(0) % PALETTE.len()];
+                if point.on_front {
+                    root.draw(&Circle::new(
+                        pixel,
+                        DOT_RADIUS as u32 + 4,
+                        SCATTER_FRONT_COLOR.stroke_width(2),
+                    ))?;
+                }
+                draw_shape(root, pixel, point.variant, color)?;
+            }
+        } else {
+            for (&k, &pixel) in order.iter().zip(&pixels) {
+                let point = &self.points[k];
+                let color = if point.on_front {
+                    SCATTER_FRONT_COLOR
+                } else {
+                    SCATTER_POINT_COLOR
+                };
+                root.draw(&Circle::new(pixel, DOT_RADIUS as u32, color.filled()))?;
+                root.draw(&Circle::new(
+                    pixel,
+                    DOT_RADIUS as u32,
+                    WHITE.stroke_width(1),
+                ))?;
+            }
         }
         for (&k, placement) in order.iter().zip(&placements) {
             root.draw(&Text::new(
@@ -199,27 +289,70 @@ impl Drawing for ScatterPlan<'_> {
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
         let body = draw_title(root, self.title, target)?;
+        let legend = Legend::measure(root, self.legend_entries())?;
+        let (body_width, _) = body.dim_in_pixel();
+        let plot_width = (body_width as i32 - legend.width).max(body_width as i32 / 2);
+        let (plot_part, _) = body.split_horizontally(plot_width);
         let y_format = TickFormat::for_linear_range(&self.y_range);
         let y_label_area = y_label_area_width(root, &y_format, &self.y_range)?;
-        let mut builder = ChartBuilder::on(&body);
+        let mut builder = ChartBuilder::on(&plot_part);
         builder
             .margin_top(10)
             .margin_bottom(10)
             .margin_left(14)
-            .margin_right(30)
+            .margin_right(if legend.width > 0 { 8 } else { 30 })
             .x_label_area_size(56)
             .y_label_area_size(y_label_area);
         if self.log_x {
             let mut chart = builder
                 .build_cartesian_2d(self.x_range.clone().log_scale(), self.y_range.clone())?;
-            self.draw_on(root, &mut chart, &|x: &f64| log_tick_label(*x), target)
+            self.draw_on(root, &mut chart, &|x: &f64| log_tick_label(*x), target)?;
+            let (x_pixels, y_pixels) = chart.plotting_area().get_pixel_range();
+            legend.draw(root, (x_pixels.end + PANEL_GAP, y_pixels.start), target)
         } else {
             let x_format = TickFormat::for_linear_range(&self.x_range);
             let mut chart =
                 builder.build_cartesian_2d(self.x_range.clone(), self.y_range.clone())?;
-            self.draw_on(root, &mut chart, &|x: &f64| x_format.label(*x), target)
+            self.draw_on(root, &mut chart, &|x: &f64| x_format.label(*x), target)?;
+            let (x_pixels, y_pixels) = chart.plotting_area().get_pixel_range();
+            legend.draw(root, (x_pixels.end + PANEL_GAP, y_pixels.start), target)
         }
     }
+}
+
+/// Draws marker shape number `variant` (of [`VARIANT_SHAPES`], repeated) at `pixel`, filled
+/// with `color` and outlined in white.
+fn draw_shape<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    (x, y): (i32, i32),
+    variant: usize,
+    color: RGBColor,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let r = DOT_RADIUS;
+    let outline: Vec<(i32, i32)> = match variant % VARIANT_SHAPES.len() {
+        0 => {
+            root.draw(&Circle::new((x, y), r as u32, color.filled()))?;
+            return root.draw(&Circle::new((x, y), r as u32, WHITE.stroke_width(1)));
+        }
+        1 => vec![
+            (x - r, y - r),
+            (x + r, y - r),
+            (x + r, y + r),
+            (x - r, y + r),
+        ],
+        2 => vec![(x, y - r - 1), (x + r + 1, y + r), (x - r - 1, y + r)],
+        3 => vec![
+            (x, y - r - 2),
+            (x + r + 2, y),
+            (x, y + r + 2),
+            (x - r - 2, y),
+        ],
+        _ => vec![(x - r - 1, y - r), (x + r + 1, y - r), (x, y + r + 1)],
+    };
+    root.draw(&Polygon::new(outline.clone(), color.filled()))?;
+    let mut closed = outline.clone();
+    closed.push(outline[0]);
+    root.draw(&PathElement::new(closed, WHITE.stroke_width(1)))
 }
 
 /// Widens a range of base-10 exponents so that it contains a whole number, the position of a

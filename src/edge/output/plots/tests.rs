@@ -31,6 +31,9 @@ fn write_line(
         y_label: "triangles",
         series,
         markers,
+        log_y: false,
+        marked_x: &[],
+        marked_x_label: "",
     };
     write_line_chart(dir, stem, &chart)?;
     Ok((
@@ -335,6 +338,7 @@ fn scatter_point(label: &str, x: f64, y: f64) -> ScatterPoint {
         label: label.to_string(),
         x,
         y,
+        group: String::new(),
     }
 }
 
@@ -425,4 +429,206 @@ fn a_missing_directory_is_an_error_naming_the_file() {
     let error = write_line(&missing, "chart", &[], &[]).unwrap_err();
     assert_eq!(error.path, missing.join("chart.png"));
     assert!(error.to_string().contains("chart.png"), "{error}");
+}
+
+/// Writes `chart` under `stem` and returns the decoded PNG and the SVG text.
+fn written_line_chart(dir: &Path, stem: &str, chart: &LineChart) -> (DecodedPng, String) {
+    write_line_chart(dir, stem, chart).unwrap();
+    let png = DecodedPng::read(&dir.join(format!("{stem}.png")));
+    let svg = std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap();
+    (png, svg)
+}
+
+/// The texts of an SVG's `<text>` elements.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let start = t.find('>')? + 1;
+            let end = t.find("</text>")?;
+            Some(t[start..end].trim().to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn a_log_y_axis_shows_series_orders_of_magnitude_apart_and_skips_non_positive_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let big = series(
+        "big",
+        (0..100).map(|f| (f as f64, 50_000.0 + f as f64)).collect(),
+    );
+    let small = series(
+        "small",
+        (0..100)
+            .map(|f| (f as f64, 20.0 + (f % 7) as f64))
+            .collect(),
+    );
+    let with_zero = series(
+        "zero at 5",
+        (0..10)
+            .map(|f| (f as f64, if f == 5 { 0.0 } else { 300.0 }))
+            .collect(),
+    );
+    let chart = LineChart {
+        title: "log",
+        x_label: "frame",
+        y_label: "triangles (log scale)",
+        series: &[big, small, with_zero],
+        markers: &[],
+        log_y: true,
+        marked_x: &[],
+        marked_x_label: "",
+    };
+    let (png, svg) = written_line_chart(dir.path(), "log", &chart);
+    let texts = svg_texts(&svg);
+    // Decade ticks between the series are labelled: 100 and 1000 lie between 20 and 50 000.
+    for tick in ["100", "1000", "10000"] {
+        assert!(texts.iter().any(|t| t == tick), "no tick {tick}: {texts:?}");
+    }
+    // On a linear axis from 0 to 50 000 the small series would hug the bottom within a few
+    // pixels; on the log axis its line is drawn well inside the plot.
+    assert!(png.n_pixels_of(PALETTE[1]) > 500);
+}
+
+#[test]
+fn marked_frames_are_drawn_as_bands_and_counted_in_the_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = series("wu", (0..100).map(|f| (f as f64, 10.0)).collect());
+    let chart = LineChart {
+        title: "marked",
+        x_label: "frame",
+        y_label: "b",
+        series: &[line],
+        markers: &[],
+        log_y: false,
+        marked_x: &[20.0, 21.0, 60.0],
+        marked_x_label: "frames breaking the speed bounds",
+    };
+    let (png, svg) = written_line_chart(dir.path(), "marked", &chart);
+    assert!(
+        svg.contains("frames breaking the speed bounds (3)"),
+        "{svg}"
+    );
+    // Three bands the height of the plot, well over a hundred pixels each.
+    assert!(
+        png.n_pixels_of(MARKED_X_COLOR) > 3 * 300,
+        "{}",
+        png.n_pixels_of(MARKED_X_COLOR)
+    );
+}
+
+#[test]
+fn a_series_hidden_under_an_identical_one_says_so_in_the_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let points: Vec<(f64, f64)> = (0..50).map(|f| (f as f64, (f * f) as f64)).collect();
+    let chart = LineChart {
+        title: "same",
+        x_label: "frame",
+        y_label: "triangles",
+        series: &[
+            series("reference τ=2", points.clone()),
+            series("wu τ=2", points),
+        ],
+        markers: &[],
+        log_y: false,
+        marked_x: &[],
+        marked_x_label: "",
+    };
+    let (_, svg) = written_line_chart(dir.path(), "same", &chart);
+    assert!(
+        svg.contains("wu τ=2 (= reference τ=2, drawn over it)"),
+        "{svg}"
+    );
+    // Within a pixel of each other everywhere: as hidden, said with ≈.
+    let base: Vec<(f64, f64)> = (0..50).map(|f| (f as f64, 1000.0 + f as f64)).collect();
+    let near: Vec<(f64, f64)> = base.iter().map(|&(x, y)| (x, y + 0.05)).collect();
+    let apart: Vec<(f64, f64)> = base.iter().map(|&(x, y)| (x, y + 20.0)).collect();
+    let chart = LineChart {
+        series: &[
+            series("roam", base),
+            series("roam-rebuild", near),
+            series("other", apart),
+        ],
+        ..chart
+    };
+    let (_, svg) = written_line_chart(dir.path(), "near", &chart);
+    assert!(
+        svg.contains("roam-rebuild (≈ roam, drawn over it)"),
+        "{svg}"
+    );
+    assert!(!svg.contains("other (≈"), "{svg}");
+}
+
+#[test]
+fn a_long_legend_label_wraps_and_is_never_cut() {
+    let dir = tempfile::tempdir().unwrap();
+    let label =
+        "wu budget 12000 conservative zone (min -40, max 54, mean 3.25; mean 33 m) final-word";
+    let chart = LineChart {
+        title: "long",
+        x_label: "frame",
+        y_label: "b",
+        series: &[series(label, vec![(0.0, 1.0), (1.0, 2.0)])],
+        markers: &[],
+        log_y: false,
+        marked_x: &[],
+        marked_x_label: "",
+    };
+    let (_, svg) = written_line_chart(dir.path(), "long", &chart);
+    let texts = svg_texts(&svg);
+    assert!(!texts.iter().any(|t| t.contains('…')), "{texts:?}");
+    assert!(texts.iter().any(|t| t.ends_with("final-word")), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t.starts_with("wu budget")),
+        "{texts:?}"
+    );
+}
+
+#[test]
+fn a_grouped_scatter_colours_groups_shapes_variants_and_labels_only_the_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut points = Vec::new();
+    for (group, base) in [("wu", 10.0), ("roam", 30.0), ("lindstrom", 90.0)] {
+        for variant in 0..4 {
+            let tau = f64::from(1 << variant);
+            points.push(ScatterPoint {
+                label: format!("{group} τ={tau}px with a long label"),
+                x: base * (5.0 - tau),
+                y: tau * base / 10.0,
+                group: group.to_string(),
+            });
+        }
+    }
+    // The front: wu's four points (fastest at every accuracy).
+    let front = [3, 2, 1, 0];
+    let chart = ScatterChart {
+        title: "grouped",
+        x_label: "µs",
+        y_label: "px",
+        points: &points,
+        front: &front,
+        log_x: true,
+    };
+    write_scatter_chart(dir.path(), "grouped", &chart).unwrap();
+    let svg = std::fs::read_to_string(dir.path().join("grouped.svg")).unwrap();
+    let texts = svg_texts(&svg);
+    for group in ["wu", "roam", "lindstrom"] {
+        assert!(
+            texts.iter().any(|t| t == group),
+            "no legend row {group}: {texts:?}"
+        );
+    }
+    assert!(
+        texts.iter().any(|t| t == "wu τ=1px with a long label"),
+        "{texts:?}"
+    );
+    assert!(
+        !texts.iter().any(|t| t.starts_with("roam τ=")),
+        "points off the front are not labelled: {texts:?}"
+    );
+    let png = DecodedPng::read(&dir.path().join("grouped.png"));
+    for colour in [PALETTE[0], PALETTE[1], PALETTE[2]] {
+        assert!(png.n_pixels_of(colour) > 100, "{colour:?}");
+    }
 }
