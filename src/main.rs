@@ -277,7 +277,11 @@ fn run(
         out_dir: out,
         check_meshes: check,
         threads,
-        command_line: Some(std::env::args().collect()),
+        command_line: Some(
+            std::env::args_os()
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect(),
+        ),
         max_frames,
     };
     let started = Instant::now();

@@ -342,7 +342,7 @@ fn a_grid_in_degrees_is_never_read_as_metres_without_a_word() {
         .expect("refused without a .prj")
         .to_string();
     assert!(error.contains("terrain.file.spacing_m"), "{error}");
-    assert!(error.contains("looks like degrees"), "{error}");
+    assert!(error.contains("may be degrees"), "{error}");
 
     std::fs::write(
         dir.path().join("grid.prj"),

@@ -932,3 +932,12 @@ fn an_entry_outgrowing_the_declared_triangle_limit_stops_the_run_with_a_clear_me
         "{error}"
     );
 }
+
+#[test]
+fn an_output_path_ending_in_a_dot_names_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let short = save(dir.path(), "short", &short_quickstart(2));
+    run_to(&short, &dir.path().join("out/."), false);
+    assert!(dir.path().join("out/frames.csv").is_file());
+    run_to(&short, &dir.path().join("out/."), false); // and replaces its own output
+}

@@ -166,10 +166,13 @@ pub fn run_experiment(
     progress: &dyn ProgressSink,
 ) -> Result<RunOutcome, RunFailure> {
     let plan = experiment::plan(path)?;
-    let out_dir = options
+    // Normalised: `out/.` names `out`, whose rename is what commits the run.
+    let out_dir: PathBuf = options
         .out_dir
         .clone()
-        .unwrap_or_else(|| Path::new("out").join(plan.name()));
+        .unwrap_or_else(|| Path::new("out").join(plan.name()))
+        .components()
+        .collect();
     if options.threads == Some(0) {
         return Err(RunFailure::ZeroThreads);
     }
@@ -230,10 +233,12 @@ pub fn run_experiment(
         outcome.frames += experiment.flight.n_frames();
         outcome.meshes += experiment.flight.n_frames() * experiment.algorithms.len() as u64;
         for (spec, result) in experiment.algorithms.iter().zip(&point.results) {
+            // Over the summarised frames, as report.md and summary.json judge it.
+            let skip = (experiment.warm_up_frames as usize).min(result.frames.len());
             let run = RunColumns {
                 label: &spec.label,
                 extra_columns: result.extra_columns,
-                frames: &result.frames,
+                frames: &result.frames[skip..],
             };
             if let Some(goal) = spec.config.count_goal()
                 && let Some(GoalCheck {

@@ -666,6 +666,13 @@ fn decode<T: serde::de::DeserializeOwned>(
 
 fn roam_config(origin: &str, p: &RoamParameters, problems: &mut Problems) -> Option<RoamConfig> {
     let goal = match (p.target_triangles, p.tau_px) {
+        (Some(0), None) => {
+            problems.add(
+                format!("{origin}.target_triangles"),
+                "0: expected at least 1 triangle",
+            );
+            return None;
+        }
         (Some(target), None) => RoamGoal::TargetTriangles(target),
         (None, Some(tau)) => {
             check_tau(origin, tau, problems)?;

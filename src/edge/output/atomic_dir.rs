@@ -3,8 +3,10 @@
 //! Files are written into a fresh staging folder beside the destination; only when every file is
 //! complete is the staging folder renamed into place (an existing destination is first moved
 //! aside, then removed). A run that fails or is killed midway leaves the previous output, if any,
-//! untouched, and at worst a `.<name>.partial-<pid>` folder that the next run of the same
-//! experiment removes.
+//! untouched, and at worst a `.<name>.partial-<pid>` folder that the next run into the same
+//! destination removes once process `<pid>` is gone (a run killed between its two renames leaves
+//! the previous output as `.<name>.old-<pid>`, which the next run puts back). Where there is no
+//! `/proc` to tell whether a run is gone, leftovers stay.
 //!
 //! **What may be replaced.** Every committed folder holds a manifest, [`MANIFEST_NAME`], listing
 //! each file roamsim wrote there (one relative path per line, `/`-separated). An existing
@@ -36,6 +38,12 @@ pub enum OutputLocationError {
         path.display()
     )]
     FileInTheWay { path: PathBuf },
+    #[error(
+        "{}: a symbolic link is in the way of the output folder; roamsim neither follows nor \
+         replaces it: choose another --out (the folder it points to, say)",
+        path.display()
+    )]
+    LinkInTheWay { path: PathBuf },
     #[error(
         "{}: the output folder cannot be created because {} is a file, not a folder; choose \
          another --out",
@@ -125,10 +133,21 @@ impl StagedDir {
         })?;
         for entry in leftovers.flatten() {
             let leftover = entry.file_name().to_string_lossy().into_owned();
-            if leftover.starts_with(&format!(".{name}.partial-"))
-                || leftover.starts_with(&format!(".{name}.old-"))
-            {
+            let of_a_dead_run = |prefix: &str| {
+                leftover
+                    .strip_prefix(prefix)
+                    .is_some_and(|pid| process_is_gone(pid))
+            };
+            if of_a_dead_run(&format!(".{name}.partial-")) {
                 let _ = fs::remove_dir_all(entry.path());
+            } else if of_a_dead_run(&format!(".{name}.old-")) {
+                // A run killed between its two renames: the old folder is the previous output.
+                // Put it back when nothing replaced it; else the newer output is in place.
+                if destination.exists() {
+                    let _ = fs::remove_dir_all(entry.path());
+                } else {
+                    let _ = fs::rename(entry.path(), destination);
+                }
             }
         }
         let staging = parent.join(format!(".{name}.partial-{}", std::process::id()));
@@ -209,6 +228,17 @@ pub enum CommitError {
     Io { path: PathBuf, source: io::Error },
 }
 
+/// Whether `pid` (the suffix of a leftover's name) names a process that no longer runs: all
+/// digits, and not in `/proc`. Where there is no `/proc` to ask, no leftover is ever taken for a
+/// dead run's: roamsim deletes nothing it is unsure of (the folders stay, hidden).
+fn process_is_gone(pid: &str) -> bool {
+    !pid.is_empty()
+        && pid.bytes().all(|b| b.is_ascii_digit())
+        && pid != std::process::id().to_string()
+        && Path::new("/proc/self").exists()
+        && !Path::new("/proc").join(pid).exists()
+}
+
 /// `folder` or its nearest ancestor that exists.
 fn nearest_existing(folder: &Path) -> PathBuf {
     folder
@@ -236,6 +266,9 @@ pub fn check_destination(destination: &Path) -> Result<(), OutputLocationError> 
     }
     match fs::symlink_metadata(destination) {
         Ok(meta) if meta.is_dir() => check_existing_folder(destination),
+        Ok(meta) if meta.file_type().is_symlink() => {
+            Err(OutputLocationError::LinkInTheWay { path })
+        }
         Ok(_) => Err(OutputLocationError::FileInTheWay { path }),
         Err(_) => {
             let mut ancestor = destination.parent();
@@ -495,5 +528,51 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert!(destination.join("added.txt").is_file());
+    }
+
+    #[test]
+    fn only_the_leftovers_of_runs_that_are_gone_are_cleared_and_an_old_output_is_put_back() {
+        if !Path::new("/proc/self").exists() {
+            return; // without /proc no leftover is ever cleared; nothing to check here
+        }
+        let root = tempfile::tempdir().unwrap();
+        let destination = root.path().join("out");
+        let live = root.path().join(".out.partial-1"); // process 1 runs while the system does
+        let users = root.path().join(".out.old-backup");
+        let dead_partial = root.path().join(".out.partial-4000000000");
+        let dead_old = root.path().join(".out.old-4000000001");
+        for folder in [&live, &users, &dead_partial, &dead_old] {
+            fs::create_dir_all(folder).unwrap();
+        }
+        fs::write(dead_old.join("frames.csv"), "the previous output").unwrap();
+        let staged = StagedDir::new(&destination).unwrap();
+        assert!(live.exists(), "a running run's staging folder is kept");
+        assert!(
+            users.exists(),
+            "a name that is not a pid is not roamsim's to clear"
+        );
+        assert!(!dead_partial.exists());
+        assert_eq!(
+            fs::read_to_string(destination.join("frames.csv")).unwrap(),
+            "the previous output",
+            "killed between its renames, the previous output is put back"
+        );
+        drop(staged);
+    }
+
+    #[test]
+    fn a_symbolic_link_in_the_way_is_refused_as_a_link() {
+        let root = tempfile::tempdir().unwrap();
+        fs::create_dir(root.path().join("real")).unwrap();
+        let link = root.path().join("out");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(root.path().join("real"), &link).unwrap();
+            let error = check_destination(&link).expect_err("a link");
+            assert!(
+                error.to_string().contains("a symbolic link is in the way"),
+                "{error}"
+            );
+        }
     }
 }

@@ -92,10 +92,11 @@ pub fn check_goal(run: &RunColumns, goal: CountGoal) -> Option<GoalCheck> {
     let share = frames_straying as f64 / counts.len() as f64;
     if share > STRAY_SHARE || longest_stretch >= STRAY_STRETCH {
         reasons.push(format!(
-            "{frames_straying} of {} frames are more than {:.0} % off it (longest stretch {} \
-             frames from frame {})",
+            "{frames_straying} of {} frames are more than {:.0} % off the {} goal (longest \
+             stretch {} frames from frame {})",
             counts.len(),
             FRAME_TOLERANCE * 100.0,
+            goal.target,
             longest_stretch,
             longest_stretch_start.unwrap_or(0)
         ));

@@ -11,8 +11,8 @@
 //! GEOGRAPHIC`), the cell size is in degrees and is converted to metres at the latitude of the
 //! grid's centre, as SRTM tiles are, and the conversion is reported. Otherwise the cell size is
 //! taken to be metres (a projected `.prj` is believed; its linear unit is not read) — except,
-//! when there is no `.prj`, where it looks like degrees: a cell under 0.01 with the corner and
-//! the far edges inside longitude and latitude ranges. Such a grid gets no spacing and a note
+//! unless a `.prj` says projected, where it may be degrees: a cell under 1 with the corner and
+//! the far edges inside longitude and latitude ranges (1′ ETOPO grids, 0.1° grids, SRTM's 3″). Such a grid gets no spacing and a note
 //! that says why, so that the run asks for `spacing_m` (or a `.prj`) instead of silently flying
 //! over a terrain a hundred thousand times too small.
 //!
@@ -127,10 +127,26 @@ pub(super) fn read(
     Ok((grid, spacing, note))
 }
 
-/// Whether a `.prj` text declares a geographic (longitude/latitude) coordinate system.
+/// Whether a `.prj` text declares a projected coordinate system (WKT1 `PROJCS`, WKT2
+/// `PROJCRS`, or the old ESRI `Projection` line naming anything but GEOGRAPHIC).
+fn prj_is_projected(prj: &str) -> bool {
+    let upper = prj.to_ascii_uppercase();
+    let esri_projected = upper.lines().any(|line| {
+        let mut words = line.split_whitespace();
+        words.next() == Some("PROJECTION") && words.next().is_some_and(|w| w != "GEOGRAPHIC")
+    });
+    upper.contains("PROJCS") || upper.contains("PROJCRS") || esri_projected
+}
+
+/// Whether a `.prj` text declares a geographic (longitude/latitude) coordinate system: WKT1
+/// `GEOGCS` or WKT2 `GEOGCRS`/`GEODCRS` with no projection, or the old ESRI `Projection
+/// GEOGRAPHIC`.
 fn prj_is_geographic(prj: &str) -> bool {
     let upper = prj.to_ascii_uppercase();
-    let wkt_geographic = upper.contains("GEOGCS") && !upper.contains("PROJCS");
+    let wkt_geographic = ["GEOGCS", "GEOGCRS", "GEODCRS"]
+        .iter()
+        .any(|key| upper.contains(key))
+        && !prj_is_projected(prj);
     let esri_geographic = upper.lines().any(|line| {
         let mut words = line.split_whitespace();
         words.next() == Some("PROJECTION") && words.next() == Some("GEOGRAPHIC")
@@ -174,21 +190,23 @@ fn units(
         );
         return Ok((Some(spacing), Some(note)));
     }
-    let looks_like_degrees = prj.is_none()
-        && dx < 0.01
-        && dy < 0.01
+    let looks_like_degrees = !prj.is_some_and(prj_is_projected)
+        && dx < 1.0
+        && dy < 1.0
         && (-180.0..=360.0).contains(&west)
         && (-180.0..=360.0).contains(&east)
         && (-90.0..=90.0).contains(&south)
         && (-90.0..=90.0).contains(&north);
     if looks_like_degrees {
         let note = format!(
-            "its cell size {dx} looks like degrees, not metres (the grid's corners lie within \
-             longitude and latitude ranges, and no terrain grid has cells of a centimetre), and \
-             there is no .prj beside it saying GEOGCS; put the grid's .prj beside it (the cell \
-             size is then converted at the grid's latitude) or give spacing_m in metres"
+            "its cell size {dx} may be degrees, not metres (under 1 with the whole grid inside \
+             longitude and latitude ranges), and no .prj beside it says which; put the grid's \
+             .prj beside it (a geographic one converts the cell size at the grid's latitude, a \
+             projected one keeps metres) or give spacing_m in metres"
         );
         // (A projected `.prj` is taken at its word: metres, whatever the numbers.)
+        // A metre grid of sub-metre cells near the origin with no `.prj` lands here too: it is
+        // asked for its spacing rather than guessed.
         return Ok((None, Some(note)));
     }
     Ok((Some(header.spacing), None))
@@ -516,7 +534,7 @@ mod tests {
         let (_, spacing, note) = read_asc_beside(DEGREES, None).unwrap();
         assert_eq!(spacing, None, "never 0.0008 m cells without a word");
         let note = note.expect("a reason");
-        assert!(note.contains("looks like degrees"), "{note}");
+        assert!(note.contains("may be degrees"), "{note}");
         assert!(note.contains("spacing_m"), "{note}");
         // A projected .prj keeps the numbers as metres… and a centimetre grid of metres is
         // still suspicious only without one.
@@ -529,6 +547,30 @@ mod tests {
                 dy: 0.000833333333
             })
         );
+    }
+
+    #[test]
+    fn a_coarse_degree_grid_or_a_wkt2_prj_is_never_read_as_metres() {
+        // 1′ cells (ETOPO1) near 10° E, 45° N: 0.0167 "m" cells without a word, before.
+        let arc_minute = "ncols 3\nnrows 3\nxllcorner 10\nyllcorner 45\ncellsize 0.0166666667\n\
+                          1 2 3\n4 5 6\n7 8 9\n";
+        let (_, spacing, note) = read_asc_beside(arc_minute, None).unwrap();
+        assert_eq!(spacing, None, "{note:?}");
+        let wkt2 = "GEOGCRS[\"WGS 84\",DATUM[\"World Geodetic System 1984\"],CS[ellipsoidal,2]]";
+        let (_, spacing, _) = read_asc_beside(arc_minute, Some(wkt2)).unwrap();
+        let spacing = spacing.expect("converted");
+        assert!((spacing.dy - 1852.0).abs() < 1.0, "{spacing:?}");
+        // An unrecognised .prj says nothing: the numbers decide, and they may be degrees.
+        let (_, spacing, _) = read_asc_beside(arc_minute, Some("")).unwrap();
+        assert_eq!(spacing, None);
+    }
+
+    #[test]
+    fn a_metre_grid_just_above_the_threshold_stays_in_metres() {
+        let text = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 5 6\n7 8 9\n";
+        let (_, spacing, note) = read_asc_beside(text, None).unwrap();
+        assert_eq!(spacing, Some(Spacing { dx: 1.0, dy: 1.0 }));
+        assert_eq!(note, None);
     }
 
     #[test]
