@@ -136,7 +136,7 @@ impl StagedDir {
             let of_a_dead_run = |prefix: &str| {
                 leftover
                     .strip_prefix(prefix)
-                    .is_some_and(|pid| process_is_gone(pid))
+                    .is_some_and(process_is_gone)
             };
             if of_a_dead_run(&format!(".{name}.partial-")) {
                 let _ = fs::remove_dir_all(entry.path());
