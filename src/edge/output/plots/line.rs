@@ -13,6 +13,7 @@ use super::{
     text_style,
 };
 use plotters::coord::Shift;
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -235,8 +236,11 @@ impl Drawing for LinePlan<'_> {
             marker_panel_width,
         };
         if self.log_y {
-            let mut chart = builder
-                .build_cartesian_2d(self.x_range.clone(), self.y_range.clone().log_scale())?;
+            let key_points = log_key_points(self.y_range.start, self.y_range.end);
+            let mut chart = builder.build_cartesian_2d(
+                self.x_range.clone(),
+                self.y_range.clone().log_scale().with_key_points(key_points),
+            )?;
             self.draw_on(
                 root,
                 &mut chart,
@@ -348,5 +352,51 @@ impl LinePlan<'_> {
         panels
             .legend
             .draw(root, (legend_x, plot_pixels_y.start), target)
+    }
+}
+
+/// Tick values of a logarithmic axis over `lo..hi` (both > 0): 1, 2 and 5 times each power of
+/// ten, and every whole multiple when the axis spans less than two decades, so that a reader
+/// can read values between the powers of ten (plotters alone labels only the powers).
+fn log_key_points(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
+    }
+    let multiples: &[f64] = if (hi / lo).log10() < 2.0 {
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+    } else {
+        &[1.0, 2.0, 5.0]
+    };
+    let mut points = Vec::new();
+    let mut decade = 10f64.powf(lo.log10().floor());
+    while decade <= hi {
+        for m in multiples {
+            let v = decade * m;
+            if v >= lo && v <= hi {
+                points.push(v);
+            }
+        }
+        decade *= 10.0;
+    }
+    points
+}
+
+#[cfg(test)]
+mod log_tick_tests {
+    use super::log_key_points;
+
+    #[test]
+    fn a_log_axis_gets_ticks_between_its_powers_of_ten() {
+        assert_eq!(
+            log_key_points(3000.0, 30000.0),
+            [
+                3000.0, 4000.0, 5000.0, 6000.0, 7000.0, 8000.0, 9000.0, 10000.0, 20000.0, 30000.0
+            ]
+        );
+        assert_eq!(
+            log_key_points(1.0, 1000.0),
+            [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0]
+        );
+        assert!(log_key_points(0.0, 10.0).is_empty());
     }
 }

@@ -127,8 +127,8 @@ pub struct PlotError {
 
 /// Writes `<dir>/<stem>.png` (1200×700) and `<dir>/<stem>.svg`; `dir` must exist.
 ///
-/// One colour per series from a fixed palette of eight, in series order (it repeats from the
-/// ninth series on); a legend to the right of the plot lists the series labels (a label too
+/// One colour per series from a fixed palette of twelve, in series order (it repeats from the
+/// thirteenth series on); a legend to the right of the plot lists the series labels (a label too
 /// long for the legend wraps onto more rows, never cut), and each marker is a dashed grey line
 /// with its label just right of the plot. A series whose points are those of an earlier one
 /// (exactly, or within about two pixels at every x) is drawn over it and says so in the legend
@@ -158,8 +158,9 @@ pub const DECIMATE_ABOVE_POINTS: usize = 10_000;
 pub const DECIMATION_COLUMNS: usize = 1200;
 
 /// Series colours, used in order and repeated: the Tableau-10 colours without grey (grey is kept
-/// for markers and grid lines) and without the pale yellow, which is hard to see on white.
-const PALETTE: [RGBColor; 8] = [
+/// for markers and grid lines) and without the pale yellow, which is hard to see on white, then
+/// four darker ones, so that the quickstart's ten entries never share a colour.
+const PALETTE: [RGBColor; 12] = [
     RGBColor(0x1f, 0x77, 0xb4), // blue
     RGBColor(0xff, 0x7f, 0x0e), // orange
     RGBColor(0x2c, 0xa0, 0x2c), // green
@@ -168,6 +169,10 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(0x8c, 0x56, 0x4b), // brown
     RGBColor(0xe3, 0x77, 0xc2), // pink
     RGBColor(0x17, 0xbe, 0xcf), // cyan
+    RGBColor(0x00, 0x00, 0x00), // black
+    RGBColor(0x80, 0x80, 0x00), // olive
+    RGBColor(0x00, 0x4c, 0x6d), // dark teal
+    RGBColor(0xb8, 0x86, 0x0b), // dark gold
 ];
 
 const IMAGE_SIZE: (u32, u32) = (1200, 700);
