@@ -236,16 +236,19 @@ impl Drawing for LinePlan<'_> {
             marker_panel_width,
         };
         if self.log_y {
-            let key_points = log_key_points(self.y_range.start, self.y_range.end);
+            // Under about a decade and a half, every 1…9 × 10^k tick is labelled, so that a
+            // reader can read values between the powers of ten; else 1, 2 and 5 only.
+            let every_multiple = (self.y_range.end / self.y_range.start).log10() < 1.5;
+            let ticks = log_ticks(self.y_range.start, self.y_range.end, every_multiple);
             let mut chart = builder.build_cartesian_2d(
                 self.x_range.clone(),
-                self.y_range.clone().log_scale().with_key_points(key_points),
+                self.y_range.clone().log_scale().with_key_points(ticks),
             )?;
             self.draw_on(
                 root,
                 &mut chart,
                 &format_x,
-                &|y: &f64| log_tick_label(*y),
+                &|y: &f64| log_tick_label(*y, every_multiple),
                 &panels,
                 target,
             )
@@ -355,48 +358,47 @@ impl LinePlan<'_> {
     }
 }
 
-/// Tick values of a logarithmic axis over `lo..hi` (both > 0): 1, 2 and 5 times each power of
-/// ten, and every whole multiple when the axis spans less than two decades, so that a reader
-/// can read values between the powers of ten (plotters alone labels only the powers).
-fn log_key_points(lo: f64, hi: f64) -> Vec<f64> {
+/// The ticks of a logarithmic axis over `lo..hi` (both > 0): every whole multiple of each power
+/// of ten (`every_multiple`), or 1, 2 and 5 times each. Plotters alone labels only the powers.
+fn log_ticks(lo: f64, hi: f64, every_multiple: bool) -> Vec<f64> {
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         return Vec::new();
     }
-    let multiples: &[f64] = if (hi / lo).log10() < 2.0 {
+    let multiples: &[f64] = if every_multiple {
         &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
     } else {
         &[1.0, 2.0, 5.0]
     };
-    let mut points = Vec::new();
+    let mut ticks = Vec::new();
     let mut decade = 10f64.powf(lo.log10().floor());
     while decade <= hi {
-        for m in multiples {
-            let v = decade * m;
-            if v >= lo && v <= hi {
-                points.push(v);
-            }
-        }
+        ticks.extend(
+            multiples
+                .iter()
+                .map(|m| decade * m)
+                .filter(|v| (lo..=hi).contains(v)),
+        );
         decade *= 10.0;
     }
-    points
+    ticks
 }
 
 #[cfg(test)]
 mod log_tick_tests {
-    use super::log_key_points;
+    use super::log_ticks;
 
     #[test]
-    fn a_log_axis_gets_ticks_between_its_powers_of_ten() {
+    fn a_short_log_axis_is_ticked_at_every_multiple_and_a_long_one_at_one_two_five() {
         assert_eq!(
-            log_key_points(3000.0, 30000.0),
+            log_ticks(3500.0, 25000.0, true),
             [
-                3000.0, 4000.0, 5000.0, 6000.0, 7000.0, 8000.0, 9000.0, 10000.0, 20000.0, 30000.0
+                4000.0, 5000.0, 6000.0, 7000.0, 8000.0, 9000.0, 10000.0, 20000.0
             ]
         );
         assert_eq!(
-            log_key_points(1.0, 1000.0),
+            log_ticks(1.0, 1000.0, false),
             [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0]
         );
-        assert!(log_key_points(0.0, 10.0).is_empty());
+        assert!(log_ticks(0.0, 10.0, true).is_empty());
     }
 }

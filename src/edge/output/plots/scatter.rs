@@ -306,7 +306,12 @@ impl Drawing for ScatterPlan<'_> {
         if self.log_x {
             let mut chart = builder
                 .build_cartesian_2d(self.x_range.clone().log_scale(), self.y_range.clone())?;
-            self.draw_on(root, &mut chart, &|x: &f64| log_tick_label(*x), target)?;
+            self.draw_on(
+                root,
+                &mut chart,
+                &|x: &f64| log_tick_label(*x, false),
+                target,
+            )?;
             let (x_pixels, y_pixels) = chart.plotting_area().get_pixel_range();
             legend.draw(root, (x_pixels.end + PANEL_GAP, y_pixels.start), target)
         } else {

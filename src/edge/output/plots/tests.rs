@@ -328,9 +328,13 @@ fn tick_labels_are_short_and_exact() {
     let huge = TickFormat::for_linear_range(&(0.0..1e8));
     assert_eq!(huge.label(3e7), "3e7");
     assert_eq!(huge.label(2.5e7), "2.5e7");
-    assert_eq!(log_tick_label(1000.0), "1000");
-    assert_eq!(log_tick_label(0.01), "0.01");
-    assert_eq!(log_tick_label(1e9), "1e9");
+    assert_eq!(log_tick_label(1000.0, false), "1000");
+    assert_eq!(log_tick_label(0.01, false), "0.01");
+    assert_eq!(log_tick_label(1e9, false), "1e9");
+    // Several decades: 1, 2 and 5 only; a short axis: every multiple, so 6000 can be read.
+    assert_eq!(log_tick_label(6000.0, false), "");
+    assert_eq!(log_tick_label(6000.0, true), "6000");
+    assert_eq!(log_tick_label(6500.0, true), "");
 }
 
 fn scatter_point(label: &str, x: f64, y: f64) -> ScatterPoint {

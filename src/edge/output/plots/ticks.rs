@@ -112,11 +112,18 @@ impl TickFormat {
 }
 
 /// Tick labels on a logarithmic axis: plain numbers from 0.001 to 10^7, scientific beyond.
-pub(super) fn log_tick_label(value: f64) -> String {
-    // Within a decade plotters ticks 1…9 × 10^k; labelling them all crowds the upper end of each
-    // decade, so only the 1, 2 and 5 ticks carry a label.
+/// Within a decade plotters ticks 1…9 × 10^k; on an axis of several decades labelling them all
+/// crowds the upper end of each decade, so only the 1, 2 and 5 ticks carry a label unless
+/// `every_multiple` (an axis short enough for all of them).
+pub(super) fn log_tick_label(value: f64, every_multiple: bool) -> String {
     let mantissa = value.abs() / 10f64.powf(value.abs().log10().floor());
-    if ![1.0, 2.0, 5.0].iter().any(|m| (mantissa - m).abs() < 1e-6) {
+    let whole = (mantissa - mantissa.round()).abs() < 1e-6;
+    let labelled = if every_multiple {
+        whole
+    } else {
+        [1.0, 2.0, 5.0].iter().any(|m| (mantissa - m).abs() < 1e-6)
+    };
+    if !labelled {
         return String::new();
     }
     if (1e-3..1e7).contains(&value.abs()) {
