@@ -8,7 +8,11 @@
 //!   [`MEAN_TOLERANCE`] (10 %) of it;
 //! - **a frame strays** when its count differs from the goal by more than
 //!   [`FRAME_TOLERANCE`] (25 %); an entry is flagged when more than [`STRAY_SHARE`] (10 %) of
-//!   its frames stray, or when [`STRAY_STRETCH`] (30) or more consecutive frames do.
+//!   its frames after its approach stray, or when [`STRAY_STRETCH`] (30) or more consecutive
+//!   ones do, or when it never comes within the tolerance at all. The **approach** — the frames
+//!   before the first one within [`FRAME_TOLERANCE`] (a budget starting from the paper's initial
+//!   τ, a controller's first guess) — is counted and reported but not judged here: `warm_up.rs`
+//!   says when an entry had not settled, and `outputs.warm_up_frames` leaves it out.
 //!
 //! Over and under count alike: a target held 15 % low is as much a finding as one held 15 %
 //! high (block algorithms, whose counts move in whole blocks, do that by construction, and the
@@ -35,7 +39,10 @@ pub struct GoalCheck {
     pub mean: f64,
     /// (mean − goal) / goal.
     pub mean_deviation: f64,
-    /// Frames more than [`FRAME_TOLERANCE`] off the goal.
+    /// Frames before the first one within [`FRAME_TOLERANCE`] of the goal (all of them when
+    /// none is).
+    pub approach_frames: usize,
+    /// Frames after the approach more than [`FRAME_TOLERANCE`] off the goal.
     pub frames_straying: usize,
     pub frames: usize,
     /// The longest run of consecutive straying frames, and its first frame.
@@ -59,10 +66,15 @@ pub fn check_goal(run: &RunColumns, goal: CountGoal) -> Option<GoalCheck> {
     let mean = counts.iter().map(|(_, v)| v).sum::<f64>() / counts.len() as f64;
     let mean_deviation = (mean - target) / target;
     let strays = |v: f64| (v - target).abs() > FRAME_TOLERANCE * target;
-    let frames_straying = counts.iter().filter(|(_, v)| strays(*v)).count();
+    let approach_frames = counts
+        .iter()
+        .position(|(_, v)| !strays(*v))
+        .unwrap_or(counts.len());
+    let settled = &counts[approach_frames..];
+    let frames_straying = settled.iter().filter(|(_, v)| strays(*v)).count();
     let (mut longest_stretch, mut longest_stretch_start) = (0, None);
     let (mut stretch, mut start) = (0, 0);
-    for &(frame, v) in &counts {
+    for &(frame, v) in settled {
         if strays(v) {
             if stretch == 0 {
                 start = frame;
@@ -89,12 +101,18 @@ pub fn check_goal(run: &RunColumns, goal: CountGoal) -> Option<GoalCheck> {
             goal.target
         ));
     }
-    let share = frames_straying as f64 / counts.len() as f64;
-    if share > STRAY_SHARE || longest_stretch >= STRAY_STRETCH {
+    let share = frames_straying as f64 / settled.len().max(1) as f64;
+    if settled.is_empty() {
         reasons.push(format!(
-            "{frames_straying} of {} frames are more than {:.0} % off the {} goal (longest \
-             stretch {} frames from frame {})",
-            counts.len(),
+            "no frame came within {:.0} % of the {} goal",
+            FRAME_TOLERANCE * 100.0,
+            goal.target
+        ));
+    } else if share > STRAY_SHARE || longest_stretch >= STRAY_STRETCH {
+        reasons.push(format!(
+            "{frames_straying} of the {} frames after its approach are more than {:.0} % off \
+             the {} goal (longest stretch {} frames from frame {})",
+            settled.len(),
             FRAME_TOLERANCE * 100.0,
             goal.target,
             longest_stretch,
@@ -105,6 +123,7 @@ pub fn check_goal(run: &RunColumns, goal: CountGoal) -> Option<GoalCheck> {
         goal,
         mean,
         mean_deviation,
+        approach_frames,
         frames_straying,
         frames: counts.len(),
         longest_stretch,
@@ -150,11 +169,33 @@ mod tests {
     #[test]
     fn a_budget_held_within_the_tolerances_is_not_flagged() {
         let mut counts = vec![1000; 200];
-        counts[0] = 2; // a first frame far off is one stray frame, not a flag
+        counts[0] = 2; // a first frame far off is the approach, not a flag
         counts[1] = 900;
+        counts[100] = 10; // one frame far off later strays, alone
         let verdict = check(&counts, 1000);
+        assert_eq!(verdict.approach_frames, 1);
         assert_eq!(verdict.frames_straying, 1);
         assert_eq!(verdict.flag, None, "{verdict:?}");
+    }
+
+    #[test]
+    fn the_approach_from_the_first_frame_is_counted_but_not_judged() {
+        // 69 frames to reach the budget (Wu's from the paper's initial τ), then held.
+        let mut counts = vec![6000; 6000];
+        for (k, c) in counts[..69].iter_mut().enumerate() {
+            *c = 1000 + 50 * k as u64;
+        }
+        let verdict = check(&counts, 6000);
+        assert_eq!(verdict.approach_frames, 69);
+        assert_eq!(verdict.frames_straying, 0);
+        assert_eq!(verdict.flag, None, "{verdict:?}");
+        let never = check(&[100; 50], 6000);
+        assert!(
+            never
+                .flag
+                .unwrap()
+                .contains("no frame came within 25 % of the 6000 goal")
+        );
     }
 
     #[test]

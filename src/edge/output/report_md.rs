@@ -255,20 +255,21 @@ fn write_goals(out: &mut String, experiment: &Experiment, runs: &[RunColumns]) {
     }
     let _ = writeln!(
         out,
-        "\n## Budgets and targets\n\n| entry | counted | goal | mean | mean off by | frames > {:.0} % off | longest stretch | held? |\n|---|---|---|---|---|---|---|---|",
+        "\n## Budgets and targets\n\n| entry | counted | goal | mean | mean off by | approach (frames) | later frames > {:.0} % off | longest stretch | held? |\n|---|---|---|---|---|---|---|---|---|",
         FRAME_TOLERANCE * 100.0
     );
     for (label, check) in &checks {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.0} | {:+.1} % | {} of {} | {} | {} |",
+            "| {} | {} | {} | {:.0} | {:+.1} % | {} | {} of {} | {} | {} |",
             label.replace('|', "\\|"),
             check.goal.column,
             check.goal.target,
             check.mean,
             check.mean_deviation * 100.0,
+            check.approach_frames,
             check.frames_straying,
-            check.frames,
+            check.frames - check.approach_frames,
             check.longest_stretch,
             match &check.flag {
                 Some(reason) => format!("**no**: {reason}"),
@@ -278,8 +279,9 @@ fn write_goals(out: &mut String, experiment: &Experiment, runs: &[RunColumns]) {
     }
     let _ = writeln!(
         out,
-        "\nAn entry holds its goal when its mean is within {:.0} % of it, and no more than {:.0} % \
-         of its frames, and fewer than {} consecutive ones, are more than {:.0} % off it \
+        "\nAn entry holds its goal when its mean is within {:.0} % of it, and, after its approach \
+         (the frames before the first one within {3:.0} % of it), no more than {:.0} % of its \
+         frames, and fewer than {} consecutive ones, are more than {:.0} % off it \
          (docs/output-formats.md).",
         MEAN_TOLERANCE * 100.0,
         STRAY_SHARE * 100.0,

@@ -84,6 +84,7 @@ pub fn summary_json(
                     "target": goal.target,
                     "mean": check.mean,
                     "mean_deviation": check.mean_deviation,
+                    "approach_frames": check.approach_frames,
                     "frames_straying": check.frames_straying,
                     "longest_stretch": check.longest_stretch,
                     "longest_stretch_start": check.longest_stretch_start,
