@@ -133,11 +133,8 @@ impl StagedDir {
         })?;
         for entry in leftovers.flatten() {
             let leftover = entry.file_name().to_string_lossy().into_owned();
-            let of_a_dead_run = |prefix: &str| {
-                leftover
-                    .strip_prefix(prefix)
-                    .is_some_and(process_is_gone)
-            };
+            let of_a_dead_run =
+                |prefix: &str| leftover.strip_prefix(prefix).is_some_and(process_is_gone);
             if of_a_dead_run(&format!(".{name}.partial-")) {
                 let _ = fs::remove_dir_all(entry.path());
             } else if of_a_dead_run(&format!(".{name}.old-")) {
