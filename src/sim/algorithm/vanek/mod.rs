@@ -39,9 +39,13 @@
 //! - **k is rounded down** ([`LodRounding::Down`]), as an integer conversion of the formula in
 //!   the paper's C code would: k = n exactly when dist ≤ mindist, as the formula's first case
 //!   says. [`LodRounding::Nearest`] and [`LodRounding::Up`] are the alternatives.
-//! - **Which vertex a collapsed one moves to**: the neighbour's vertex at or before it along the
-//!   side (towards the patch's south or west corner). Any monotone choice keeps the patch's
-//!   triangles from folding; this one is the simplest.
+//! - **Which vertex a collapsed one moves to**: on the south and west sides the neighbour's
+//!   vertex at or before it (towards the south-west corner), on the north and east sides the
+//!   one at or after it (towards the north-east corner). Moving along the side in order keeps
+//!   the triangles from folding; the directions matter at the two corners whose cell the
+//!   strip's north-west–south-east diagonal does not cut through the corner (south-west,
+//!   north-east): there one triangle has a vertex on each side, and moving both towards the
+//!   corner flattens it, where moving them away would leave a T-junction on the diagonal.
 //! - **The strip's last two indices** (after the last row) are kept, as the paper's code emits
 //!   them: a patch at level k draws (2·(2^k + 1) + 2)·2^k − 2 triangles, 2·4^k of them surface
 //!   (less the collapsed ones).
@@ -302,15 +306,17 @@ impl<'h> Vanek<'h> {
         for r in 0..m {
             for c in 0..m {
                 let (mut cc, mut rr) = (c, r);
+                // South and west: back to the vertex at or before; north and east: on to the
+                // one at or after (see the module docs).
                 if r == 0 {
                     cc -= cc % steps[SOUTH];
                 } else if r == m - 1 {
-                    cc -= cc % steps[NORTH];
+                    cc += (steps[NORTH] - cc % steps[NORTH]) % steps[NORTH];
                 }
                 if c == 0 {
                     rr -= rr % steps[WEST];
                 } else if c == m - 1 {
-                    rr -= rr % steps[EAST];
+                    rr += (steps[EAST] - rr % steps[EAST]) % steps[EAST];
                 }
                 let (i, j) = (x0 + cc * stride, y0 + rr * stride);
                 let z = self.hierarchy.height(GridPoint::new(i, j));
