@@ -42,10 +42,10 @@
 //! - **Which vertex a collapsed one moves to**: on the south and west sides the neighbour's
 //!   vertex at or before it (towards the south-west corner), on the north and east sides the
 //!   one at or after it (towards the north-east corner). Moving along the side in order keeps
-//!   the triangles from folding; the directions matter at the two corners whose cell the
-//!   strip's north-west–south-east diagonal does not cut through the corner (south-west,
-//!   north-east): there one triangle has a vertex on each side, and moving both towards the
-//!   corner flattens it, where moving them away would leave a T-junction on the diagonal.
+//!   the triangles from folding; the directions matter at the two corners the strip's
+//!   north-west–south-east diagonals do not reach (south-west, north-east): there the corner
+//!   cell has a triangle with a vertex on each side, and moving both towards the corner
+//!   flattens it, where moving them away would leave a T-junction on its diagonal.
 //! - **The strip's last two indices** (after the last row) are kept, as the paper's code emits
 //!   them: a patch at level k draws (2·(2^k + 1) + 2)·2^k − 2 triangles, 2·4^k of them surface
 //!   (less the collapsed ones).
@@ -93,11 +93,11 @@ const EXTRA_COLUMNS: &[&str] = &[
     columns::TARGET_UNREACHABLE,
 ];
 
-/// Sides of a patch, in the order of the per-side arrays.
-pub const WEST: usize = 0;
-pub const EAST: usize = 1;
-pub const SOUTH: usize = 2;
-pub const NORTH: usize = 3;
+// Sides of a patch, in the order of the per-side arrays.
+const WEST: usize = 0;
+const EAST: usize = 1;
+const SOUTH: usize = 2;
+const NORTH: usize = 3;
 
 /// Parameters of the Vaněk–Ježek patches.
 #[derive(Clone, Copy, Debug, PartialEq)]
