@@ -6,17 +6,22 @@
 mod common;
 
 use common::algorithms::{
-    every_algorithm, every_block_algorithm, every_rottger, reference, reference_in_view,
-    roam_target, rottger, wu, wu_budget,
+    every_algorithm, every_block_algorithm, every_rottger, every_vanek, reference,
+    reference_in_view, roam_target, rottger, wu, wu_budget,
 };
 use common::{checked_step, extra, vertex_set, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::Refinement;
 use roamsim::sim::algorithm::chunked::ChunkId;
+use roamsim::sim::algorithm::columns::vanek::{
+    DISTANCE_MULTIPLIER as VANEK_DISTANCE_MULTIPLIER,
+    TARGET_UNREACHABLE as VANEK_TARGET_UNREACHABLE,
+};
 use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
 use roamsim::sim::algorithm::{
     AlgorithmConfig, BlockGoal, Chunked, ChunkedConfig, Geomipmap, GeomipmapConfig, LodAlgorithm,
-    ReferenceConfig, RoamConfig, SplitThreshold, Wu, WuConfig,
+    LodCurve, PatchDistance, ReferenceConfig, RoamConfig, SplitThreshold, Vanek, VanekConfig, Wu,
+    WuConfig,
 };
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::{Flight, speed_violations};
@@ -1575,5 +1580,393 @@ fn rottger_load_targets_below_the_base_mesh_and_above_the_full_mesh_end_at_the_b
             full_grid(&hierarchy)
         };
         assert_eq!(vertex_set(algorithm.as_ref()), &expected, "target {target}");
+    }
+}
+
+// ---- `vanek` (Vaněk–Ježek): the same hard cases, its right answers. Its levels come from the
+// patch distances alone (no τ, no roughness): full resolution nearer than mindist, the corners
+// only beyond maxdist. Every frame is checked as `--check` checks it (crack policy collapsed) and
+// by its own validator (levels against the brute-force selection, collapsed borders lining up).
+
+/// `every_vanek(scale)`'s configurations.
+fn vanek_configs(scale: f64) -> Vec<VanekConfig> {
+    every_vanek(scale)
+        .into_iter()
+        .map(|config| match config {
+            AlgorithmConfig::Vanek(c) => c,
+            other => panic!("{other:?} is not vanek"),
+        })
+        .collect()
+}
+
+/// `every_vanek(1)`'s configurations without a target (their levels are the distances').
+fn vanek_fixed_configs() -> Vec<VanekConfig> {
+    vanek_configs(1.0)
+        .into_iter()
+        .filter(|c| c.target_triangles.is_none())
+        .collect()
+}
+
+/// `config` with mindist and maxdist replaced.
+fn vanek_at(config: VanekConfig, min_dist_m: f64, max_dist_m: f64) -> VanekConfig {
+    VanekConfig {
+        curve: LodCurve {
+            min_dist_m,
+            max_dist_m,
+            ..config.curve
+        },
+        ..config
+    }
+}
+
+/// Runs `config` over `poses`, checking every frame both ways; returns the algorithm.
+fn run_vanek<'h>(
+    hierarchy: &'h Hierarchy,
+    config: VanekConfig,
+    view: ViewSettings,
+    poses: &[Pose],
+) -> Vanek<'h> {
+    let mut vanek = Vanek::new(hierarchy, config);
+    for (frame, pose) in poses.iter().enumerate() {
+        let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+        let context = format!("{config:?}, eye {:?}", pose.position);
+        checked_step(
+            hierarchy,
+            &mut vanek,
+            frame as u64,
+            &camera,
+            frame == 0,
+            &context,
+        );
+        if let Err(error) = vanek.validate(&camera) {
+            panic!("{context}, frame {frame}: {error}");
+        }
+    }
+    vanek
+}
+
+/// What `vanek` drew: every patch's level and every triangle (positions, role, group, level),
+/// and the triangles' corner heights.
+fn vanek_frame(
+    vanek: &Vanek,
+    hierarchy: &Hierarchy,
+) -> (Vec<u32>, Vec<TriangleShape>, Vec<[f32; 3]>) {
+    let (mut shape, mut heights) = (Vec::new(), Vec::new());
+    vanek.mesh().for_each_triangle(hierarchy, |t| {
+        shape.push((
+            t.corners.map(|c| c.position.raw()),
+            t.info.role.index(),
+            t.info.group,
+            t.info.level,
+        ));
+        heights.push(t.corners.map(|c| c.z));
+    });
+    (vanek.lods().to_vec(), shape, heights)
+}
+
+#[test]
+fn vanek_draws_the_corners_only_far_away_and_every_sample_within_mindist_even_on_tiny_terrains() {
+    let hierarchy = rough(33, 10.0, 50.0);
+    for config in vanek_fixed_configs() {
+        let far = straight_down(DVec3::new(160.0, 160.0, 1e9));
+        let vanek = run_vanek(&hierarchy, config, view_600(), &[far]);
+        assert!(vanek.lods().iter().all(|&k| k == 0), "{config:?}");
+    }
+    for side in [3, 5, 17] {
+        let hierarchy = rough(side, 10.0, 50.0);
+        let middle = 5.0 * (side - 1) as f64;
+        let above = straight_down(DVec3::new(middle, middle, 1000.0));
+        for config in vanek_fixed_configs() {
+            let config = vanek_at(config, 1e12, 2e12);
+            let vanek = run_vanek(&hierarchy, config, view_600(), &[above]);
+            let n = vanek.patch_level();
+            assert!(
+                vanek.lods().iter().all(|&k| k == n),
+                "{config:?} on {side}²"
+            );
+            let error = audited_list_max_px(&hierarchy, vanek.mesh(), above.position);
+            assert!(error < 1e-3, "{config:?} on {side}×{side}: {error} px");
+        }
+    }
+    // Flat terrain: every level is exact (no roughness term: the levels are the distances').
+    let flat = terrain(17, 10.0, |_, _| 123.0);
+    let above = straight_down(DVec3::new(80.0, 80.0, 300.0));
+    for config in vanek_fixed_configs() {
+        let vanek = run_vanek(&flat, config, view_600(), &[above]);
+        let error = audited_list_max_px(&flat, vanek.mesh(), above.position);
+        assert!(error < 1e-3, "{config:?}: {error} px");
+    }
+}
+
+#[test]
+fn vanek_draws_the_patch_under_the_eye_at_full_resolution() {
+    let hierarchy = rough(17, 10.0, 50.0);
+    let field = hierarchy.field();
+    // On a sample, on a patch edge, 10 m inside the terrain: dist = 0 to the box.
+    for (i, j, below) in [(8, 8, 0.0), (4, 8, 0.0), (5, 11, -10.0)] {
+        let eye = field.position(i, j) + DVec3::new(0.0, 0.0, below);
+        for config in vanek_configs(1.0) {
+            if config.distance != PatchDistance::Box {
+                continue;
+            }
+            let vanek = run_vanek(&hierarchy, config, view_600(), &[pose(eye)]);
+            let n = vanek.patch_level();
+            let cells = 1usize << n;
+            let per_side = vanek.patches_per_side() as usize;
+            let patch = (j / cells).min(per_side - 1) * per_side + (i / cells).min(per_side - 1);
+            assert_eq!(vanek.lods()[patch], n, "{config:?}: eye {eye:?}");
+        }
+    }
+}
+
+#[test]
+fn vanek_under_the_terrain_draws_the_mirrored_scene() {
+    let heights = |sign: f32| move |i, j| sign * 30.0 * noise(i, j) as f32;
+    let up = terrain(17, 10.0, heights(1.0));
+    let down = terrain(17, 10.0, heights(-1.0));
+    for (x, y, depth) in [(33.0, 47.0, 40.0), (80.0, 80.0, 1000.0)] {
+        let below = Pose {
+            position: DVec3::new(x, y, -30.0 - depth),
+            yaw: 0.7,
+            pitch: 0.4,
+        };
+        let above = Pose {
+            position: DVec3::new(x, y, 30.0 + depth),
+            yaw: 0.7,
+            pitch: -0.4,
+        };
+        for config in vanek_configs(1.0) {
+            let a = run_vanek(&up, config, view_600(), &[below]);
+            let b = run_vanek(&down, config, view_600(), &[above]);
+            let (a, b) = (vanek_frame(&a, &up), vanek_frame(&b, &down));
+            assert_eq!((&a.0, &a.1), (&b.0, &b.1), "{config:?} at depth {depth}");
+            let mirrored: Vec<[f32; 3]> = b.2.iter().map(|h| h.map(|z| -z)).collect();
+            assert_eq!(a.2, mirrored, "{config:?} at depth {depth}");
+        }
+    }
+}
+
+#[test]
+fn vanek_draws_the_same_mesh_scaled_translated_or_with_any_speed_bound() {
+    let poses: Vec<Pose> = (0..6)
+        .map(|f| {
+            pose(DVec3::new(
+                20.0 + 7.0 * f as f64,
+                60.0 + 3.0 * f as f64,
+                70.0,
+            ))
+        })
+        .collect();
+    let small = rough(33, 10.0, 20.0);
+    for scale in [0.001, 1000.0] {
+        let scaled = terrain(33, 10.0 * scale, |i, j| {
+            (f64::from(20.0 * noise(i, j) as f32) * scale) as f32
+        });
+        let scaled_poses: Vec<Pose> = poses
+            .iter()
+            .map(|p| Pose {
+                position: p.position * scale,
+                ..*p
+            })
+            .collect();
+        let view = view_600();
+        let scaled_view = ViewSettings {
+            near: view.near * scale,
+            far: view.far * scale,
+            ..view
+        };
+        for (one, many) in vanek_configs(1.0).into_iter().zip(vanek_configs(scale)) {
+            let a = vanek_frame(&run_vanek(&small, one, view, &poses), &small);
+            let b = vanek_frame(
+                &run_vanek(&scaled, many, scaled_view, &scaled_poses),
+                &scaled,
+            );
+            assert_eq!((a.0, a.1), (b.0, b.1), "{one:?} at scale {scale}");
+        }
+    }
+    let heights: Vec<f32> = (0..33 * 33)
+        .map(|k| 30.0 * noise(k % 33, k / 33) as f32)
+        .collect();
+    let field = |origin: DVec3| {
+        Heightfield::new(33, heights.clone(), Spacing { dx: 10.0, dy: 10.0 })
+            .unwrap()
+            .with_origin(origin)
+    };
+    let far_away = DVec3::new(1.0e6, -1.0e6, 1.0e6);
+    let (near, far) = (
+        Hierarchy::new(field(DVec3::ZERO)),
+        Hierarchy::new(field(far_away)),
+    );
+    let moved: Vec<Pose> = poses
+        .iter()
+        .map(|p| Pose {
+            position: p.position + far_away,
+            ..*p
+        })
+        .collect();
+    for config in vanek_configs(1.0) {
+        let a = vanek_frame(&run_vanek(&near, config, view_600(), &poses), &near);
+        let b = vanek_frame(&run_vanek(&far, config, view_600(), &moved), &far);
+        assert_eq!(a, b, "{config:?} 10^6 m away");
+        // Every frame breaking the speed bounds: the same meshes (vanek keeps no decision).
+        let mut broken = Vanek::new(&near, config);
+        for (frame, pose) in poses.iter().enumerate() {
+            let camera = Camera::new(pose, view_600());
+            checked_step(&near, &mut broken, frame as u64, &camera, true, "broken");
+        }
+        assert_eq!(a, vanek_frame(&broken, &near), "{config:?}, bounds broken");
+    }
+}
+
+#[test]
+fn vanek_in_extreme_views_a_one_pixel_window_and_fields_of_view_near_0_and_180() {
+    let hierarchy = rough(33, 10.0, 30.0);
+    let eyes: Vec<Pose> = [DVec3::new(33.0, 47.0, 80.0), DVec3::new(250.0, 90.0, 40.0)]
+        .map(pose)
+        .to_vec();
+    let view = |side: u32, degrees: f64| ViewSettings {
+        width_px: side,
+        height_px: side,
+        fovy: degrees.to_radians(),
+        ..view_600()
+    };
+    for config in vanek_configs(1.0) {
+        // No pixel in the criterion: a 1-pixel window draws what a 600-pixel one does.
+        let a = vanek_frame(
+            &run_vanek(&hierarchy, config, view(1, 60.0), &eyes),
+            &hierarchy,
+        );
+        let b = vanek_frame(
+            &run_vanek(&hierarchy, config, view(600, 60.0), &eyes),
+            &hierarchy,
+        );
+        assert_eq!(a, b, "{config:?}");
+        // Nor a field of view: the same levels at 0.001° and 179.9°; without culling the same
+        // triangles too; with it, the narrow view culls at least what the wide one does.
+        let narrow = run_vanek(&hierarchy, config, view(600, 0.001), &eyes);
+        let wide = run_vanek(&hierarchy, config, view(600, 179.9), &eyes);
+        assert_eq!(narrow.lods(), wide.lods(), "{config:?}");
+        let culled = |v: &Vanek| v.culled().iter().filter(|&&c| c).count();
+        if config.box_culling {
+            assert!(culled(&narrow) > culled(&wide), "{config:?}");
+        } else {
+            assert_eq!(
+                vanek_frame(&narrow, &hierarchy),
+                vanek_frame(&wide, &hierarchy),
+                "{config:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn vanek_keeps_spikes_and_cliffs_exactly_within_mindist_and_drops_them_far_away() {
+    let cliff = terrain(17, 10.0, |i, _| if i < 7 { 0.0 } else { 1000.0 });
+    let above = straight_down(DVec3::new(80.0, 80.0, 5000.0));
+    for hierarchy in [spike(100.0), spike(-100.0), cliff] {
+        for config in vanek_fixed_configs() {
+            let config = vanek_at(config, 1e5, 2e5);
+            let vanek = run_vanek(&hierarchy, config, view_600(), &[above]);
+            let error = audited_list_max_px(&hierarchy, vanek.mesh(), above.position);
+            assert!(error < 1e-3, "{config:?}: {error} px");
+        }
+    }
+    // From 10^9 m: the corners only, the spike's tip (5, 11) gone.
+    let hierarchy = spike(100.0);
+    for config in vanek_fixed_configs() {
+        let far = pose(DVec3::new(0.0, 0.0, 1e9));
+        let vanek = run_vanek(&hierarchy, config, view_600(), &[far]);
+        let mut tip = false;
+        vanek.mesh().for_each_triangle(&hierarchy, |t| {
+            tip |= t
+                .corners
+                .iter()
+                .any(|c| c.position.raw() == (5 << 16, 11 << 16));
+        });
+        assert!(!tip, "{config:?}");
+        assert!(vanek.lods().iter().all(|&k| k == 0), "{config:?}");
+    }
+}
+
+#[test]
+fn vanek_with_ten_kilometre_heights_millimetre_relief_and_padding() {
+    let quantised =
+        |offset: f32| move |i, j| offset + (noise(i, j) * 20.0 * 64.0).round() as f32 / 64.0;
+    let sea_level = terrain(33, 10.0, quantised(0.0));
+    let eyes = [DVec3::new(33.0, 47.0, 60.0), DVec3::new(200.0, 250.0, 30.0)];
+    for offset in [10_240.0_f32, -10_240.0] {
+        let shifted = terrain(33, 10.0, quantised(offset));
+        let lifted: Vec<Pose> = eyes
+            .iter()
+            .map(|e| pose(*e + DVec3::Z * f64::from(offset)))
+            .collect();
+        let at_sea: Vec<Pose> = eyes.iter().map(|&e| pose(e)).collect();
+        for config in vanek_configs(1.0) {
+            let a = vanek_frame(
+                &run_vanek(&sea_level, config, view_600(), &at_sea),
+                &sea_level,
+            );
+            let b = vanek_frame(&run_vanek(&shifted, config, view_600(), &lifted), &shifted);
+            assert_eq!((a.0, a.1), (b.0, b.1), "{config:?} at {offset} m");
+        }
+    }
+    // ±10 km of relief, 1 mm of relief and a padded terrain: every sample within mindist,
+    // drawn exactly.
+    let alps = rough(17, 100.0, 10_000.0);
+    let millimetres = rough(17, 10.0, 0.001);
+    let side = 18;
+    let heights: Vec<f32> = (0..side * side)
+        .map(|k| 25.0 * noise(k % side, k / side) as f32)
+        .collect();
+    let grid = SampleGrid::new(side, side, heights, Vec::new()).unwrap();
+    let (field, _) = embed(&grid, Fit::Pad, Spacing { dx: 10.0, dy: 10.0 }).unwrap();
+    let padded = Hierarchy::new(field);
+    for (hierarchy, eye) in [
+        (&alps, DVec3::new(800.0, 800.0, 3e4)),
+        (&millimetres, DVec3::new(80.0, 80.0, 1000.0)),
+        (&padded, DVec3::new(160.0, 160.0, 2000.0)),
+    ] {
+        for config in vanek_fixed_configs() {
+            let config = vanek_at(config, 1e6, 2e6);
+            let vanek = run_vanek(hierarchy, config, view_600(), &[straight_down(eye)]);
+            let n = vanek.patch_level();
+            assert!(vanek.lods().iter().all(|&k| k == n), "{config:?}");
+            let error = audited_list_max_px(hierarchy, vanek.mesh(), eye);
+            assert!(error < 1e-3, "{config:?}: {error} px");
+        }
+    }
+    // 1 mm of relief from 1 km beyond maxdist: the corners only, like flat terrain.
+    for config in vanek_fixed_configs() {
+        let far = straight_down(DVec3::new(80.0, 80.0, 1300.0));
+        let vanek = run_vanek(&millimetres, config, view_600(), &[far]);
+        assert!(vanek.lods().iter().all(|&k| k == 0), "{config:?}");
+    }
+}
+
+#[test]
+fn vanek_targets_below_the_coarsest_and_above_the_finest_mesh() {
+    let hierarchy = rough(33, 10.0, 20.0);
+    // High over every patch's box: the coarsest mesh is reachable by scaling the distances.
+    let above = straight_down(DVec3::new(160.0, 160.0, 600.0));
+    for (target, coarsest) in [(1, true), (1_000_000, false)] {
+        for config in vanek_configs(1.0) {
+            let config = VanekConfig {
+                target_triangles: Some(target),
+                ..config
+            };
+            let mut vanek = run_vanek(&hierarchy, config, view_600(), &[above, above]);
+            let n = vanek.patch_level();
+            let camera = Camera::new(&above, view_600());
+            let stats = checked_step(&hierarchy, &mut vanek, 2, &camera, false, "target");
+            let unreachable = extra(&vanek, &stats, VANEK_TARGET_UNREACHABLE);
+            let mu = extra(&vanek, &stats, VANEK_DISTANCE_MULTIPLIER);
+            if coarsest {
+                assert!(vanek.lods().iter().all(|&k| k == 0), "{config:?}");
+                assert_eq!(unreachable, 1.0, "{config:?}");
+            } else {
+                assert!(vanek.lods().iter().all(|&k| k == n), "{config:?}");
+                assert_eq!((unreachable, mu), (0.0, 0.0), "{config:?}");
+            }
+        }
     }
 }

@@ -7,8 +7,9 @@
 use roamsim::sim::algorithm::rottger::DistanceNorm;
 use roamsim::sim::algorithm::{
     AlgorithmConfig, BlockGoal, BudgetConfig, ChunkedConfig, GeomipmapConfig, LevelDifference,
-    LindstromConfig, Projection, ReferenceConfig, Refinement, RoamConfig, RoamGoal, RottgerConfig,
-    SkirtDepth, SplitThreshold, ViewThreshold, WuConfig,
+    LindstromConfig, LodCurve, LodRounding, PatchDistance, Projection, ReferenceConfig, Refinement,
+    RoamConfig, RoamGoal, RottgerConfig, SkirtDepth, SplitThreshold, VanekConfig, ViewThreshold,
+    WuConfig,
 };
 use roamsim::sim::hierarchy::NestingRule;
 use roamsim::sim::zone::ZoneVariant;
@@ -213,6 +214,48 @@ pub fn every_rottger() -> Vec<AlgorithmConfig> {
         AlgorithmConfig::Rottger(RottgerConfig {
             d2_propagation: false,
             ..rottger(2.0, 5.0)
+        }),
+    ]
+}
+
+/// Vaněk–Ježek patches of (2^n + 1)² samples with the paper's linear curve from `min_m` to
+/// `max_m`, the default rounding and distance, no target, no culling.
+pub fn vanek(patch_level: u32, min_m: f64, max_m: f64) -> VanekConfig {
+    VanekConfig {
+        patch_level,
+        curve: LodCurve {
+            min_dist_m: min_m,
+            max_dist_m: max_m,
+            exponent: 1.0,
+            rounding: LodRounding::Down,
+        },
+        distance: PatchDistance::Box,
+        target_triangles: None,
+        box_culling: false,
+    }
+}
+
+/// Every `vanek` configuration the hard cases and invariance properties run, distances scaled
+/// by `scale`: the defaults; a bent curve rounded up, distances to the centres, with culling;
+/// a triangle target (2000).
+pub fn every_vanek(scale: f64) -> Vec<AlgorithmConfig> {
+    let plain = vanek(2, 20.0 * scale, 300.0 * scale);
+    vec![
+        AlgorithmConfig::Vanek(plain),
+        AlgorithmConfig::Vanek(VanekConfig {
+            patch_level: 3,
+            curve: LodCurve {
+                exponent: 0.5,
+                rounding: LodRounding::Up,
+                ..plain.curve
+            },
+            distance: PatchDistance::Centre,
+            box_culling: true,
+            ..plain
+        }),
+        AlgorithmConfig::Vanek(VanekConfig {
+            target_triangles: Some(2000),
+            ..plain
         }),
     ]
 }

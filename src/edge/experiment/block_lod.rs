@@ -1,12 +1,12 @@
-//! The experiment entries of the block-based algorithms, `geomipmap` and `chunked`: their
+//! The experiment entries of the block-based algorithms, `geomipmap`, `chunked` and `vanek`: their
 //! parameters as the file writes them (format version 1, documented in
 //! `docs/experiment-format.md`) and their check into an [`AlgorithmConfig`]. Kept apart from
 //! `check.rs`, which only dispatches to it by name.
 
 use super::FieldProblem;
 use crate::sim::algorithm::{
-    AlgorithmConfig, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference, Projection,
-    SkirtDepth,
+    AlgorithmConfig, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference, LodCurve,
+    LodRounding, PatchDistance, Projection, SkirtDepth, VanekConfig,
 };
 use serde::Deserialize;
 use serde_json::Value;
@@ -56,6 +56,44 @@ struct ChunkedParameters {
     box_culling: bool,
     #[serde(default)]
     front_to_back: bool,
+}
+
+/// `vanek`: the patch level n, the paper's mindist, maxdist and exp, how k is rounded and dist
+/// measured, an optional triangle target and box culling.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct VanekParameters {
+    patch_level: u32,
+    min_dist_m: f64,
+    max_dist_m: f64,
+    /// Default 1 (linear).
+    #[serde(default)]
+    exponent: Option<f64>,
+    /// Default `down`.
+    #[serde(default)]
+    rounding: Option<RoundingEntry>,
+    /// Default `box`.
+    #[serde(default)]
+    distance: Option<DistanceEntry>,
+    #[serde(default)]
+    target_triangles: Option<u64>,
+    #[serde(default)]
+    box_culling: bool,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum RoundingEntry {
+    Down,
+    Nearest,
+    Up,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum DistanceEntry {
+    Box,
+    Centre,
 }
 
 #[derive(Debug, Deserialize, Clone, Copy)]
@@ -128,6 +166,74 @@ pub(super) fn chunked_config(
         })),
         _ => Err(problems),
     }
+}
+
+/// The `vanek` entry at `origin`, or every problem found in it.
+pub(super) fn vanek_config(
+    origin: &str,
+    parameters: &Value,
+) -> Result<AlgorithmConfig, Vec<FieldProblem>> {
+    let p: VanekParameters = decode(origin, parameters)?;
+    let mut problems = Vec::new();
+    let mut add = |field: &str, problem: String| {
+        problems.push(FieldProblem {
+            field: format!("{origin}.{field}"),
+            problem,
+        })
+    };
+    if !(p.min_dist_m >= 0.0 && p.min_dist_m.is_finite()) {
+        add(
+            "min_dist_m",
+            format!(
+                "{}: expected a finite distance of at least 0 m",
+                p.min_dist_m
+            ),
+        );
+    } else if !(p.max_dist_m > p.min_dist_m && p.max_dist_m.is_finite()) {
+        add(
+            "max_dist_m",
+            format!(
+                "{}: expected a finite distance above min_dist_m ({} m)",
+                p.max_dist_m, p.min_dist_m
+            ),
+        );
+    }
+    let exponent = p.exponent.unwrap_or(1.0);
+    if !(exponent > 0.0 && exponent.is_finite()) {
+        add(
+            "exponent",
+            format!("{exponent}: expected a finite exponent above 0"),
+        );
+    }
+    if p.target_triangles == Some(0) {
+        add(
+            "target_triangles",
+            "0: expected at least 1 triangle".to_string(),
+        );
+    }
+    level_in_range(origin, "patch_level", p.patch_level, &mut problems);
+    if !problems.is_empty() {
+        return Err(problems);
+    }
+    Ok(AlgorithmConfig::Vanek(VanekConfig {
+        patch_level: p.patch_level,
+        curve: LodCurve {
+            min_dist_m: p.min_dist_m,
+            max_dist_m: p.max_dist_m,
+            exponent,
+            rounding: match p.rounding {
+                None | Some(RoundingEntry::Down) => LodRounding::Down,
+                Some(RoundingEntry::Nearest) => LodRounding::Nearest,
+                Some(RoundingEntry::Up) => LodRounding::Up,
+            },
+        },
+        distance: match p.distance {
+            None | Some(DistanceEntry::Box) => PatchDistance::Box,
+            Some(DistanceEntry::Centre) => PatchDistance::Centre,
+        },
+        target_triangles: p.target_triangles,
+        box_culling: p.box_culling,
+    }))
 }
 
 fn decode<T: serde::de::DeserializeOwned>(
@@ -271,5 +377,73 @@ mod tests {
             missing[0].contains("missing field `patch_level`"),
             "{missing:?}"
         );
+    }
+
+    #[test]
+    fn vanek_entries_defaults_options_and_bad_values() {
+        let plain = vanek_config(
+            "v",
+            &json!({"patch_level": 4, "min_dist_m": 10, "max_dist_m": 500}),
+        )
+        .unwrap();
+        assert_eq!(
+            plain,
+            AlgorithmConfig::Vanek(VanekConfig {
+                patch_level: 4,
+                curve: LodCurve {
+                    min_dist_m: 10.0,
+                    max_dist_m: 500.0,
+                    exponent: 1.0,
+                    rounding: LodRounding::Down,
+                },
+                distance: PatchDistance::Box,
+                target_triangles: None,
+                box_culling: false,
+            })
+        );
+        let options = vanek_config(
+            "v",
+            &json!({"patch_level": 3, "min_dist_m": 0, "max_dist_m": 5, "exponent": 0.5,
+                    "rounding": "nearest", "distance": "centre", "target_triangles": 900,
+                    "box_culling": true}),
+        )
+        .unwrap();
+        let AlgorithmConfig::Vanek(c) = options else {
+            panic!("{options:?}")
+        };
+        assert_eq!(
+            (
+                c.curve.rounding,
+                c.distance,
+                c.target_triangles,
+                c.box_culling
+            ),
+            (LodRounding::Nearest, PatchDistance::Centre, Some(900), true)
+        );
+        assert_eq!(c.curve.exponent, 0.5);
+        let problems: Vec<String> = vanek_config(
+            "algorithms[1]",
+            &json!({"patch_level": 16, "min_dist_m": 50, "max_dist_m": 50, "exponent": 0,
+                    "target_triangles": 0}),
+        )
+        .unwrap_err()
+        .into_iter()
+        .map(|p| format!("{}: {}", p.field, p.problem))
+        .collect();
+        assert_eq!(
+            problems,
+            [
+                "algorithms[1].max_dist_m: 50: expected a finite distance above min_dist_m (50 m)",
+                "algorithms[1].exponent: 0: expected a finite exponent above 0",
+                "algorithms[1].target_triangles: 0: expected at least 1 triangle",
+                "algorithms[1].patch_level: 16: expected a level from 1 to 15 (blocks of (2^k+1)² samples)",
+            ]
+        );
+        let negative = vanek_config(
+            "v",
+            &json!({"patch_level": 2, "min_dist_m": -1, "max_dist_m": 5}),
+        )
+        .unwrap_err();
+        assert_eq!(negative[0].field, "v.min_dist_m");
     }
 }

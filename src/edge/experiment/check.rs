@@ -38,6 +38,7 @@ pub const KNOWN_ALGORITHMS: &[&str] = &[
     "geomipmap",
     "chunked",
     "rottger",
+    "vanek",
 ];
 
 /// What stage 2 makes of a parsed file: the checked settings and entries.
@@ -620,6 +621,9 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                 .map_err(|list| problems.list.extend(list))
                 .ok(),
             "chunked" => super::block_lod::chunked_config(k, &parameters)
+                .map_err(|list| problems.list.extend(list))
+                .ok(),
+            "vanek" => super::block_lod::vanek_config(k, &parameters)
                 .map_err(|list| problems.list.extend(list))
                 .ok(),
             "rottger" => decode::<RottgerParameters>(k, &parameters, problems)

@@ -12,12 +12,12 @@
 //!
 //! Settling (decided here; the issue left it open): an entry with a count target — `wu`'s
 //! `budget_triangles` (the triangles of its in-view blocks when it reports them, else the whole
-//! mesh), `roam`'s, `roam-rebuild`'s, `geomipmap`'s and `chunked`'s `target_triangles`,
-//! `rottger`'s `target_triangles` (its fan triangles) or `target_fan_vertices` — has *settled*
-//! at the first frame whose held count is within [`SETTLED_WITHIN`] of the target. `report.md`
-//! names every entry that settled only after more than [`NEGLIGIBLE_APPROACH`] of the summarised
-//! frames, or never, so a reader knows which summaries still contain the approach to the target. Entries without a
-//! target (a fixed τ) have nothing to settle to and are not judged.
+//! mesh), `roam`'s, `roam-rebuild`'s, `geomipmap`'s, `chunked`'s and `vanek`'s `target_triangles`,
+//! `rottger`'s `target_triangles` (its fan triangles) or `target_fan_vertices` — has *settled* at
+//! the first frame whose held count is within [`SETTLED_WITHIN`] of the target. `report.md` names
+//! every entry that settled only after more than [`NEGLIGIBLE_APPROACH`] of the summarised frames,
+//! or never, so a reader knows which summaries still contain the approach to the target. Entries
+//! without a target (a fixed τ) have nothing to settle to and are not judged.
 
 use super::columns::{RunColumns, value};
 use crate::sim::algorithm::CountGoal;

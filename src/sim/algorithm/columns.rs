@@ -66,6 +66,17 @@ pub mod chunked {
     pub const TARGET_UNREACHABLE: &str = "target_unreachable";
 }
 
+/// `vanek` (Vaněk and Ježek 2004).
+pub mod vanek {
+    pub const STRIP_INDICES: &str = "strip_indices";
+    pub const DEGENERATE_TRIANGLES: &str = "degenerate_triangles";
+    pub const COLLAPSED_TRIANGLES: &str = "collapsed_triangles";
+    pub const PATCHES_CULLED: &str = "patches_culled";
+    pub const PATCH_LOD_MEAN: &str = "patch_lod_mean";
+    pub const DISTANCE_MULTIPLIER: &str = "distance_multiplier";
+    pub const TARGET_UNREACHABLE: &str = "target_unreachable";
+}
+
 /// `rottger` (Röttger et al. 1998).
 pub mod rottger {
     pub const DESIRED_RESOLUTION_C: &str = "desired_resolution_c";
@@ -122,6 +133,13 @@ pub const ALL: &[&str] = &[
     chunked::ORDER_INVERSIONS,
     chunked::TAU,
     chunked::TARGET_UNREACHABLE,
+    vanek::STRIP_INDICES,
+    vanek::DEGENERATE_TRIANGLES,
+    vanek::COLLAPSED_TRIANGLES,
+    vanek::PATCHES_CULLED,
+    vanek::PATCH_LOD_MEAN,
+    vanek::DISTANCE_MULTIPLIER,
+    vanek::TARGET_UNREACHABLE,
     rottger::DESIRED_RESOLUTION_C,
     rottger::C_CLAMPED,
     rottger::FANS,

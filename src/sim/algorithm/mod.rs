@@ -14,6 +14,7 @@ pub mod lindstrom;
 mod reference;
 mod roam;
 pub mod rottger;
+pub mod vanek;
 mod wu;
 
 pub use block_lod::{BlockGoal, Projection};
@@ -29,6 +30,7 @@ pub use wu::{BudgetConfig, Refinement, TauRecentring, Wu, WuConfig, initial_tau_
 
 pub use crate::sim::flight::BrokenBounds;
 pub use rottger::{Rottger, RottgerConfig};
+pub use vanek::{LodCurve, LodRounding, PatchDistance, Vanek, VanekConfig};
 
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::MeshOutput;
@@ -88,6 +90,7 @@ pub enum AlgorithmConfig {
     Geomipmap(GeomipmapConfig),
     Chunked(ChunkedConfig),
     Rottger(RottgerConfig),
+    Vanek(VanekConfig),
 }
 
 impl AlgorithmConfig {
@@ -101,6 +104,7 @@ impl AlgorithmConfig {
             AlgorithmConfig::Geomipmap(_) => geomipmap::NAME,
             AlgorithmConfig::Chunked(_) => chunked::NAME,
             AlgorithmConfig::Rottger(_) => rottger::NAME,
+            AlgorithmConfig::Vanek(_) => vanek::NAME,
         }
     }
 
@@ -137,6 +141,9 @@ impl AlgorithmConfig {
                 LoadCount::Triangles => goal(columns::rottger::FAN_TRIANGLES, load.target),
                 LoadCount::FanVertices => goal(columns::rottger::FAN_VERTICES, load.target),
             }),
+            AlgorithmConfig::Vanek(config) => {
+                config.target_triangles.and_then(|n| goal("triangles", n))
+            }
             AlgorithmConfig::Reference(_) | AlgorithmConfig::Lindstrom(_) => None,
         }
     }
@@ -165,6 +172,7 @@ impl AlgorithmConfig {
             }
             AlgorithmConfig::Chunked(config) => Box::new(Chunked::new(hierarchy, *config, view)),
             AlgorithmConfig::Rottger(config) => Box::new(Rottger::new(hierarchy, *config)),
+            AlgorithmConfig::Vanek(config) => Box::new(Vanek::new(hierarchy, *config)),
         }
     }
 }

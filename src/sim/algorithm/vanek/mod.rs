@@ -1,0 +1,517 @@
+//! `vanek`: the distance-driven patches of Vaněk and Ježek (WSCG 2004): the terrain cut into
+//! overlapping patches of (2^n + 1)² samples, each drawn every frame at the level of detail its
+//! distance gives, as one triangle strip with degenerate triangles; cracks removed by moving
+//! the finer patch's border vertices onto the coarser neighbour's.
+//!
+//! # The algorithm
+//!
+//! - **Patches** (§3): patch (px, py) covers 2^n cells a side from sample (px·2^n, py·2^n);
+//!   level k (0 ..= n) keeps every 2^(n−k)-th sample, (2^k + 1)² vertices (k = n: every sample,
+//!   k = 0: the four corners). The terrain's own grid is 2^N + 1 samples a side, so the patches
+//!   form a 2^(N−n) square; n is clamped to [1, N].
+//! - **Selection** (§3, `select.rs`): k = n nearer than `mindist`, 0 beyond `maxdist`, else
+//!   n·(1 − ((dist − mindist)/(maxdist − mindist))^exp), rounded. No roughness term: the audit
+//!   shows what distance-only selection costs on rough terrain.
+//! - **Drawing** (§2, `strip.rs`): each patch's vertex buffer is its level's (2^k + 1)²
+//!   vertices, row by row; its index buffer is the paper's single strip with degenerate
+//!   triangles, the same for every patch of a level. Every three consecutive indices are a
+//!   triangle (every other one reversed, as a GPU reads a strip); those with a repeated index
+//!   are the strip's joins (role degenerate).
+//! - **Cracks** (§3, crack policy `collapsed`): where a side's neighbour is at a coarser level
+//!   k′ < k, the side's vertices that the neighbour lacks are moved (in the vertex buffer, the
+//!   index buffer unchanged) onto one the neighbour has; the triangles this flattens are
+//!   degenerate too, and the rest of the patch meets the neighbour edge for edge.
+//! - **Box culling** (§3), an effect (`box_culling`): a patch whose box (square × its samples'
+//!   height range) lies entirely outside the view volume is not drawn and is declared to the
+//!   mesh as a culled region. Levels and collapses are chosen as without culling, so the drawn
+//!   patches are the same either way.
+//! - **Triangle target** (`target_triangles`): every frame, the distances are multiplied by a
+//!   factor μ (the same as dividing `mindist` and `maxdist` by μ; `exp` kept), μ the smallest on
+//!   the grid of `block_lod/budget.rs` whose mesh has at most the target's triangles: the
+//!   finest mesh the target allows. The count is every triangle drawn, joins and collapsed ones
+//!   included (what the GPU is sent), over the patches not culled.
+//!
+//! # Decisions where the paper is open (ARCHITECTURE.md "Decisions")
+//!
+//! - **dist** is measured from the eye to the patch's box, 0 inside it
+//!   ([`PatchDistance::Box`]): the nearest point of the patch decides, so a patch the eye stands
+//!   on is at k = n. The alternative, to the box's centre, is [`PatchDistance::Centre`].
+//! - **k is rounded down** ([`LodRounding::Down`]), as an integer conversion of the formula in
+//!   the paper's C code would: k = n exactly when dist ≤ mindist, as the formula's first case
+//!   says. [`LodRounding::Nearest`] and [`LodRounding::Up`] are the alternatives.
+//! - **Which vertex a collapsed one moves to**: on the south and west sides the neighbour's
+//!   vertex at or before it (towards the south-west corner), on the north and east sides the
+//!   one at or after it (towards the north-east corner). Moving along the side in order keeps
+//!   the triangles from folding; the directions matter at the two corners the strip's
+//!   north-west–south-east diagonals do not reach (south-west, north-east): there the corner
+//!   cell has a triangle with a vertex on each side, and moving both towards the corner
+//!   flattens it, where moving them away would leave a T-junction on its diagonal.
+//! - **The strip's last two indices** (after the last row) are kept, as the paper's code emits
+//!   them: a patch at level k draws (2·(2^k + 1) + 2)·2^k − 2 triangles, 2·4^k of them surface
+//!   (less the collapsed ones).
+//! - **Counters.** `splits` / `merges`: patches at a higher / lower k than last frame;
+//!   `vertices_inserted` / `vertices_deleted`: the vertex buffers of patches whose level,
+//!   collapsed sides or culling changed (all of the new and of the old);
+//!   `vertices_changed`: those inserted; `metric_evaluations`: level computations, over every
+//!   pass of the frame. Columns: `strip_indices` (indices sent, drawn patches),
+//!   `degenerate_triangles` (joins and collapsed), `collapsed_triangles`, `patches_culled`,
+//!   `patch_lod_mean` (the paper's k, n = full resolution, over every patch),
+//!   `distance_multiplier` (μ), `target_unreachable`. One draw batch per drawn patch.
+//!
+//! Memory: per patch its height range and a few words of frame state, the triangle list, one
+//! patch's index buffer. Per frame: O(patches + drawn indices).
+
+mod select;
+pub mod strip;
+mod validate;
+
+pub use select::{LodCurve, LodRounding, PatchDistance, patch_distance};
+pub use validate::{VanekError, lods_from_scratch};
+
+use super::block_lod::budget::finest_tau_within;
+use super::block_lod::cull::box_outside_view;
+use super::block_lod::threshold::BlockBox;
+use super::columns::vanek as columns;
+use super::{FrameInput, LodAlgorithm};
+use crate::sim::hierarchy::{GridPoint, Hierarchy};
+use crate::sim::mesh::{
+    CrackPolicy, MeshOutput, SubgridPoint, TriangleInfo, TriangleList, TriangleRole,
+};
+use crate::sim::stats::FrameStats;
+use crate::sim::view::Camera;
+use glam::DVec3;
+
+pub(super) const NAME: &str = "vanek";
+
+const EXTRA_COLUMNS: &[&str] = &[
+    columns::STRIP_INDICES,
+    columns::DEGENERATE_TRIANGLES,
+    columns::COLLAPSED_TRIANGLES,
+    columns::PATCHES_CULLED,
+    columns::PATCH_LOD_MEAN,
+    columns::DISTANCE_MULTIPLIER,
+    columns::TARGET_UNREACHABLE,
+];
+
+// Sides of a patch, in the order of the per-side arrays.
+const WEST: usize = 0;
+const EAST: usize = 1;
+const SOUTH: usize = 2;
+const NORTH: usize = 3;
+
+/// Parameters of the Vaněk–Ježek patches.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VanekConfig {
+    /// n: patches of (2^n + 1)² samples (1..=15; clamped to the terrain's level).
+    pub patch_level: u32,
+    /// mindist, maxdist, exp and the rounding of k.
+    pub curve: LodCurve,
+    pub distance: PatchDistance,
+    /// Holds this many triangles every frame by scaling the distances (see the module docs).
+    pub target_triangles: Option<u64>,
+    /// Patch-box culling (an effect).
+    pub box_culling: bool,
+}
+
+/// What a patch drew last frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct PatchState {
+    /// Its level and the level each side is collapsed to; `None` when culled.
+    shape: Option<[u32; 5]>,
+    vertices: u64,
+}
+
+/// The Vaněk–Ježek patches. Per frame: O(patches + drawn indices); buffers reused.
+pub struct Vanek<'h> {
+    hierarchy: &'h Hierarchy,
+    config: VanekConfig,
+    /// n, clamped.
+    patch_level: u32,
+    per_side: u32,
+    /// Per patch: lowest and highest sample.
+    z_range: Vec<(f32, f32)>,
+    lods: Vec<u32>,
+    culled: Vec<bool>,
+    distances: Vec<f64>,
+    multiplier: f64,
+    target_unreachable: bool,
+    list: TriangleList,
+    /// One patch's strip and its vertices' (column, row) after collapsing.
+    strip: Vec<u32>,
+    moved: Vec<(u32, u32)>,
+    strip_indices: u64,
+    collapsed: u64,
+    previous: Vec<Option<PatchState>>,
+    current: Vec<Option<PatchState>>,
+}
+
+impl<'h> Vanek<'h> {
+    /// Cuts the terrain into patches and measures their height ranges (O(samples)).
+    pub fn new(hierarchy: &'h Hierarchy, config: VanekConfig) -> Vanek<'h> {
+        let curve = config.curve;
+        assert!(
+            curve.min_dist_m >= 0.0
+                && curve.min_dist_m < curve.max_dist_m
+                && curve.max_dist_m.is_finite()
+                && curve.exponent > 0.0
+                && curve.exponent.is_finite(),
+            "vanek needs 0 ≤ mindist < maxdist < ∞ and 0 < exp < ∞, not {curve:?}"
+        );
+        let terrain_level = hierarchy.lattice().level();
+        let patch_level = config.patch_level.clamp(1, terrain_level);
+        let per_side = 1u32 << (terrain_level - patch_level);
+        let cells = 1u32 << patch_level;
+        let mut z_range = Vec::with_capacity((per_side * per_side) as usize);
+        for py in 0..per_side {
+            for px in 0..per_side {
+                let (x0, y0) = (px * cells, py * cells);
+                let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
+                for j in y0..=y0 + cells {
+                    for i in x0..=x0 + cells {
+                        let z = hierarchy.height(GridPoint::new(i, j));
+                        low = low.min(z);
+                        high = high.max(z);
+                    }
+                }
+                z_range.push((low, high));
+            }
+        }
+        let n = z_range.len();
+        Vanek {
+            hierarchy,
+            config,
+            patch_level,
+            per_side,
+            z_range,
+            lods: vec![patch_level; n],
+            culled: vec![false; n],
+            distances: vec![0.0; n],
+            multiplier: 1.0,
+            target_unreachable: false,
+            list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Collapsed),
+            strip: Vec::new(),
+            moved: Vec::new(),
+            strip_indices: 0,
+            collapsed: 0,
+            previous: vec![None; n],
+            current: vec![None; n],
+        }
+    }
+
+    /// The effective n (patches of (2^n + 1)² samples).
+    pub fn patch_level(&self) -> u32 {
+        self.patch_level
+    }
+
+    /// Patches per side.
+    pub fn patches_per_side(&self) -> u32 {
+        self.per_side
+    }
+
+    /// This frame's level of every patch, row by row from the south-west (the paper's k:
+    /// n = full resolution, 0 = the corners only).
+    pub fn lods(&self) -> &[u32] {
+        &self.lods
+    }
+
+    /// Which patches this frame culled, row by row.
+    pub fn culled(&self) -> &[bool] {
+        &self.culled
+    }
+
+    /// The distance multiplier μ this frame was drawn with (1 without a target).
+    pub fn distance_multiplier(&self) -> f64 {
+        self.multiplier
+    }
+
+    fn cells(&self) -> u32 {
+        1 << self.patch_level
+    }
+
+    /// Patch `patch`'s box in terrain-local metres.
+    fn patch_box(&self, patch: usize) -> BlockBox {
+        let spacing = self.hierarchy.field().spacing();
+        let (x0, y0) = self.origin(patch);
+        let cells = f64::from(self.cells());
+        let (low, high) = self.z_range[patch];
+        BlockBox {
+            low: DVec3::new(
+                f64::from(x0) * spacing.dx,
+                f64::from(y0) * spacing.dy,
+                f64::from(low),
+            ),
+            high: DVec3::new(
+                (f64::from(x0) + cells) * spacing.dx,
+                (f64::from(y0) + cells) * spacing.dy,
+                f64::from(high),
+            ),
+        }
+    }
+
+    /// The grid sample at the patch's south-west corner.
+    fn origin(&self, patch: usize) -> (u32, u32) {
+        let (px, py) = (patch as u32 % self.per_side, patch as u32 / self.per_side);
+        (px * self.cells(), py * self.cells())
+    }
+
+    /// The neighbour of `patch` across `side`, if any.
+    fn neighbour(&self, patch: usize, side: usize) -> Option<usize> {
+        let per_side = self.per_side as usize;
+        let (px, py) = (patch % per_side, patch / per_side);
+        match side {
+            WEST => (px > 0).then(|| patch - 1),
+            EAST => (px + 1 < per_side).then(|| patch + 1),
+            SOUTH => (py > 0).then(|| patch - per_side),
+            _ => (py + 1 < per_side).then(|| patch + per_side),
+        }
+    }
+
+    /// The level each side of `patch` is drawn at: the coarser of the patch's and its
+    /// neighbour's (the patch's own on the domain's border).
+    fn side_lods(&self, patch: usize) -> [u32; 4] {
+        let own = self.lods[patch];
+        [WEST, EAST, SOUTH, NORTH].map(|side| {
+            self.neighbour(patch, side)
+                .map_or(own, |q| own.min(self.lods[q]))
+        })
+    }
+
+    /// Chooses every patch's level with distances multiplied by `multiplier`; returns the
+    /// triangles the patches not culled draw.
+    fn choose_lods(&mut self, multiplier: f64) -> u64 {
+        let n = self.patch_level;
+        let mut triangles = 0;
+        for patch in 0..self.lods.len() {
+            let k = self.config.curve.lod(n, self.distances[patch] * multiplier);
+            self.lods[patch] = k;
+            if !self.culled[patch] {
+                let m = (1 << k) + 1;
+                triangles += strip::degenerate_strip_triangles(m, m);
+            }
+        }
+        triangles
+    }
+
+    /// Adds patch `patch` to the list: its level's vertices, collapsed towards coarser sides,
+    /// and its strip's triangles. Returns its state.
+    fn add_patch(&mut self, patch: usize) -> PatchState {
+        let k = self.lods[patch];
+        let sides = self.side_lods(patch);
+        let m = (1u32 << k) + 1;
+        let stride = 1u32 << (self.patch_level - k);
+        let (x0, y0) = self.origin(patch);
+        let steps = sides.map(|side| 1u32 << (k - side));
+        self.moved.clear();
+        let base = self.list.vertices().len() as u32;
+        for r in 0..m {
+            for c in 0..m {
+                let (mut cc, mut rr) = (c, r);
+                // South and west: back to the vertex at or before; north and east: on to the
+                // one at or after (see the module docs).
+                if r == 0 {
+                    cc -= cc % steps[SOUTH];
+                } else if r == m - 1 {
+                    cc += (steps[NORTH] - cc % steps[NORTH]) % steps[NORTH];
+                }
+                if c == 0 {
+                    rr -= rr % steps[WEST];
+                } else if c == m - 1 {
+                    rr += (steps[EAST] - rr % steps[EAST]) % steps[EAST];
+                }
+                let (i, j) = (x0 + cc * stride, y0 + rr * stride);
+                let z = self.hierarchy.height(GridPoint::new(i, j));
+                self.list.add_vertex(SubgridPoint::grid(i, j), z);
+                self.moved.push((cc, rr));
+            }
+        }
+        let mut indices = std::mem::take(&mut self.strip);
+        strip::degenerate_strip_into(m, m, &mut indices);
+        self.strip_indices += indices.len() as u64;
+        for (t, w) in indices.windows(3).enumerate() {
+            let [a, b, c] = if t % 2 == 0 {
+                [w[0], w[1], w[2]]
+            } else {
+                [w[1], w[0], w[2]]
+            };
+            let role = if a == b || b == c || a == c {
+                TriangleRole::Degenerate
+            } else if area2(
+                self.moved[a as usize],
+                self.moved[b as usize],
+                self.moved[c as usize],
+            ) == 0
+            {
+                self.collapsed += 1;
+                TriangleRole::Degenerate
+            } else {
+                TriangleRole::Surface
+            };
+            self.list.add_triangle(
+                [base + a, base + b, base + c],
+                TriangleInfo {
+                    role,
+                    group: patch as u32,
+                    level: k,
+                },
+            );
+        }
+        self.strip = indices;
+        PatchState {
+            shape: Some([k, sides[0], sides[1], sides[2], sides[3]]),
+            vertices: u64::from(m) * u64::from(m),
+        }
+    }
+
+    /// Draws every patch at the given levels (the paper's k, row by row; clamped to n), without
+    /// culling: for exhaustive tests of the collapsing, which no eye position could reach.
+    /// The next [`LodAlgorithm::update`] chooses the levels again.
+    pub fn draw_with_lods(&mut self, lods: &[u32]) {
+        assert_eq!(lods.len(), self.lods.len(), "one level per patch");
+        for (mine, &k) in self.lods.iter_mut().zip(lods) {
+            *mine = k.min(self.patch_level);
+        }
+        self.culled.fill(false);
+        self.draw();
+    }
+
+    /// Builds the list from this frame's levels and culling; sets `current`.
+    fn draw(&mut self) {
+        self.list.clear();
+        self.strip_indices = 0;
+        self.collapsed = 0;
+        let cells = self.cells();
+        for patch in 0..self.lods.len() {
+            self.current[patch] = Some(if self.culled[patch] {
+                let (x0, y0) = self.origin(patch);
+                self.list.add_culled_region(
+                    SubgridPoint::grid(x0, y0),
+                    SubgridPoint::grid(x0 + cells, y0 + cells),
+                );
+                PatchState {
+                    shape: None,
+                    vertices: 0,
+                }
+            } else {
+                self.add_patch(patch)
+            });
+        }
+    }
+
+    /// Checks the triangle list against this frame's levels (counts, collapsed borders lining
+    /// up; see `validate.rs`), not the levels themselves.
+    pub fn validate_mesh(&self) -> Result<(), VanekError> {
+        validate::validate_mesh(self)
+    }
+
+    /// Checks this frame against the rules (see `validate.rs`): the levels and culling against a
+    /// brute-force recomputation, the counts, and that collapsed borders line up.
+    pub fn validate(&self, camera: &Camera) -> Result<(), VanekError> {
+        validate::validate(self, camera)
+    }
+}
+
+/// Twice the signed area of the triangle over three (column, row) positions.
+fn area2(a: (u32, u32), b: (u32, u32), c: (u32, u32)) -> i64 {
+    let (ax, ay) = (i64::from(a.0), i64::from(a.1));
+    let (bx, by) = (i64::from(b.0) - ax, i64::from(b.1) - ay);
+    let (cx, cy) = (i64::from(c.0) - ax, i64::from(c.1) - ay);
+    bx * cy - by * cx
+}
+
+impl LodAlgorithm for Vanek<'_> {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn extra_columns(&self) -> &'static [&'static str] {
+        EXTRA_COLUMNS
+    }
+
+    fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
+        let camera = input.camera;
+        let eye = camera.eye;
+        for patch in 0..self.lods.len() {
+            let block = self.patch_box(patch);
+            self.distances[patch] =
+                patch_distance(eye, block.low, block.high, self.config.distance);
+            self.culled[patch] = self.config.box_culling && box_outside_view(camera, &block);
+        }
+        let mut evaluations = 0;
+        if let Some(target) = self.config.target_triangles {
+            let start = self.multiplier;
+            let choice = finest_tau_within(target, start, |mu| {
+                evaluations += self.lods.len() as u64;
+                self.choose_lods(mu)
+            });
+            self.multiplier = choice.tau_px;
+            self.target_unreachable = choice.unreachable;
+        }
+        evaluations += self.lods.len() as u64;
+        self.choose_lods(self.multiplier);
+
+        self.draw();
+
+        let (mut finer, mut coarser, mut inserted, mut deleted) = (0, 0, 0, 0);
+        for (now, before) in self.current.iter().zip(&self.previous) {
+            let Some(now) = now else { continue };
+            match before {
+                None => inserted += now.vertices,
+                Some(before) if before.shape != now.shape => {
+                    inserted += now.vertices;
+                    deleted += before.vertices;
+                    if let (Some(a), Some(b)) = (now.shape, before.shape) {
+                        finer += u64::from(a[0] > b[0]);
+                        coarser += u64::from(a[0] < b[0]);
+                    }
+                }
+                Some(_) => {}
+            }
+        }
+        std::mem::swap(&mut self.previous, &mut self.current);
+
+        let n_patches = self.lods.len() as f64;
+        stats.triangles = self.list.n_triangles();
+        stats.splits = finer;
+        stats.merges = coarser;
+        stats.vertices_inserted = inserted;
+        stats.vertices_deleted = deleted;
+        stats.vertices_changed = Some(inserted);
+        stats.metric_evaluations = evaluations;
+        stats.extra = vec![
+            self.strip_indices as f64,
+            self.list.role_count(TriangleRole::Degenerate) as f64,
+            self.collapsed as f64,
+            self.culled.iter().filter(|&&c| c).count() as f64,
+            self.lods.iter().map(|&k| f64::from(k)).sum::<f64>() / n_patches,
+            self.multiplier,
+            f64::from(u8::from(self.target_unreachable)),
+        ];
+    }
+
+    fn mesh(&self) -> MeshOutput<'_> {
+        MeshOutput::triangles(&self.list)
+    }
+
+    fn triangle_count(&self) -> u64 {
+        self.list.n_triangles()
+    }
+
+    fn memory_bytes(&self) -> usize {
+        self.z_range.capacity() * std::mem::size_of::<(f32, f32)>()
+            + self.lods.capacity() * std::mem::size_of::<u32>()
+            + self.culled.capacity()
+            + self.distances.capacity() * std::mem::size_of::<f64>()
+            + self.list.memory_bytes()
+            + self.strip.capacity() * std::mem::size_of::<u32>()
+            + self.moved.capacity() * std::mem::size_of::<(u32, u32)>()
+            + (self.previous.capacity() + self.current.capacity())
+                * std::mem::size_of::<Option<PatchState>>()
+    }
+
+    fn run_facts(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("patches", self.lods.len() as f64),
+            ("patch_level", f64::from(self.patch_level)),
+        ]
+    }
+}
