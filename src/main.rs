@@ -426,7 +426,7 @@ fn info_terrain_file(path: &Path, raw: Option<RawLayout>) -> Result<(), String> 
     let (lo, hi) = field.height_range();
     let report = TerrainReport {
         source: path.display().to_string(),
-        format: format_label(format).to_string(),
+        format: format.name().to_string(),
         source_columns,
         source_rows,
         side: field.side(),
@@ -442,17 +442,6 @@ fn info_terrain_file(path: &Path, raw: Option<RawLayout>) -> Result<(), String> 
     print!("{}", describe_terrain(&report));
     print!("{}", describe_preprocessing(field));
     Ok(())
-}
-
-/// The format as the experiment format names it.
-fn format_label(format: TerrainFormat) -> &'static str {
-    match format {
-        TerrainFormat::Hgt => "hgt",
-        TerrainFormat::Png => "png",
-        TerrainFormat::GeoTiff => "geotiff",
-        TerrainFormat::AsciiGrid => "ascii_grid",
-        TerrainFormat::Raw(_) => "raw",
-    }
 }
 
 #[cfg(feature = "preview")]

@@ -247,7 +247,7 @@ pub(super) fn load_terrain(
             let (lo, hi) = field.height_range();
             let report = TerrainReport {
                 source: file.path.clone(),
-                format: format_name(format).to_string(),
+                format: format.name().to_string(),
                 source_columns,
                 source_rows,
                 side: field.side(),
@@ -277,16 +277,6 @@ fn raw_sample(sample: RawSampleEntry) -> RawSample {
         RawSampleEntry::U16be => RawSample::U16Be,
         RawSampleEntry::F32le => RawSample::F32Le,
         RawSampleEntry::F32be => RawSample::F32Be,
-    }
-}
-
-fn format_name(format: TerrainFormat) -> &'static str {
-    match format {
-        TerrainFormat::Hgt => "hgt",
-        TerrainFormat::Png => "png",
-        TerrainFormat::GeoTiff => "geotiff",
-        TerrainFormat::AsciiGrid => "ascii_grid",
-        TerrainFormat::Raw(_) => "raw",
     }
 }
 

@@ -30,6 +30,20 @@ pub enum TerrainFormat {
     Raw(RawLayout),
 }
 
+impl TerrainFormat {
+    /// The format's name as the experiment format spells it (`hgt`, `png`, `geotiff`,
+    /// `ascii_grid`, `raw`).
+    pub fn name(self) -> &'static str {
+        match self {
+            TerrainFormat::Hgt => "hgt",
+            TerrainFormat::Png => "png",
+            TerrainFormat::GeoTiff => "geotiff",
+            TerrainFormat::AsciiGrid => "ascii_grid",
+            TerrainFormat::Raw(_) => "raw",
+        }
+    }
+}
+
 /// The layout of a raw sample file.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RawLayout {
