@@ -234,12 +234,12 @@ pub fn run_experiment(
         outcome.meshes += experiment.flight.n_frames() * experiment.algorithms.len() as u64;
         for (spec, result) in experiment.algorithms.iter().zip(&point.results) {
             // Over the summarised frames, as report.md and summary.json judge it.
-            let skip = (experiment.warm_up_frames as usize).min(result.frames.len());
-            let run = RunColumns {
+            let all = RunColumns {
                 label: &spec.label,
                 extra_columns: result.extra_columns,
-                frames: &result.frames[skip..],
+                frames: &result.frames,
             };
+            let run = summarised_runs(&[all], experiment.warm_up_frames).remove(0);
             if let Some(goal) = spec.config.count_goal()
                 && let Some(GoalCheck {
                     flag: Some(reason), ..
