@@ -14,7 +14,7 @@
 mod common;
 
 use common::algorithms::{
-    chunked, chunked_with_everything, geomipmap, lindstrom, reference, roam_tolerance,
+    chunked, chunked_with_everything, geomipmap, lindstrom, reference, roam_tolerance, vanek,
 };
 use common::{bumpy_terrain, camera_at, checked_step, extra, step, vertex_set};
 use glam::DVec3;
@@ -22,7 +22,7 @@ use roamsim::sim::algorithm::RottgerConfig;
 use roamsim::sim::algorithm::rottger::{LoadCount, LoadTarget};
 use roamsim::sim::algorithm::{
     AlgorithmConfig, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference, LodAlgorithm,
-    RoamConfig,
+    RoamConfig, VanekConfig,
 };
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::MeshOutput;
@@ -265,6 +265,22 @@ fn a_million_chunked_frames_with_every_effect_and_a_target_stay_exact() {
         goal: BlockGoal::TargetTriangles(250),
         morph: true,
         ..chunked(4.0, 1)
+    }));
+}
+
+#[test]
+fn a_million_vanek_frames_with_culling_and_a_target_stay_exact() {
+    // 4×4 patches of 3×3 samples; the eye 30 m up, 20 to 100 m from the patches' boxes around
+    // the circle: the linear curve from 35 to 110 m moves every patch through its levels, and
+    // the target (120 triangles, of 64 at the coarsest and 224 at the finest) moves the distance
+    // multiplier every lap.
+    check_million_block_frames(AlgorithmConfig::Vanek(VanekConfig {
+        box_culling: true,
+        ..vanek(1, 35.0, 110.0)
+    }));
+    check_million_block_frames(AlgorithmConfig::Vanek(VanekConfig {
+        target_triangles: Some(120),
+        ..vanek(1, 35.0, 110.0)
     }));
 }
 
