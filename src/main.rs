@@ -11,7 +11,10 @@ use roamsim::edge::experiment;
 use roamsim::edge::experiment::TerrainReport;
 use roamsim::edge::output::end_of_run::end_of_run_text;
 use roamsim::edge::progress::LineProgress;
-use roamsim::edge::session::{ProgressSink, RunOptions, run_experiment};
+use roamsim::edge::session::{
+    MergeOptions, ProgressSink, RunOptions, RunOutcome, merge_shards, run_experiment,
+};
+use roamsim::edge::shard::{SHARD_FILE, ShardSpec};
 use roamsim::edge::terrain_info::{describe_preprocessing, describe_terrain};
 use roamsim::edge::terrain_readers::{
     RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
@@ -30,6 +33,10 @@ Examples:
       Runs the quickstart and writes out/quickstart/{frames.csv,summary.json,plots/}.
   roamsim run experiments/quickstart.json --out results/qs --check
       Same, into results/qs, validating every mesh every frame.
+  roamsim run experiments/scaling.json --shard 2/3 --out shards/2
+      Runs the second of three parts of the experiment (for a batch system; docs/sharding.md).
+  roamsim merge shards/1 shards/2 shards/3 --out out/scaling
+      Assembles the three parts into the outputs of one whole run.
   roamsim validate experiments/quickstart.json
       Checks the experiment (and loads its terrain and flight) without running it.
   roamsim info experiments/data/N48E009.hgt
@@ -68,6 +75,22 @@ enum Command {
         /// recorded), exactly as the full run has them: for quick probes.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
         frames: Option<u64>,
+        /// Run only the K-th of N parts of the experiment's (sweep point, entry) units and write
+        /// their raw results (shard.json, default folder out/<name>-shard-K-of-N) for
+        /// `roamsim merge`; see docs/sharding.md.
+        #[arg(long, value_name = "K/N", value_parser = ShardSpec::parse)]
+        shard: Option<ShardSpec>,
+    },
+    /// Merge the N shard folders of `run --shard K/N` into the outputs one run of the whole
+    /// experiment writes (identical apart from timings and run metadata).
+    #[command(after_help = EXAMPLES)]
+    Merge {
+        /// The shard folders, all N of them, in any order.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+        /// Output folder (default: out/<experiment name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Check an experiment file without running it; exits non-zero when it is invalid.
     #[command(after_help = EXAMPLES)]
@@ -202,7 +225,19 @@ fn main() -> ExitCode {
             check,
             threads,
             frames,
-        } => run(&experiment, out, check, threads, frames),
+            shard,
+        } => run(
+            &experiment,
+            RunOptions {
+                out_dir: out,
+                check_meshes: check,
+                threads,
+                command_line: Some(command_line()),
+                max_frames: frames,
+                shard,
+            },
+        ),
+        Command::Merge { shards, out } => merge(&shards, out),
         Command::Validate { experiment } => check_experiment(&experiment),
         Command::Info {
             path,
@@ -266,31 +301,62 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(
-    path: &Path,
-    out: Option<PathBuf>,
-    check: bool,
-    threads: Option<usize>,
-    max_frames: Option<u64>,
-) -> Result<(), String> {
-    let options = RunOptions {
-        out_dir: out,
-        check_meshes: check,
-        threads,
-        command_line: Some(
-            std::env::args_os()
-                .map(|a| a.to_string_lossy().into_owned())
-                .collect(),
-        ),
-        max_frames,
-    };
+/// This process's command line, recorded in the outputs.
+fn command_line() -> Vec<String> {
+    std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect()
+}
+
+fn run(path: &Path, options: RunOptions) -> Result<(), String> {
     let started = Instant::now();
+    let check = options.check_meshes;
     let outcome = if std::io::stderr().is_terminal() {
         run_experiment(path, &options, &BarProgress::new())
     } else {
         run_experiment(path, &options, &LineProgress::to_stderr())
     }
     .map_err(|e| e.to_string())?;
+    if let Some(shard) = options.shard {
+        println!(
+            "{}: shard {shard}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s){}\n\
+             wrote {}/{}; when all {} shards are done: roamsim merge <the {} shard folders>",
+            outcome.experiment_name,
+            outcome.frames,
+            started.elapsed().as_secs_f64(),
+            outcome.threads,
+            outcome.preprocessing_seconds,
+            if check {
+                format!("; --check: every mesh valid ({} meshes)", outcome.meshes)
+            } else {
+                String::new()
+            },
+            outcome.out_dir.display(),
+            SHARD_FILE,
+            shard.count,
+            shard.count,
+        );
+        return Ok(());
+    }
+    report_outcome(&outcome, started, check);
+    Ok(())
+}
+
+fn merge(shards: &[PathBuf], out: Option<PathBuf>) -> Result<(), String> {
+    let started = Instant::now();
+    let options = MergeOptions {
+        out_dir: out,
+        command_line: Some(command_line()),
+    };
+    let outcome =
+        merge_shards(shards, &options, &LineProgress::to_stderr()).map_err(|e| e.to_string())?;
+    println!("merged {} shard folder(s)", shards.len());
+    report_outcome(&outcome, started, false);
+    Ok(())
+}
+
+/// The warnings and the end-of-run printout of a finished run or merge.
+fn report_outcome(outcome: &RunOutcome, started: Instant, check: bool) {
     if !outcome.speed_violation_frames.is_empty() {
         let frames = &outcome.speed_violation_frames;
         let shown: Vec<String> = frames.iter().take(10).map(u64::to_string).collect();
@@ -322,7 +388,6 @@ fn run(
         },
     );
     print!("{}", end_of_run_text(&outcome.out_dir, &outcome.points));
-    Ok(())
 }
 
 fn check_experiment(path: &Path) -> Result<(), String> {

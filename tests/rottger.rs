@@ -633,6 +633,7 @@ fn a_checked_run_of_the_real_tile_writes_the_rottger_columns_and_facts() {
         threads: Some(1),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     roamsim::edge::session::run_experiment(&path, &options, &roamsim::edge::session::NoProgress)
         .unwrap();

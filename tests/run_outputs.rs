@@ -19,6 +19,7 @@ fn run_with_threads(experiment: &Path, out: &Path, check_meshes: bool, threads: 
         threads: Some(threads),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     run_experiment(experiment, &options, &NoProgress).unwrap();
 }
@@ -541,6 +542,7 @@ fn a_point_that_cannot_run_is_named_and_nothing_is_written() {
             threads: Some(1),
             command_line: None,
             max_frames: None,
+            shard: None,
         },
         &NoProgress,
     )
@@ -702,6 +704,7 @@ fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() 
         threads: Some(1),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -735,6 +738,7 @@ fn run_refused(experiment: &Path, out: &Path) -> String {
         threads: Some(1),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     let error = run_experiment(experiment, &options, &watch)
         .err()
@@ -817,6 +821,7 @@ fn zero_threads_is_refused() {
         threads: Some(0),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -909,6 +914,7 @@ fn an_entry_outgrowing_the_declared_triangle_limit_stops_the_run_with_a_clear_me
         threads: Some(1),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     let error = run_experiment(&path, &options, &NoProgress)
         .err()

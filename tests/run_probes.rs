@@ -134,6 +134,7 @@ fn run_quietly(path: &Path, out: &Path) -> Result<(), String> {
         threads: Some(1),
         max_frames: None,
         command_line: None,
+        shard: None,
     };
     roamsim::edge::session::run_experiment(path, &options, &roamsim::edge::session::NoProgress)
         .map(|_| ())

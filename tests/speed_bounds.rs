@@ -100,6 +100,7 @@ fn a_run_lists_the_violations_and_roam_revalidates_exactly_there() {
         threads: Some(1),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     let outcome = run_experiment(&path, &options, &NoProgress).unwrap();
     assert_eq!(outcome.speed_violation_frames, vec![5, 8]);
@@ -159,6 +160,7 @@ fn a_nan_pose_is_refused_before_the_run_with_its_line() {
         threads: Some(1),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     assert!(run_experiment(&path, &options, &NoProgress).is_err());
     assert!(
@@ -224,6 +226,7 @@ fn a_turn_faster_than_the_rotation_bound_is_reported_as_a_rotation_violation() {
         threads: Some(1),
         command_line: None,
         max_frames: None,
+        shard: None,
     };
     run_experiment(&path, &options, &NoProgress).unwrap();
     let summary: Value =

@@ -10,5 +10,6 @@ pub mod output;
 pub mod preview;
 pub mod progress;
 pub mod session;
+pub mod shard;
 pub mod terrain_info;
 pub mod terrain_readers;

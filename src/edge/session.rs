@@ -11,7 +11,9 @@
 //! sub-folder, then writes the sweep's own `summary.json`, `report.md` and plots at the top; the
 //! whole folder is staged and moved into place only when every point has succeeded.
 
-use crate::edge::experiment::{self, AlgorithmSpec, Experiment, ExperimentError};
+use crate::edge::experiment::{
+    self, AlgorithmSpec, Experiment, ExperimentError, Plan, SweepChoice,
+};
 use crate::edge::output::atomic_dir::{CommitError, OutputLocationError, StagedDir};
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::end_of_run::PointFigures;
@@ -27,6 +29,11 @@ use crate::edge::output::sweep_outputs::{
     write_sweep_plots,
 };
 use crate::edge::output::warm_up::summarised_runs;
+use crate::edge::shard::frame_codec::encode_frame;
+use crate::edge::shard::{
+    MergeError, SHARD_FILE, ShardEntry, ShardExperiment, ShardFile, ShardPoint, ShardSpec,
+    read_complete_set,
+};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{RunError, RunInputs, run_algorithm_with};
 use crate::sim::stats::FrameStats;
@@ -114,6 +121,9 @@ pub struct RunOptions {
     pub command_line: Option<Vec<String>>,
     /// Run only the first this many frames of every flight (`--frames N`); `None`: all.
     pub max_frames: Option<u64>,
+    /// Run only this part of the experiment and write its raw results (`--shard K/N`); see
+    /// [`crate::edge::shard`].
+    pub shard: Option<ShardSpec>,
 }
 
 /// What a finished run produced.
@@ -155,24 +165,32 @@ pub enum RunFailure {
     ZeroThreads,
     #[error("cannot start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
+    #[error("{0}")]
+    Merge(Box<MergeError>),
+}
+
+impl From<MergeError> for RunFailure {
+    fn from(error: MergeError) -> RunFailure {
+        RunFailure::Merge(Box::new(error))
+    }
 }
 
 /// Runs an experiment file: every point of its top-level sweep one after another (each with its
 /// own terrain, so only one is in memory at a time), every algorithm entry of a point in
-/// parallel. Nothing is written unless every point succeeds.
+/// parallel. Nothing is written unless every point succeeds. With a shard
+/// ([`RunOptions::shard`]), only that part of the points' entries runs, and the output folder
+/// holds its raw results (`shard.json`) for `roamsim merge`.
 pub fn run_experiment(
     path: &Path,
     options: &RunOptions,
     progress: &dyn ProgressSink,
 ) -> Result<RunOutcome, RunFailure> {
     let plan = experiment::plan(path)?;
-    // Normalised: `out/.` names `out`, whose rename is what commits the run.
-    let out_dir: PathBuf = options
-        .out_dir
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(plan.name()))
-        .components()
-        .collect();
+    let default_folder = match options.shard {
+        Some(shard) => format!("{}-shard-{}-of-{}", plan.name(), shard.index, shard.count),
+        None => plan.name().to_string(),
+    };
+    let out_dir = normalised_out_dir(options.out_dir.as_deref(), &default_folder);
     if options.threads == Some(0) {
         return Err(RunFailure::ZeroThreads);
     }
@@ -189,54 +207,121 @@ pub fn run_experiment(
     // Before simulating: a run must not find out at the end that it cannot write, nor replace a
     // folder it did not write. The staging folder is made now and filled as points finish.
     let staging = StagedDir::new(&out_dir)?;
+    let settings = PointSettings {
+        check_meshes: options.check_meshes,
+        max_frames: options.max_frames,
+    };
+    if let Some(shard) = options.shard {
+        let run = ShardRun {
+            shard,
+            settings,
+            options,
+            pool: &pool,
+            threads,
+        };
+        return run_shard(path, &plan, &run, progress, (out_dir, staging));
+    }
     let record = RunRecord {
         threads,
         check_meshes: options.check_meshes,
         command_line: options.command_line.clone(),
     };
-    let mut outcome = RunOutcome {
-        out_dir: out_dir.clone(),
-        experiment_name: plan.name().to_string(),
-        frames: 0,
-        meshes: 0,
-        goal_flags: Vec::new(),
-        speed_violation_frames: Vec::new(),
-        preprocessing_seconds: 0.0,
-        threads,
-        points: Vec::new(),
-    };
-    let mut sweep_points = Vec::new();
+    let mut assembly = RunAssembly::new(&plan, out_dir, threads, record);
     for k in 0..plan.n_points() {
+        let experiment = settings.load_point(&plan, k)?;
+        if let Some(choice) = plan.choice(k) {
+            progress.point(k, plan.n_points(), &experiment::choice_label(choice));
+        }
+        let entries: Vec<usize> = (0..experiment.algorithms.len()).collect();
+        let point = run_point(&experiment, &entries, &pool, progress)?;
+        assembly.add_point((k, plan.choice(k)), &experiment, point, staging.path())?;
+    }
+    assembly.finish(path, staging)
+}
+
+/// What every point is loaded with: `--check` and `--frames`.
+#[derive(Clone, Copy)]
+struct PointSettings {
+    check_meshes: bool,
+    max_frames: Option<u64>,
+}
+
+impl PointSettings {
+    /// Loads point `k` (its terrain and flight) as the run sees it.
+    fn load_point(&self, plan: &Plan, k: usize) -> Result<Experiment, RunFailure> {
         let mut experiment = plan.load_point(k)?;
-        experiment.effects.check_meshes = options.check_meshes;
-        if let Some(n_frames) = options.max_frames {
+        experiment.effects.check_meshes = self.check_meshes;
+        if let Some(n_frames) = self.max_frames {
             experiment.keep_first_frames(n_frames);
             experiment.check_warm_up()?;
         }
-        let choice_label = plan.choice(k).map(|c| experiment::choice_label(c));
-        if let Some(label) = &choice_label {
-            progress.point(k, plan.n_points(), label);
+        Ok(experiment)
+    }
+}
+
+/// The output folder: the one given, or `out/<default_folder>`; normalised, so that `out/.`
+/// names `out`, whose rename is what commits the run.
+fn normalised_out_dir(given: Option<&Path>, default_folder: &str) -> PathBuf {
+    given
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| Path::new("out").join(default_folder))
+        .components()
+        .collect()
+}
+
+/// The outputs of a run (or of merged shards) being assembled point by point: each point's
+/// files are written as it is added, the sweep's own files and the commit at the end.
+struct RunAssembly {
+    outcome: RunOutcome,
+    sweep_points: Vec<SweepPoint>,
+    record: RunRecord,
+}
+
+impl RunAssembly {
+    fn new(plan: &Plan, out_dir: PathBuf, threads: usize, record: RunRecord) -> RunAssembly {
+        RunAssembly {
+            outcome: RunOutcome {
+                out_dir,
+                experiment_name: plan.name().to_string(),
+                frames: 0,
+                meshes: 0,
+                goal_flags: Vec::new(),
+                speed_violation_frames: Vec::new(),
+                preprocessing_seconds: 0.0,
+                threads,
+                points: Vec::new(),
+            },
+            sweep_points: Vec::new(),
+            record,
         }
-        let point = run_point(&experiment, &pool, progress)?;
+    }
+
+    /// Writes point `k`'s outputs into its folder under `top` and keeps its figures.
+    fn add_point(
+        &mut self,
+        (k, plan_choice): (usize, Option<&SweepChoice>),
+        experiment: &Experiment,
+        point: PointRun,
+        top: &Path,
+    ) -> Result<(), RunFailure> {
+        let choice_label = plan_choice.map(|c| experiment::choice_label(c));
         let context = OutputContext {
-            experiment: &experiment,
+            experiment,
             preprocessing: &point.preprocessing,
             hierarchy_bytes: point.hierarchy_bytes,
-            record: &record,
+            record: &self.record,
         };
-        let folder = match plan.choice(k) {
-            Some(choice) => point_folder(choice),
-            None => String::new(),
-        };
-        let point_dir = staging.path().join(&folder);
+        let folder = plan_choice.map(|c| point_folder(c)).unwrap_or_default();
+        let point_dir = top.join(&folder);
         let figures = write_outputs(&context, &point.results, &point_dir)?;
+        let outcome = &mut self.outcome;
         outcome.frames += experiment.flight.n_frames();
         outcome.meshes += experiment.flight.n_frames() * experiment.algorithms.len() as u64;
         for (spec, result) in experiment.algorithms.iter().zip(&point.results) {
             // Over the summarised frames, as report.md and summary.json judge it.
             let all = RunColumns {
                 label: &spec.label,
-                extra_columns: result.extra_columns,
+                extra_columns: &result.extra_columns,
                 frames: &result.frames,
             };
             let run = summarised_runs(&[all], experiment.warm_up_frames).remove(0);
@@ -263,8 +348,8 @@ pub fn run_experiment(
             entries: figures.clone(),
             below_ground_frames: experiment.below_ground_frames.clone(),
         });
-        if let Some(choice) = plan.choice(k) {
-            sweep_points.push(SweepPoint {
+        if let Some(choice) = plan_choice {
+            self.sweep_points.push(SweepPoint {
                 choice: choice.clone(),
                 folder,
                 side: experiment.field.side(),
@@ -275,29 +360,296 @@ pub fn run_experiment(
                 entries: figures,
             });
         }
+        Ok(())
     }
-    if plan.is_sweep() {
-        let top = staging.path();
-        let sweep = SweepRun {
-            name: plan.name(),
-            description: plan.description(),
-            file: path,
-            content_sha256: plan.content_sha256(),
-            record: &record,
-            points: &sweep_points,
-        };
-        let summary_path = top.join("summary.json");
-        let text = serde_json::to_string_pretty(&sweep_summary_json(&sweep)).unwrap_or_default();
-        std::fs::write(&summary_path, text + "\n").map_err(io_error(&summary_path))?;
-        let report_path = top.join("report.md");
-        std::fs::write(&report_path, sweep_report_markdown(&sweep))
-            .map_err(io_error(&report_path))?;
-        let plots = top.join("plots");
-        std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
-        write_sweep_plots(&plots, &sweep)?;
+
+    /// Writes the sweep's own files (for a sweep) and moves the folder into place.
+    fn finish(self, path: &Path, staging: StagedDir) -> Result<RunOutcome, RunFailure> {
+        // The plan is read again only for its name, description and hash, which every point
+        // shares.
+        let plan = experiment::plan(path)?;
+        if plan.is_sweep() {
+            let top = staging.path();
+            let sweep = SweepRun {
+                name: plan.name(),
+                description: plan.description(),
+                file: path,
+                content_sha256: plan.content_sha256(),
+                record: &self.record,
+                points: &self.sweep_points,
+            };
+            let summary_path = top.join("summary.json");
+            let text =
+                serde_json::to_string_pretty(&sweep_summary_json(&sweep)).unwrap_or_default();
+            std::fs::write(&summary_path, text + "\n").map_err(io_error(&summary_path))?;
+            let report_path = top.join("report.md");
+            std::fs::write(&report_path, sweep_report_markdown(&sweep))
+                .map_err(io_error(&report_path))?;
+            let plots = top.join("plots");
+            std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
+            write_sweep_plots(&plots, &sweep)?;
+        }
+        staging.commit()?;
+        Ok(self.outcome)
     }
+}
+
+/// What a shard runs with.
+struct ShardRun<'a> {
+    shard: ShardSpec,
+    settings: PointSettings,
+    options: &'a RunOptions,
+    pool: &'a rayon::ThreadPool,
+    threads: usize,
+}
+
+/// Runs shard `shard` of the plan: the entries of its units, point by point, and writes their
+/// raw results to `shard.json` in the staged folder.
+fn run_shard(
+    path: &Path,
+    plan: &Plan,
+    run: &ShardRun,
+    progress: &dyn ProgressSink,
+    (out_dir, staging): (PathBuf, StagedDir),
+) -> Result<RunOutcome, RunFailure> {
+    let ShardRun {
+        shard,
+        settings,
+        options,
+        pool,
+        threads,
+    } = *run;
+    let file = std::fs::canonicalize(path).map_err(|source| RunFailure::Output {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    // Units in order: (point, entry). Counting entries needs only the checked plan.
+    let mut units = Vec::new();
+    for k in 0..plan.n_points() {
+        units.extend((0..plan.n_entries(k)).map(|e| (k, e)));
+    }
+    let mine = &units[shard.units(units.len())];
+    let mut file_out = ShardFile::new(
+        ShardExperiment {
+            name: plan.name().to_string(),
+            file,
+            file_as_given: path.to_path_buf(),
+            content_sha256: plan.content_sha256().to_string(),
+        },
+        shard,
+        options.max_frames,
+        options.check_meshes,
+        threads,
+        options.command_line.clone(),
+    );
+    let mut outcome = RunOutcome {
+        out_dir,
+        experiment_name: plan.name().to_string(),
+        frames: 0,
+        meshes: 0,
+        goal_flags: Vec::new(),
+        speed_violation_frames: Vec::new(),
+        preprocessing_seconds: 0.0,
+        threads,
+        points: Vec::new(),
+    };
+    for k in 0..plan.n_points() {
+        let entries: Vec<usize> = mine
+            .iter()
+            .filter(|(point, _)| *point == k)
+            .map(|(_, entry)| *entry)
+            .collect();
+        if entries.is_empty() {
+            continue;
+        }
+        let experiment = settings.load_point(plan, k)?;
+        if let Some(choice) = plan.choice(k) {
+            progress.point(k, plan.n_points(), &experiment::choice_label(choice));
+        }
+        let point = run_point(&experiment, &entries, pool, progress)?;
+        outcome.frames += experiment.flight.n_frames();
+        outcome.meshes += experiment.flight.n_frames() * entries.len() as u64;
+        outcome.preprocessing_seconds += point.preprocessing.seconds;
+        file_out.points.push(ShardPoint {
+            point: k,
+            preprocessing_seconds_bits: point.preprocessing.seconds.to_bits(),
+            bytes_per_sample_bits: point.preprocessing.bytes_per_sample.to_bits(),
+            hierarchy_bytes_bits: point.hierarchy_bytes.to_bits(),
+            violation_frames: point.violation_frames,
+            entries: entries
+                .iter()
+                .zip(point.results)
+                .map(|(&entry, result)| ShardEntry {
+                    entry,
+                    label: experiment.algorithms[entry].label.clone(),
+                    memory_bytes: result.memory_bytes,
+                    preprocessing_seconds_bits: result.preprocessing.seconds.to_bits(),
+                    bytes_per_sample_bits: result.preprocessing.bytes_per_sample.to_bits(),
+                    extra_columns: result.extra_columns.iter().map(|c| c.to_string()).collect(),
+                    facts: result
+                        .facts
+                        .iter()
+                        .map(|(name, value)| (name.to_string(), value.to_bits()))
+                        .collect(),
+                    meshes: result.meshes,
+                    frames: result.frames.iter().map(encode_frame).collect(),
+                })
+                .collect(),
+        });
+    }
+    let shard_path = staging.path().join(SHARD_FILE);
+    let text = serde_json::to_string(&file_out).unwrap_or_default() + "\n";
+    std::fs::write(&shard_path, text).map_err(io_error(&shard_path))?;
     staging.commit()?;
     Ok(outcome)
+}
+
+/// How to merge.
+#[derive(Clone, Debug, Default)]
+pub struct MergeOptions {
+    /// Output folder; by default `out/<experiment name>`.
+    pub out_dir: Option<PathBuf>,
+    /// The command line that asked for the merge, recorded in `summary.json`.
+    pub command_line: Option<Vec<String>>,
+}
+
+/// Merges shard folders into the outputs one run of the whole experiment writes (see
+/// [`crate::edge::shard`]): every check first, then each point's terrain and flight loaded
+/// again for the writers, nothing simulated.
+pub fn merge_shards(
+    folders: &[PathBuf],
+    options: &MergeOptions,
+    progress: &dyn ProgressSink,
+) -> Result<RunOutcome, RunFailure> {
+    let shards = read_complete_set(folders)?;
+    let (first_folder, first) = &shards[0];
+    let path = first.experiment.file_to_read();
+    let plan = experiment::plan(&path)?;
+    if plan.content_sha256() != first.experiment.content_sha256 {
+        return Err(MergeError::ExperimentChanged {
+            path,
+            now: plan.content_sha256().to_string(),
+            then: first.experiment.content_sha256.clone(),
+        }
+        .into());
+    }
+    // Every unit exactly once, before anything is loaded or written.
+    let mut units: Vec<Vec<Option<(&ShardPoint, &ShardEntry)>>> = (0..plan.n_points())
+        .map(|k| vec![None; plan.n_entries(k)])
+        .collect();
+    for (folder, shard) in &shards {
+        let inconsistent = |problem: String| MergeError::Inconsistent {
+            path: folder.join(SHARD_FILE),
+            problem,
+        };
+        for point in &shard.points {
+            let slots = units.get_mut(point.point).ok_or_else(|| {
+                inconsistent(format!(
+                    "point {} is not in the experiment ({} points)",
+                    point.point,
+                    plan.n_points()
+                ))
+            })?;
+            for entry in &point.entries {
+                let n_slots = slots.len();
+                let slot = slots.get_mut(entry.entry).ok_or_else(|| {
+                    inconsistent(format!(
+                        "entry {} of point {} is not in the experiment ({n_slots} entries)",
+                        entry.entry, point.point
+                    ))
+                })?;
+                if slot.is_some() {
+                    return Err(inconsistent(format!(
+                        "entry {} of point {} is in two shards",
+                        entry.entry, point.point
+                    ))
+                    .into());
+                }
+                *slot = Some((point, entry));
+            }
+        }
+    }
+    let out_dir = normalised_out_dir(options.out_dir.as_deref(), plan.name());
+    let staging = StagedDir::new(&out_dir)?;
+    let settings = PointSettings {
+        check_meshes: first.check_meshes,
+        max_frames: first.max_frames,
+    };
+    let record = RunRecord {
+        threads: first.threads,
+        check_meshes: first.check_meshes,
+        command_line: options.command_line.clone(),
+    };
+    let mut assembly = RunAssembly::new(&plan, out_dir, first.threads, record);
+    for (k, slots) in units.iter().enumerate() {
+        let experiment = settings.load_point(&plan, k)?;
+        if let Some(choice) = plan.choice(k) {
+            progress.point(k, plan.n_points(), &experiment::choice_label(choice));
+        }
+        let mut results = Vec::new();
+        let mut point_facts = None;
+        for (e, slot) in slots.iter().enumerate() {
+            let Some((point, entry)) = slot else {
+                return Err(MergeError::Inconsistent {
+                    path: first_folder.join(SHARD_FILE),
+                    problem: format!(
+                        "no shard ran entry {e} of point {k} ({:?}): were the shards made by \
+                         another roamsim?",
+                        experiment.algorithms[e].label
+                    ),
+                }
+                .into());
+            };
+            let label = &experiment.algorithms[e].label;
+            if &entry.label != label {
+                return Err(MergeError::Inconsistent {
+                    path: first_folder.join(SHARD_FILE),
+                    problem: format!(
+                        "entry {e} of point {k} is {:?} in a shard, {label:?} in the experiment",
+                        entry.label
+                    ),
+                }
+                .into());
+            }
+            point_facts.get_or_insert(*point);
+            let frames = entry
+                .decode_frames()
+                .map_err(|problem| MergeError::Inconsistent {
+                    path: first_folder.join(SHARD_FILE),
+                    problem,
+                })?;
+            results.push(AlgorithmResult {
+                memory_bytes: entry.memory_bytes,
+                preprocessing: Preprocessing {
+                    seconds: f64::from_bits(entry.preprocessing_seconds_bits),
+                    bytes_per_sample: f64::from_bits(entry.bytes_per_sample_bits),
+                },
+                frames,
+                extra_columns: entry.extra_columns.iter().map(String::as_str).collect(),
+                facts: entry
+                    .facts
+                    .iter()
+                    .map(|(name, bits)| (name.as_str(), f64::from_bits(*bits)))
+                    .collect(),
+                meshes: entry.meshes.clone(),
+            });
+        }
+        // The point's own figures from the first shard that ran any of its entries.
+        let Some(point) = point_facts else {
+            continue;
+        };
+        let run = PointRun {
+            preprocessing: Preprocessing {
+                seconds: f64::from_bits(point.preprocessing_seconds_bits),
+                bytes_per_sample: f64::from_bits(point.bytes_per_sample_bits),
+            },
+            hierarchy_bytes: f64::from_bits(point.hierarchy_bytes_bits),
+            violation_frames: point.violation_frames.clone(),
+            results,
+        };
+        assembly.add_point((k, plan.choice(k)), &experiment, run, staging.path())?;
+    }
+    assembly.finish(&path, staging)
 }
 
 /// A folder name for a sweep point: `parameter=value` pairs joined by `_`, anything but letters,
@@ -340,18 +692,21 @@ fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> RunFailure + use<> {
 }
 
 /// One point's run: preprocessing and every entry's result.
-struct PointRun {
+struct PointRun<'a> {
     preprocessing: Preprocessing,
     hierarchy_bytes: f64,
     violation_frames: Vec<u64>,
-    results: Vec<AlgorithmResult>,
+    results: Vec<AlgorithmResult<'a>>,
 }
 
-fn run_point(
-    experiment: &Experiment,
+/// Runs the entries `entries` (indices into the experiment's algorithms, in order) of one
+/// point; their results in the same order.
+fn run_point<'a>(
+    experiment: &'a Experiment,
+    entries: &[usize],
     pool: &rayon::ThreadPool,
     progress: &dyn ProgressSink,
-) -> Result<PointRun, RunFailure> {
+) -> Result<PointRun<'a>, RunFailure> {
     let start = Instant::now();
     let hierarchy = Hierarchy::new(experiment.field.clone());
     let preprocessing = Preprocessing {
@@ -368,10 +723,11 @@ fn run_point(
         max_triangles: Some(experiment.max_triangles),
     };
     let n_frames = experiment.flight.n_frames();
-    progress.entries(experiment.algorithms.len());
-    progress.start(n_frames * experiment.algorithms.len() as u64);
+    progress.entries(entries.len());
+    progress.start(n_frames * entries.len() as u64);
     let n_samples = experiment.field.n_samples() as f64;
-    let run_one = |(k, spec): (usize, &AlgorithmSpec)| -> Result<AlgorithmResult, RunError> {
+    let run_one = |k: usize| -> Result<AlgorithmResult<'a>, RunError> {
+        let spec: &AlgorithmSpec = &experiment.algorithms[k];
         let start = Instant::now();
         let mut algorithm = spec
             .config
@@ -424,19 +780,13 @@ fn run_point(
             memory_bytes: algorithm.memory_bytes(),
             preprocessing,
             frames,
-            extra_columns: algorithm.extra_columns(),
+            extra_columns: algorithm.extra_columns().to_vec(),
             facts: algorithm.run_facts(),
             meshes,
         })
     };
-    let results: Vec<Result<AlgorithmResult, RunError>> = pool.install(|| {
-        experiment
-            .algorithms
-            .par_iter()
-            .enumerate()
-            .map(run_one)
-            .collect()
-    });
+    let results: Vec<Result<AlgorithmResult, RunError>> =
+        pool.install(|| entries.par_iter().map(|&k| run_one(k)).collect());
     progress.finish();
     let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
     Ok(PointRun {
@@ -447,14 +797,14 @@ fn run_point(
     })
 }
 
-/// One algorithm's run.
-struct AlgorithmResult {
+/// One algorithm's run (names borrowed from the algorithm, or from a shard file when merging).
+struct AlgorithmResult<'a> {
     memory_bytes: usize,
     /// Building the algorithm (its own tables and trees) before the first frame.
     preprocessing: Preprocessing,
     frames: Vec<FrameStats>,
-    extra_columns: &'static [&'static str],
-    facts: Vec<(&'static str, f64)>,
+    extra_columns: Vec<&'a str>,
+    facts: Vec<(&'a str, f64)>,
     /// Exported meshes: frame and PLY text.
     meshes: Vec<(u64, String)>,
 }
@@ -483,7 +833,7 @@ fn write_outputs(
         .zip(results)
         .map(|(spec, result)| RunColumns {
             label: &spec.label,
-            extra_columns: result.extra_columns,
+            extra_columns: &result.extra_columns,
             frames: &result.frames,
         })
         .collect();

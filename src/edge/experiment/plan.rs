@@ -132,6 +132,11 @@ impl Plan {
         &self.content_sha256
     }
 
+    /// The number of algorithm entries of point `k`.
+    pub fn n_entries(&self, k: usize) -> usize {
+        self.points[k].checked.algorithms.len()
+    }
+
     /// The swept values of point `k` (`None` without a sweep).
     pub fn choice(&self, k: usize) -> Option<&SweepChoice> {
         self.points[k].choice.as_ref()

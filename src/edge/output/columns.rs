@@ -73,15 +73,15 @@ pub const TIMING_COLUMNS: &[&str] = &["update_ns"];
 /// One algorithm's frames with the names of its extra columns.
 pub struct RunColumns<'a> {
     pub label: &'a str,
-    pub extra_columns: &'a [&'static str],
+    pub extra_columns: &'a [&'a str],
     pub frames: &'a [FrameStats],
 }
 
 /// The numeric columns of a run (everything but `algorithm` and `frame`).
-pub fn numeric_columns(runs: &[RunColumns], audited: bool) -> Vec<&'static str> {
+pub fn numeric_columns<'a>(runs: &[RunColumns<'a>], audited: bool) -> Vec<&'a str> {
     let any_frame =
         |has: &dyn Fn(&FrameStats) -> bool| runs.iter().any(|r| r.frames.iter().any(has));
-    let mut names: Vec<&'static str> = COMMON_COLUMNS.to_vec();
+    let mut names: Vec<&'a str> = COMMON_COLUMNS.to_vec();
     if any_frame(&|f| f.mesh.is_some() || f.vertices_changed.is_some()) {
         names.extend_from_slice(MESH_COLUMNS);
     }

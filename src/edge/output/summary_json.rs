@@ -61,7 +61,7 @@ pub fn summary_json(
     runs: &[RunColumns],
     parameters: &[Value],
     names: &[&str],
-    facts: &[Vec<(&'static str, f64)>],
+    facts: &[Vec<(&str, f64)>],
     entry_preprocessing: &[Preprocessing],
 ) -> Value {
     let audited = experiment.effects.audit.is_some();
