@@ -12,7 +12,7 @@ use roamsim::edge::experiment::TerrainReport;
 use roamsim::edge::output::end_of_run::end_of_run_text;
 use roamsim::edge::progress::LineProgress;
 use roamsim::edge::session::{
-    MergeOptions, ProgressSink, RunOptions, RunOutcome, merge_shards, run_experiment,
+    MergeOptions, ProgressSink, RunOptions, RunOutcome, Timing, merge_shards, run_experiment,
 };
 use roamsim::edge::shard::{SHARD_FILE, ShardSpec};
 use roamsim::edge::terrain_info::{describe_preprocessing, describe_terrain};
@@ -80,6 +80,16 @@ enum Command {
         /// `roamsim merge`; see docs/sharding.md.
         #[arg(long, value_name = "K/N", value_parser = ShardSpec::parse)]
         shard: Option<ShardSpec>,
+        /// Time the updates in N timing passes (each entry flown again with every effect off;
+        /// frames.csv gets each frame's median, summary.json the passes' spread). Without it,
+        /// one timing pass runs when any effect (audit, culling, --check, mesh export) is on.
+        #[arg(long, value_name = "N", default_value_t = 1,
+              value_parser = clap::value_parser!(u32).range(1..))]
+        repeat: u32,
+        /// Keep the update times measured with the effects on (no timing pass: faster, but
+        /// the effects inflate the times).
+        #[arg(long, conflicts_with = "repeat")]
+        time_with_effects: bool,
     },
     /// Merge the N shard folders of `run --shard K/N` into the outputs one run of the whole
     /// experiment writes (identical apart from timings and run metadata).
@@ -226,6 +236,8 @@ fn main() -> ExitCode {
             threads,
             frames,
             shard,
+            repeat,
+            time_with_effects,
         } => run(
             &experiment,
             RunOptions {
@@ -235,6 +247,10 @@ fn main() -> ExitCode {
                 command_line: Some(command_line()),
                 max_frames: frames,
                 shard,
+                timing: Timing {
+                    repeat,
+                    with_effects: time_with_effects,
+                },
             },
         ),
         Command::Merge { shards, out } => merge(&shards, out),

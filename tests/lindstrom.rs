@@ -618,6 +618,7 @@ fn a_checked_run_of_the_real_tile_writes_the_lindstrom_columns() {
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     roamsim::edge::session::run_experiment(&path, &options, &roamsim::edge::session::NoProgress)
         .unwrap();

@@ -634,6 +634,7 @@ fn a_checked_run_of_the_real_tile_writes_the_rottger_columns_and_facts() {
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     roamsim::edge::session::run_experiment(&path, &options, &roamsim::edge::session::NoProgress)
         .unwrap();

@@ -20,6 +20,7 @@ fn run_with_threads(experiment: &Path, out: &Path, check_meshes: bool, threads: 
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     run_experiment(experiment, &options, &NoProgress).unwrap();
 }
@@ -125,7 +126,7 @@ fn popping_mesh_exports_and_each_entrys_preprocessing_are_written_when_asked() {
     experiment["algorithms"]
         .as_array_mut()
         .unwrap()
-        .retain(|a| !matches!(a["name"].as_str(), Some("geomipmap" | "chunked")));
+        .retain(|a| !matches!(a["name"].as_str(), Some("geomipmap" | "chunked" | "vanek")));
     experiment["effects"]["audit"]["popping"] = serde_json::json!(true);
     experiment["outputs"] = serde_json::json!({"meshes": {"frames": [5, 0], "entries": ["wu"]}});
     let path = save(dir.path(), "exports", &experiment);
@@ -543,6 +544,7 @@ fn a_point_that_cannot_run_is_named_and_nothing_is_written() {
             command_line: None,
             max_frames: None,
             shard: None,
+            timing: Default::default(),
         },
         &NoProgress,
     )
@@ -705,6 +707,7 @@ fn an_output_path_taken_by_a_file_is_refused_before_the_run_and_the_file_kept() 
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -739,6 +742,7 @@ fn run_refused(experiment: &Path, out: &Path) -> String {
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     let error = run_experiment(experiment, &options, &watch)
         .err()
@@ -822,6 +826,7 @@ fn zero_threads_is_refused() {
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     let error = run_experiment(&short, &options, &NoProgress)
         .err()
@@ -915,6 +920,7 @@ fn an_entry_outgrowing_the_declared_triangle_limit_stops_the_run_with_a_clear_me
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     let error = run_experiment(&path, &options, &NoProgress)
         .err()

@@ -135,6 +135,7 @@ fn run_quietly(path: &Path, out: &Path) -> Result<(), String> {
         max_frames: None,
         command_line: None,
         shard: None,
+        timing: Default::default(),
     };
     roamsim::edge::session::run_experiment(path, &options, &roamsim::edge::session::NoProgress)
         .map(|_| ())

@@ -101,6 +101,7 @@ fn a_run_lists_the_violations_and_roam_revalidates_exactly_there() {
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     let outcome = run_experiment(&path, &options, &NoProgress).unwrap();
     assert_eq!(outcome.speed_violation_frames, vec![5, 8]);
@@ -161,6 +162,7 @@ fn a_nan_pose_is_refused_before_the_run_with_its_line() {
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     assert!(run_experiment(&path, &options, &NoProgress).is_err());
     assert!(
@@ -227,6 +229,7 @@ fn a_turn_faster_than_the_rotation_bound_is_reported_as_a_rotation_violation() {
         command_line: None,
         max_frames: None,
         shard: None,
+        timing: Default::default(),
     };
     run_experiment(&path, &options, &NoProgress).unwrap();
     let summary: Value =

@@ -35,8 +35,8 @@ use crate::edge::shard::{
     read_complete_set,
 };
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::run::{RunError, RunInputs, run_algorithm_with};
-use crate::sim::stats::FrameStats;
+use crate::sim::run::{CheckError, Effects, RunError, RunInputs, run_algorithm_with};
+use crate::sim::stats::{FrameStats, summarise};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -124,6 +124,48 @@ pub struct RunOptions {
     /// Run only this part of the experiment and write its raw results (`--shard K/N`); see
     /// [`crate::edge::shard`].
     pub shard: Option<ShardSpec>,
+    /// How update times are measured.
+    pub timing: Timing,
+}
+
+/// How update times are measured (`--repeat N`, `--time-with-effects`).
+///
+/// The effects between two updates (the audit above all, also culling, mesh checks and
+/// exports) evict the algorithm's data from the caches and inflate its next update by up to
+/// 1.5–2×. So by default, when any effect is on, each entry's flight is flown again from a
+/// fresh algorithm with every effect off — a **timing pass** — and its update times replace
+/// the measured pass's (the counts and meshes come from the measured pass; the timing pass
+/// must draw the same triangle counts, else the run stops). `repeat` = N runs N timing
+/// passes (even with no effect on): frames.csv's `update_ns` is each frame's median over the
+/// passes, and summary.json's facts give the passes' medians (their median, least and
+/// greatest): the spread of the figure a paper would quote.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Timing {
+    /// Timing passes (at least 1).
+    pub repeat: u32,
+    /// Keep the measured pass's times (no timing pass; `repeat` must be 1).
+    pub with_effects: bool,
+}
+
+impl Default for Timing {
+    fn default() -> Timing {
+        Timing {
+            repeat: 1,
+            with_effects: false,
+        }
+    }
+}
+
+impl Timing {
+    /// The timing passes an entry needs: none when its measured pass is already clean (no
+    /// effect on) and one pass is asked for, or when the effects' times are kept.
+    fn passes(&self, effects_on: bool) -> u32 {
+        if self.with_effects || (!effects_on && self.repeat == 1) {
+            0
+        } else {
+            self.repeat
+        }
+    }
 }
 
 /// What a finished run produced.
@@ -163,6 +205,10 @@ pub enum RunFailure {
     Plot(#[from] PlotError),
     #[error("--threads must be at least 1 (leave it out for one thread per core)")]
     ZeroThreads,
+    #[error("--repeat must be at least 1")]
+    ZeroRepeat,
+    #[error("--repeat {0} asks for timing passes, --time-with-effects for none: give one of them")]
+    RepeatWithEffects(u32),
     #[error("cannot start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
     #[error("{0}")]
@@ -194,6 +240,14 @@ pub fn run_experiment(
     if options.threads == Some(0) {
         return Err(RunFailure::ZeroThreads);
     }
+    match options.timing {
+        Timing { repeat: 0, .. } => return Err(RunFailure::ZeroRepeat),
+        Timing {
+            repeat,
+            with_effects: true,
+        } if repeat > 1 => return Err(RunFailure::RepeatWithEffects(repeat)),
+        _ => {}
+    }
     let threads = options
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -210,6 +264,7 @@ pub fn run_experiment(
     let settings = PointSettings {
         check_meshes: options.check_meshes,
         max_frames: options.max_frames,
+        timing: options.timing,
     };
     if let Some(shard) = options.shard {
         let run = ShardRun {
@@ -233,7 +288,7 @@ pub fn run_experiment(
             progress.point(k, plan.n_points(), &experiment::choice_label(choice));
         }
         let entries: Vec<usize> = (0..experiment.algorithms.len()).collect();
-        let point = run_point(&experiment, &entries, &pool, progress)?;
+        let point = run_point(&experiment, &entries, settings.timing, &pool, progress)?;
         assembly.add_point((k, plan.choice(k)), &experiment, point, staging.path())?;
     }
     assembly.finish(path, staging)
@@ -244,6 +299,7 @@ pub fn run_experiment(
 struct PointSettings {
     check_meshes: bool,
     max_frames: Option<u64>,
+    timing: Timing,
 }
 
 impl PointSettings {
@@ -466,7 +522,7 @@ fn run_shard(
         if let Some(choice) = plan.choice(k) {
             progress.point(k, plan.n_points(), &experiment::choice_label(choice));
         }
-        let point = run_point(&experiment, &entries, pool, progress)?;
+        let point = run_point(&experiment, &entries, settings.timing, pool, progress)?;
         outcome.frames += experiment.flight.n_frames();
         outcome.meshes += experiment.flight.n_frames() * entries.len() as u64;
         outcome.preprocessing_seconds += point.preprocessing.seconds;
@@ -574,6 +630,7 @@ pub fn merge_shards(
     let settings = PointSettings {
         check_meshes: first.check_meshes,
         max_frames: first.max_frames,
+        timing: Timing::default(),
     };
     let record = RunRecord {
         threads: first.threads,
@@ -704,6 +761,7 @@ struct PointRun<'a> {
 fn run_point<'a>(
     experiment: &'a Experiment,
     entries: &[usize],
+    timing: Timing,
     pool: &rayon::ThreadPool,
     progress: &dyn ProgressSink,
 ) -> Result<PointRun<'a>, RunFailure> {
@@ -723,8 +781,20 @@ fn run_point<'a>(
         max_triangles: Some(experiment.max_triangles),
     };
     let n_frames = experiment.flight.n_frames();
+    let exported = |k: usize| {
+        experiment
+            .mesh_exports
+            .as_ref()
+            .is_some_and(|exports| exports.entries.contains(&k) && !exports.frames.is_empty())
+    };
+    let effects = experiment.effects;
+    let effects_on = |k: usize| {
+        effects.audit.is_some() || effects.culling || effects.check_meshes || exported(k)
+    };
+    let timing_passes = |k: usize| timing.passes(effects_on(k));
+    let passes_in_all: u64 = entries.iter().map(|&k| u64::from(timing_passes(k))).sum();
     progress.entries(entries.len());
-    progress.start(n_frames * entries.len() as u64);
+    progress.start(n_frames * (entries.len() as u64 + passes_in_all));
     let n_samples = experiment.field.n_samples() as f64;
     let run_one = |k: usize| -> Result<AlgorithmResult<'a>, RunError> {
         let spec: &AlgorithmSpec = &experiment.algorithms[k];
@@ -775,13 +845,48 @@ fn run_point<'a>(
                 }
             },
         )?;
+        let mut frames = frames;
+        let mut facts = algorithm.run_facts();
+        let passes = timing_passes(k);
+        facts.push(("timing_passes", f64::from(passes)));
+        if passes > 0 {
+            let clean = RunInputs {
+                effects: Effects {
+                    audit: None,
+                    culling: false,
+                    check_meshes: false,
+                },
+                ..inputs
+            };
+            let mut pass_times = Vec::new();
+            for _ in 0..passes {
+                let mut fresh = spec
+                    .config
+                    .build(&hierarchy, &experiment.view, experiment.speed);
+                let mut reported = 0;
+                let timed =
+                    run_algorithm_with(&clean, &spec.label, fresh.as_mut(), &mut |outcome, _| {
+                        let done = outcome.stats.frame + 1;
+                        if done.is_multiple_of(16) || done == n_frames {
+                            progress.advance(done - reported);
+                            reported = done;
+                        }
+                    })?;
+                pass_times.push(same_counts_timed(&spec.label, &frames, &timed)?);
+            }
+            facts.extend(take_pass_times(
+                &mut frames,
+                &pass_times,
+                experiment.warm_up_frames,
+            ));
+        }
         progress.entry_finished();
         Ok(AlgorithmResult {
             memory_bytes: algorithm.memory_bytes(),
             preprocessing,
             frames,
             extra_columns: algorithm.extra_columns().to_vec(),
-            facts: algorithm.run_facts(),
+            facts,
             meshes,
         })
     };
@@ -795,6 +900,66 @@ fn run_point<'a>(
         violation_frames,
         results,
     })
+}
+
+/// A timing pass's update times, when it drew the measured pass's triangle counts frame by
+/// frame (else the run stops: an algorithm must decide alike on every pass).
+fn same_counts_timed(
+    label: &str,
+    measured: &[FrameStats],
+    timed: &[FrameStats],
+) -> Result<Vec<u64>, RunError> {
+    for (m, t) in measured.iter().zip(timed) {
+        if m.triangles != t.triangles {
+            return Err(RunError {
+                algorithm: label.to_string(),
+                frame: m.frame,
+                error: CheckError::TimingPassDiverged {
+                    measured: m.triangles,
+                    timed: t.triangles,
+                },
+            });
+        }
+    }
+    Ok(timed.iter().map(|f| f.update_ns).collect())
+}
+
+/// Puts each frame's median (nearest rank) over the timing passes into `frames`, and returns
+/// the facts of the spread: the median update time of each pass over the summarised frames
+/// (after `warm_up_frames`), and those medians' median, least and greatest, in µs.
+fn take_pass_times(
+    frames: &mut [FrameStats],
+    pass_times: &[Vec<u64>],
+    warm_up_frames: u64,
+) -> Vec<(&'static str, f64)> {
+    let mut at_frame = Vec::with_capacity(pass_times.len());
+    for (k, frame) in frames.iter_mut().enumerate() {
+        at_frame.clear();
+        at_frame.extend(pass_times.iter().map(|pass| pass[k]));
+        at_frame.sort_unstable();
+        frame.update_ns = at_frame[at_frame.len().div_ceil(2) - 1];
+    }
+    let skip = usize::try_from(warm_up_frames).unwrap_or(usize::MAX);
+    let medians: Vec<f64> = pass_times
+        .iter()
+        .filter_map(|pass| {
+            let summarised: Vec<f64> = pass.iter().skip(skip).map(|&ns| ns as f64).collect();
+            summarise(&summarised).map(|s| s.p50 / 1e3)
+        })
+        .collect();
+    match summarise(&medians) {
+        Some(spread) => vec![
+            ("update_p50_us_median_of_passes", spread.p50),
+            ("update_p50_us_least_of_passes", least(&medians)),
+            ("update_p50_us_greatest_of_passes", spread.max),
+        ],
+        None => Vec::new(),
+    }
+}
+
+/// The least value of a non-empty slice.
+fn least(values: &[f64]) -> f64 {
+    values.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
 /// One algorithm's run (names borrowed from the algorithm, or from a shard file when merging).
@@ -925,6 +1090,77 @@ fn write_outputs(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn frames_with(triangles: &[u64], update_ns: &[u64]) -> Vec<FrameStats> {
+        triangles
+            .iter()
+            .zip(update_ns)
+            .enumerate()
+            .map(|(frame, (&triangles, &update_ns))| FrameStats {
+                frame: frame as u64,
+                triangles,
+                update_ns,
+                ..FrameStats::default()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn each_frame_gets_its_median_over_the_passes_and_the_facts_their_spread() {
+        let mut frames = frames_with(&[10, 20, 30], &[999, 999, 999]);
+        // Three passes; frame 0's times 5, 9, 7 → 7; the passes' medians over frames 1.. (one
+        // warm-up frame): pass 0 {2000, 4000} → 2 µs, pass 1 {1000, 1000} → 1, pass 2
+        // {3000, 5000} → 3.
+        let passes = [
+            vec![5, 2000, 4000],
+            vec![9, 1000, 1000],
+            vec![7, 3000, 5000],
+        ];
+        let facts = take_pass_times(&mut frames, &passes, 1);
+        let times: Vec<u64> = frames.iter().map(|f| f.update_ns).collect();
+        assert_eq!(times, [7, 2000, 4000]);
+        assert_eq!(
+            facts,
+            [
+                ("update_p50_us_median_of_passes", 2.0),
+                ("update_p50_us_least_of_passes", 1.0),
+                ("update_p50_us_greatest_of_passes", 3.0),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_timing_pass_that_draws_other_counts_stops_the_run() {
+        let measured = frames_with(&[10, 20, 30], &[1, 1, 1]);
+        let same = frames_with(&[10, 20, 30], &[4, 5, 6]);
+        assert_eq!(same_counts_timed("a", &measured, &same), Ok(vec![4, 5, 6]));
+        let other = frames_with(&[10, 21, 30], &[4, 5, 6]);
+        let error = same_counts_timed("a", &measured, &other).expect_err("diverged");
+        assert_eq!(error.frame, 1);
+        assert!(
+            error
+                .to_string()
+                .contains("drew 21 triangles where the measured pass drew 20"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn timing_passes_run_when_an_effect_is_on_or_more_than_one_is_asked_for() {
+        let default = Timing::default();
+        assert_eq!(default.passes(true), 1);
+        assert_eq!(default.passes(false), 0);
+        let three = Timing {
+            repeat: 3,
+            with_effects: false,
+        };
+        assert_eq!((three.passes(true), three.passes(false)), (3, 3));
+        let kept = Timing {
+            repeat: 1,
+            with_effects: true,
+        };
+        assert_eq!(kept.passes(true), 0);
+    }
 
     #[test]
     fn a_large_first_frame_or_a_long_projected_run_is_announced_with_its_figures() {

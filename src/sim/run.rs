@@ -67,6 +67,12 @@ pub enum CheckError {
          coarser tolerance, a budget or a target"
     )]
     TooManyTriangles { triangles: u64, limit: u64 },
+    #[error(
+        "a timing pass (the same flight without effects, to time the updates) drew {timed} \
+         triangles where the measured pass drew {measured}: the algorithm's decisions are not \
+         deterministic"
+    )]
+    TimingPassDiverged { measured: u64, timed: u64 },
 }
 
 /// Runs `algorithm` over the whole flight; `progress` is called after every frame with the

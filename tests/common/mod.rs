@@ -6,6 +6,7 @@
 )]
 
 pub mod algorithms;
+pub mod cli;
 pub mod experiment;
 pub mod patches;
 
