@@ -12,6 +12,7 @@ mod common;
 use common::drive;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use roamsim::edge::experiment;
+use roamsim::sim::audit::reference::ReferenceAuditor;
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
@@ -81,6 +82,11 @@ fn audit(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("stride", stride), |b| {
             b.iter(|| auditor.audit(&hierarchy, reference.mesh(), &camera))
         });
+        // The audit as first written, in the same run: the speed-up is the ratio.
+        let mut first_written = ReferenceAuditor::new(&hierarchy, settings(stride, false));
+        group.bench_function(BenchmarkId::new("first_written_stride", stride), |b| {
+            b.iter(|| first_written.audit(&hierarchy, reference.mesh(), &camera))
+        });
     }
     let mut auditor = Auditor::new(&hierarchy, settings(4, true));
     group.bench_function(BenchmarkId::new("stride_popping", 4), |b| {
@@ -98,6 +104,11 @@ fn audit(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("triangle_list_stride", stride), |b| {
             b.iter(|| auditor.audit(&hierarchy, MeshOutput::triangles(&list), &camera))
         });
+        let mut first_written = ReferenceAuditor::new(&hierarchy, settings(stride, false));
+        group.bench_function(
+            BenchmarkId::new("first_written_triangle_list_stride", stride),
+            |b| b.iter(|| first_written.audit(&hierarchy, MeshOutput::triangles(&list), &camera)),
+        );
     }
     group.finish();
 }

@@ -19,7 +19,12 @@ use glam::DVec3;
 /// Length in pixels of the projection of the vertical segment from `base` to `base + (0,0,δ)`,
 /// clipped to the near plane; `None` when it lies entirely behind the near plane.
 pub fn projected_error_px(camera: &Camera, base: DVec3, delta: f64) -> Option<f64> {
-    let a = camera.to_camera(base);
+    projected_error_px_at(camera, camera.to_camera(base), delta)
+}
+
+/// [`projected_error_px`] with the segment's base already in camera coordinates
+/// ([`Camera::to_camera`]), for callers that have it.
+pub fn projected_error_px_at(camera: &Camera, a: DVec3, delta: f64) -> Option<f64> {
     let b = a + camera.direction_to_camera(DVec3::new(0.0, 0.0, delta));
     let near = camera.settings.near;
     let (a, b) = match (a.z >= near, b.z >= near) {

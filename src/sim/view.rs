@@ -65,6 +65,9 @@ pub struct Camera {
     pub settings: ViewSettings,
     tan_half_fovy: f64,
     tan_half_fovx: f64,
+    /// [`ViewSettings::pixels_per_unit`], computed once (a tangent per projection was a tenth
+    /// of the audit's instructions).
+    pixels_per_unit: f64,
 }
 
 impl Camera {
@@ -82,6 +85,7 @@ impl Camera {
             settings,
             tan_half_fovy,
             tan_half_fovx: tan_half_fovy * settings.aspect(),
+            pixels_per_unit: settings.pixels_per_unit(),
         }
     }
 
@@ -103,17 +107,56 @@ impl Camera {
     /// Pixel coordinates (from the image centre, y up) of a camera-space point in front of the
     /// near plane, or `None` behind it.
     pub fn project_camera(&self, c: DVec3) -> Option<DVec2> {
-        (c.z >= self.settings.near)
-            .then(|| DVec2::new(c.x / c.z, c.y / c.z) * self.settings.pixels_per_unit())
+        (c.z >= self.settings.near).then(|| DVec2::new(c.x / c.z, c.y / c.z) * self.pixels_per_unit)
     }
 
     /// Whether a world point lies inside the view volume (frustum between near and far).
     pub fn sees(&self, world: DVec3) -> bool {
-        let c = self.to_camera(world);
+        self.sees_camera(self.to_camera(world))
+    }
+
+    /// [`Camera::sees`] for a point already in camera coordinates ([`Camera::to_camera`]).
+    pub fn sees_camera(&self, c: DVec3) -> bool {
         c.z >= self.settings.near
             && c.z <= self.settings.far
             && c.x.abs() <= c.z * self.tan_half_fovx
             && c.y.abs() <= c.z * self.tan_half_fovy
+    }
+
+    /// Whether every point of the axis-aligned box `[low, high]` surely fails [`Camera::sees`]:
+    /// all eight corners lie outside one plane of the view volume by more than a margin that
+    /// covers the rounding of `sees` (so no point of the box, evaluated as `sees` evaluates it,
+    /// can pass). `false` means "maybe seen". Used to skip whole tiles of samples exactly.
+    pub fn surely_misses_box(&self, low: DVec3, high: DVec3) -> bool {
+        let corners = [0, 1, 2, 3, 4, 5, 6, 7].map(|k: u32| {
+            let pick = |bit: u32, a: f64, b: f64| if k & (1 << bit) == 0 { a } else { b };
+            DVec3::new(
+                pick(0, low.x, high.x),
+                pick(1, low.y, high.y),
+                pick(2, low.z, high.z),
+            )
+        });
+        let c = corners.map(|p| self.to_camera(p));
+        // Rounding of sees() is about 1e-16 of the coordinates' magnitude; the margin is far
+        // above it and far below anything that matters for which tiles are skipped.
+        let magnitude = corners
+            .iter()
+            .map(|p| (*p - self.eye).abs().max_element())
+            .fold(self.eye.abs().max_element(), f64::max);
+        let margin = 1e-9 * (1.0 + magnitude) * (1.0 + self.tan_half_fovx + self.tan_half_fovy);
+        let (tx, ty) = (self.tan_half_fovx, self.tan_half_fovy);
+        let (near, far) = (self.settings.near, self.settings.far);
+        let planes: [&dyn Fn(DVec3) -> f64; 6] = [
+            &|p| p.z - near,
+            &|p| far - p.z,
+            &|p| p.z * tx - p.x,
+            &|p| p.z * tx + p.x,
+            &|p| p.z * ty - p.y,
+            &|p| p.z * ty + p.y,
+        ];
+        planes
+            .iter()
+            .any(|inside| c.iter().all(|&p| inside(p) < -margin))
     }
 
     /// Conservative test of a triangle against the view volume: `false` only when all three

@@ -28,7 +28,97 @@ use super::position::{SUBGRID_BITS, SurfacePoint};
 /// The 4-8 fast path: writes into `heights` (row-major, `lattice_side` per row) the height the
 /// triangle draws at every `stride`-th grid sample inside it or on its edges. The corners must
 /// be grid samples. Zero-area triangles write nothing.
+///
+/// Per row of samples, the span inside the triangle is solved from the three edge functions in
+/// exact integer arithmetic (the same inside test as evaluating them at every sample of the
+/// bounding box, which [`rasterise_lattice_triangle_by_box`] does), and the edge functions are
+/// stepped along it: the same samples get the same heights, bit for bit.
 pub fn rasterise_lattice_triangle(
+    corners: &[SurfacePoint; 3],
+    stride: i64,
+    lattice_side: usize,
+    heights: &mut [f32],
+) {
+    let xy = corners.map(|c| {
+        let (x, y) = c.position.raw();
+        (x >> SUBGRID_BITS, y >> SUBGRID_BITS)
+    });
+    let z = corners.map(|c| f64::from(c.z));
+    let area2 = edge(xy[0], xy[1], xy[2]);
+    if area2 == 0 {
+        return;
+    }
+    let i_min = xy[0].0.min(xy[1].0).min(xy[2].0);
+    let i_max = xy[0].0.max(xy[1].0).max(xy[2].0);
+    let j_min = xy[0].1.min(xy[1].1).min(xy[2].1);
+    let j_max = xy[0].1.max(xy[1].1).max(xy[2].1);
+    let first = |low: i64| (low + stride - 1) / stride * stride;
+    let (i0, j0) = (first(i_min), first(j_min));
+    if i0 > i_max || j0 > j_max {
+        return;
+    }
+    // The edge functions, negated for a clockwise triangle so that inside is "all ≥ 0"; the
+    // height's sum and quotient are then negated in both terms, which IEEE rounding leaves
+    // bit-identical.
+    let sign = area2.signum();
+    let edges = [(xy[1], xy[2]), (xy[2], xy[0]), (xy[0], xy[1])];
+    let step_i = edges.map(|(a, b)| -sign * (b.1 - a.1) * stride);
+    let step_j = edges.map(|(a, b)| sign * (b.0 - a.0) * stride);
+    let mut row_start = edges.map(|(a, b)| sign * edge(a, b, (i0, j0)));
+    let area = (sign * area2) as f64;
+    let n_columns = (i_max - i0) / stride; // the last step along a row
+    let mut j = j0;
+    let mut row_index = (j0 / stride) as usize * lattice_side + (i0 / stride) as usize;
+    while j <= j_max {
+        // Steps n in 0..=n_columns with row_start[k] + n·step_i[k] ≥ 0 for every edge k.
+        let (mut low, mut high) = (0i64, n_columns);
+        for k in 0..3 {
+            let (w, s) = (row_start[k], step_i[k]);
+            if s > 0 {
+                low = low.max(ceil_div(-w, s));
+            } else if s < 0 {
+                high = high.min(floor_div(w, -s));
+            } else if w < 0 {
+                high = -1;
+            }
+        }
+        if low <= high {
+            let mut w = [0i64; 3];
+            for k in 0..3 {
+                w[k] = row_start[k] + low * step_i[k];
+            }
+            let span = row_index + low as usize..=row_index + high as usize;
+            for height in &mut heights[span] {
+                let sum = (sign * w[0]) as f64 * z[0]
+                    + (sign * w[1]) as f64 * z[1]
+                    + (sign * w[2]) as f64 * z[2];
+                *height = (sum / (sign as f64 * area)) as f32;
+                for k in 0..3 {
+                    w[k] += step_i[k];
+                }
+            }
+        }
+        for k in 0..3 {
+            row_start[k] += step_j[k];
+        }
+        j += stride;
+        row_index += lattice_side;
+    }
+}
+
+/// ⌈a / b⌉ for b > 0.
+fn ceil_div(a: i64, b: i64) -> i64 {
+    -floor_div(-a, b)
+}
+
+/// ⌊a / b⌋ for b > 0.
+fn floor_div(a: i64, b: i64) -> i64 {
+    a.div_euclid(b)
+}
+
+/// [`rasterise_lattice_triangle`] as it was first written: every sample of the bounding box
+/// tested. The differential reference of the span solver (and of the audit's figures).
+pub fn rasterise_lattice_triangle_by_box(
     corners: &[SurfacePoint; 3],
     stride: i64,
     lattice_side: usize,

@@ -39,10 +39,12 @@
 //! Cost: O(audited samples + triangles) per frame; buffers are reused across frames, and those
 //! of the general path and of popping are allocated only when first needed.
 
+pub mod reference;
+
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle};
-use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, TriangleRole};
-use crate::sim::metrics::{projected_error_px, view_angle_error_px};
+use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleRole};
+use crate::sim::metrics::{projected_error_px, projected_error_px_at, view_angle_error_px};
 use crate::sim::stats::{AuditFrame, ErrorSummary, PoppingFrame, SurfaceCoverage};
 use crate::sim::view::Camera;
 use glam::DVec3;
@@ -56,11 +58,24 @@ pub struct AuditSettings {
     pub popping: bool,
 }
 
+/// Audited samples per side of a tile: the unit of the exact skip of samples out of view.
+const TILE: usize = 16;
+
 /// Reusable audit state.
 pub struct Auditor {
     stride: usize,
     /// Audited samples per side: the grid side subsampled by `stride`.
     lattice_side: usize,
+    /// Audited columns and rows holding real data (padding excluded).
+    lattice_columns: usize,
+    lattice_rows: usize,
+    /// Per tile of `TILE`² audited samples (row-major, `tiles_x` per row): the box of its
+    /// samples (x, y of its first and last sample, and the height range), to skip the tiles
+    /// the view surely misses.
+    tile_boxes: Vec<(DVec3, DVec3)>,
+    tiles_x: usize,
+    /// Per tile this frame: whether it may be in view.
+    tile_in_view: Vec<bool>,
     /// The drawn height at every audited sample (NaN: a hole, triangle lists only).
     mesh_height: Vec<f32>,
     /// The general path's crack bookkeeping, allocated at the first triangle list.
@@ -106,10 +121,41 @@ impl CrackHeights {
 impl Auditor {
     pub fn new(hierarchy: &Hierarchy, settings: AuditSettings) -> Auditor {
         let stride = settings.stride.max(1) as usize;
-        let lattice_side = (hierarchy.field().side() - 1) / stride + 1;
+        let field = hierarchy.field();
+        let lattice_side = (field.side() - 1) / stride + 1;
+        let lattice_columns = field.data_columns().div_ceil(stride);
+        let lattice_rows = field.data_rows().div_ceil(stride);
+        let tiles_x = lattice_columns.div_ceil(TILE);
+        let tiles_y = lattice_rows.div_ceil(TILE);
+        let mut tile_boxes = Vec::with_capacity(tiles_x * tiles_y);
+        for ty in 0..tiles_y {
+            for tx in 0..tiles_x {
+                let rows = ty * TILE..((ty + 1) * TILE).min(lattice_rows);
+                let columns = tx * TILE..((tx + 1) * TILE).min(lattice_columns);
+                let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+                for lj in rows.clone() {
+                    for li in columns.clone() {
+                        let z = f64::from(field.height(li * stride, lj * stride));
+                        low = low.min(z);
+                        high = high.max(z);
+                    }
+                }
+                let first = field.position(columns.start * stride, rows.start * stride);
+                let last = field.position((columns.end - 1) * stride, (rows.end - 1) * stride);
+                tile_boxes.push((
+                    DVec3::new(first.x, first.y, low),
+                    DVec3::new(last.x, last.y, high),
+                ));
+            }
+        }
         Auditor {
             stride,
             lattice_side,
+            lattice_columns,
+            lattice_rows,
+            tile_in_view: vec![false; tile_boxes.len()],
+            tile_boxes,
+            tiles_x,
             mesh_height: vec![0.0; lattice_side * lattice_side],
             crack: None,
             previous_height: None,
@@ -126,6 +172,9 @@ impl Auditor {
         mesh: MeshOutput,
         camera: &Camera,
     ) -> AuditFrame {
+        for (in_view, &(low, high)) in self.tile_in_view.iter_mut().zip(&self.tile_boxes) {
+            *in_view = !camera.surely_misses_box(low, high);
+        }
         let general = matches!(mesh, MeshOutput::Triangles(_));
         if general {
             self.rasterise_general(hierarchy, mesh);
@@ -148,52 +197,73 @@ impl Auditor {
         });
         let mut popping = PoppingSums::default();
         let previous = self.previous_height.as_deref();
-        for j in (0..field.data_rows()).step_by(stride) {
-            for i in (0..field.data_columns()).step_by(stride) {
-                // The truth: the field's sample.
-                let sample = field.position(i, j);
-                if !camera.sees(sample) {
-                    continue;
-                }
-                let index = (j / stride) * lattice_side + i / stride;
-                let drawn = self.mesh_height[index];
-                if let (Some(coverage), Some(crack)) = (coverage.as_mut(), self.crack.as_ref()) {
-                    let (low, high) = (crack.low[index], crack.high[index]);
-                    if low < high {
-                        let gap = f64::from(high) - f64::from(low);
-                        coverage.crack_samples += 1;
-                        coverage.crack_gap_max_m = coverage.crack_gap_max_m.max(gap);
-                        let base = DVec3::new(sample.x, sample.y, f64::from(low));
-                        if let Some(px) = projected_error_px(camera, base, gap) {
-                            coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
-                        }
-                        let open = crack.uncovered(index);
-                        if open > 0.0 {
-                            coverage.cracks_uncovered += 1;
-                            coverage.crack_uncovered_max_m =
-                                coverage.crack_uncovered_max_m.max(open);
-                            if let Some(px) = projected_error_px(camera, base, open) {
-                                coverage.crack_uncovered_max_px =
-                                    coverage.crack_uncovered_max_px.max(px);
-                            }
-                        }
-                    }
-                    if drawn.is_nan() {
-                        coverage.holes += 1;
+        // Row by row, every sample in order as `sees` finds it (the order the figures are
+        // summed in), the tiles the view surely misses skipped: their samples would all fail
+        // `sees`.
+        let tiles_x = self.tiles_x;
+        for lj in 0..self.lattice_rows {
+            let j = lj * stride;
+            let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
+            for (tx, _) in tile_row.iter().enumerate().filter(|(_, in_view)| **in_view) {
+                for li in tx * TILE..((tx + 1) * TILE).min(self.lattice_columns) {
+                    let i = li * stride;
+                    // The truth: the field's sample.
+                    let sample = field.position(i, j);
+                    let in_camera = camera.to_camera(sample);
+                    if !camera.sees_camera(in_camera) {
                         continue;
                     }
+                    let index = lj * lattice_side + li;
+                    let drawn = self.mesh_height[index];
+                    if let (Some(coverage), Some(crack)) = (coverage.as_mut(), self.crack.as_ref())
+                    {
+                        let (low, high) = (crack.low[index], crack.high[index]);
+                        if low < high {
+                            let gap = f64::from(high) - f64::from(low);
+                            coverage.crack_samples += 1;
+                            coverage.crack_gap_max_m = coverage.crack_gap_max_m.max(gap);
+                            let base = DVec3::new(sample.x, sample.y, f64::from(low));
+                            if let Some(px) = projected_error_px(camera, base, gap) {
+                                coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
+                            }
+                            let open = crack.uncovered(index);
+                            if open > 0.0 {
+                                coverage.cracks_uncovered += 1;
+                                coverage.crack_uncovered_max_m =
+                                    coverage.crack_uncovered_max_m.max(open);
+                                if let Some(px) = projected_error_px(camera, base, open) {
+                                    coverage.crack_uncovered_max_px =
+                                        coverage.crack_uncovered_max_px.max(px);
+                                }
+                            }
+                        }
+                        if drawn.is_nan() {
+                            coverage.holes += 1;
+                            continue;
+                        }
+                    }
+                    let mesh_z = f64::from(drawn);
+                    if let Some(previous) = previous {
+                        popping.add(camera, sample, f64::from(previous[index]), mesh_z);
+                    }
+                    let base = DVec3::new(sample.x, sample.y, sample.z.min(mesh_z));
+                    let length = (sample.z - mesh_z).abs();
+                    // The sample's camera coordinates serve when the base is the sample itself.
+                    let base_in_camera = if base.z.to_bits() == sample.z.to_bits() {
+                        in_camera
+                    } else {
+                        camera.to_camera(base)
+                    };
+                    if let Some(px) = projected_error_px_at(camera, base_in_camera, length) {
+                        self.projected.push(px);
+                    }
+                    self.view_angle.push(view_angle_error_px(
+                        camera.eye,
+                        base,
+                        length,
+                        pixel_angle,
+                    ));
                 }
-                let mesh_z = f64::from(drawn);
-                if let Some(previous) = previous {
-                    popping.add(camera, sample, f64::from(previous[index]), mesh_z);
-                }
-                let base = DVec3::new(sample.x, sample.y, sample.z.min(mesh_z));
-                let length = (sample.z - mesh_z).abs();
-                if let Some(px) = projected_error_px(camera, base, length) {
-                    self.projected.push(px);
-                }
-                self.view_angle
-                    .push(view_angle_error_px(camera.eye, base, length, pixel_angle));
             }
         }
         let popping = popping.summary(previous.is_some());
@@ -219,21 +289,48 @@ impl Auditor {
     fn rasterise_lattice(&mut self, hierarchy: &Hierarchy, mesh: MeshOutput) {
         let stride = self.stride as i64;
         let lattice_side = self.lattice_side;
-        let mesh_height = &mut self.mesh_height;
+        // Taken out for the frame, so that the tile filter can borrow the rest.
+        let mut mesh_height = std::mem::take(&mut self.mesh_height);
+        let tiles = self.tiles_in_view();
         mesh.for_each_triangle(hierarchy, |triangle| {
-            rasterise_lattice_triangle(&triangle.corners, stride, lattice_side, mesh_height);
+            if tiles.may_touch(&triangle.corners) {
+                rasterise_lattice_triangle(
+                    &triangle.corners,
+                    stride,
+                    lattice_side,
+                    &mut mesh_height,
+                );
+            }
         });
+        self.mesh_height = mesh_height;
+    }
+
+    /// Which triangles to rasterise: those that may touch a tile in view. Without popping, a
+    /// sample's drawn height is read only where it is in view, and every triangle that covers
+    /// such a sample touches its tile, so skipping the others changes no figure (a shared
+    /// sample's last writer is kept). With popping, every sample's height is kept for the next
+    /// frame, so nothing is skipped.
+    fn tiles_in_view(&self) -> TileFilter<'_> {
+        TileFilter {
+            in_view: (!self.popping).then_some(self.tile_in_view.as_slice()),
+            tiles_x: self.tiles_x,
+            lattice_columns: self.lattice_columns,
+            lattice_rows: self.lattice_rows,
+            units_per_sample: self.stride as i64 * SUBGRID_UNITS_PER_CELL,
+        }
     }
 
     /// Triangle lists: the general rasteriser over the surface triangles; holes stay NaN.
     fn rasterise_general(&mut self, hierarchy: &Hierarchy, mesh: MeshOutput) {
         let n = self.mesh_height.len();
-        let crack = self.crack.get_or_insert_with(|| CrackHeights {
+        // Taken out for the frame, so that the tile filter can borrow the rest.
+        let mut crack = self.crack.take().unwrap_or_else(|| CrackHeights {
             low: vec![0.0; n],
             high: vec![0.0; n],
             skirt_spans: Vec::new(),
         });
-        self.mesh_height.fill(f32::NAN);
+        let mut mesh_height = std::mem::take(&mut self.mesh_height);
+        mesh_height.fill(f32::NAN);
         crack.low.fill(f32::INFINITY);
         crack.high.fill(f32::NEG_INFINITY);
         crack.skirt_spans.clear();
@@ -243,9 +340,9 @@ impl Auditor {
             self.lattice_side,
             domain_max,
         );
-        let mesh_height = &mut self.mesh_height;
+        let tiles = self.tiles_in_view();
         mesh.for_each_triangle(hierarchy, |triangle| {
-            if !triangle.info.role.is_surface() {
+            if !triangle.info.role.is_surface() || !tiles.may_touch(&triangle.corners) {
                 return;
             }
             raster.for_each_covered_sample(&triangle.corners, |sample| {
@@ -264,7 +361,8 @@ impl Auditor {
             let spans = &mut crack.skirt_spans;
             let (low, high) = (&crack.low, &crack.high);
             mesh.for_each_triangle(hierarchy, |triangle| {
-                if triangle.info.role != TriangleRole::Skirt {
+                if triangle.info.role != TriangleRole::Skirt || !tiles.may_touch(&triangle.corners)
+                {
                     return;
                 }
                 raster.for_each_vertical_span(&triangle.corners, |index, bottom, top| {
@@ -279,6 +377,48 @@ impl Auditor {
                     .then(a.2.total_cmp(&b.2))
             });
         }
+        self.crack = Some(crack);
+        self.mesh_height = mesh_height;
+    }
+}
+
+/// The tiles of audited samples that may be in view this frame, as a triangle filter.
+struct TileFilter<'a> {
+    /// Per tile, whether it may be in view; `None`: every tile counts (popping keeps every
+    /// sample's height).
+    in_view: Option<&'a [bool]>,
+    tiles_x: usize,
+    lattice_columns: usize,
+    lattice_rows: usize,
+    /// Fixed-point units between neighbouring audited samples.
+    units_per_sample: i64,
+}
+
+impl TileFilter<'_> {
+    /// Whether the triangle's bounding box (widened to the audited samples around it) meets a
+    /// tile that may be in view.
+    fn may_touch(&self, corners: &[SurfacePoint; 3]) -> bool {
+        let Some(in_view) = self.in_view else {
+            return true;
+        };
+        let raw = corners.map(|c| c.position.raw());
+        let (x_min, x_max) = (
+            raw.iter().map(|p| p.0).min().unwrap_or(0),
+            raw.iter().map(|p| p.0).max().unwrap_or(0),
+        );
+        let (y_min, y_max) = (
+            raw.iter().map(|p| p.1).min().unwrap_or(0),
+            raw.iter().map(|p| p.1).max().unwrap_or(0),
+        );
+        let sample_range = |low: i64, high: i64, count: usize| {
+            let first = low.div_euclid(self.units_per_sample).max(0) as usize;
+            let last = (high.div_euclid(self.units_per_sample) + 1).max(0) as usize;
+            (first.min(count - 1), last.min(count - 1))
+        };
+        let (i0, i1) = sample_range(x_min, x_max, self.lattice_columns);
+        let (j0, j1) = sample_range(y_min, y_max, self.lattice_rows);
+        (j0 / TILE..=j1 / TILE)
+            .any(|ty| (i0 / TILE..=i1 / TILE).any(|tx| in_view[ty * self.tiles_x + tx]))
     }
 }
 
