@@ -119,10 +119,11 @@ fn a_run_prints_each_entrys_figures_and_where_the_files_are_and_progress_without
         );
     }
     assert!(stdout.contains("report.md"), "{stdout}");
-    // stderr is a pipe here, not a terminal: plain progress lines, the last one at 100 %.
+    // stderr is a pipe here, not a terminal: plain progress lines, the last one at 100 %. The
+    // audit is on, so each entry's 5 frames are flown twice (the timing pass): 30 frames.
     let stderr = String::from_utf8(output.stderr).unwrap();
     assert!(
-        stderr.contains("progress: 15/15 frames (100%), 3/3 entries done"),
+        stderr.contains("progress: 30/30 frames (100%), 3/3 entries done"),
         "{stderr}"
     );
 }
