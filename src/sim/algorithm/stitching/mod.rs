@@ -329,6 +329,12 @@ impl<'h> Stitching<'h> {
                 self.leaves.push(id);
             }
         }
+        self.fill_owners();
+        evaluations
+    }
+
+    /// Method I: records which leaf owns each finest cell.
+    fn fill_owners(&mut self) {
         if self.config.method == StitchingMethod::PowerOfTwo {
             let finest = 1u32 << self.tree.depth_max();
             for (k, id) in self.leaves.iter().enumerate() {
@@ -340,7 +346,6 @@ impl<'h> Stitching<'h> {
                 }
             }
         }
-        evaluations
     }
 
     /// Method I: the leaves (indices into `leaves`) across side `side` of leaf `k`, in order.
@@ -555,6 +560,43 @@ impl<'h> Stitching<'h> {
             self.frame.p_blocks += 1;
         }
         self.frame.strip_ns += start.elapsed().as_nanos() as u64;
+    }
+
+    /// Draws a selection of the caller's, without culling: node `id` splits when `split(id)`
+    /// (and it has children; Method II splits down to the deepest level whatever it says), a
+    /// leaf gets factor `factor(id)` (clamped to [2, 64]; rounded up to a power of two by
+    /// Method I). For exhaustive tests of shapes and factors no eye would give. The next
+    /// [`LodAlgorithm::update`] selects again.
+    pub fn draw_with(&mut self, split: impl Fn(NodeId) -> bool, factor: impl Fn(NodeId) -> f64) {
+        self.state.fill(NodeState::Unselected);
+        self.leaves.clear();
+        let mut stack = vec![NodeId::ROOT];
+        while let Some(id) = stack.pop() {
+            let index = self.tree.index(id);
+            let deeper = id.depth < self.tree.depth_max();
+            let splits = deeper && (self.config.method == StitchingMethod::Uniform || split(id));
+            if splits {
+                self.state[index] = NodeState::Split;
+                stack.extend(id.children().into_iter().rev());
+            } else {
+                let f = factor(id).clamp(tessellate::MIN_FACTOR, tessellate::MAX_FACTOR);
+                let f = match self.config.method {
+                    StitchingMethod::PowerOfTwo => select::power_of_two_factor(f),
+                    _ => f,
+                };
+                self.state[index] = NodeState::Leaf(f);
+                self.leaf_index[index] = self.leaves.len() as u32;
+                self.leaves.push(id);
+            }
+        }
+        self.fill_owners();
+        self.draw(None);
+    }
+
+    /// Checks the triangle list against this frame's selection (counts, strip vertices on the
+    /// blocks' edges; see `validate.rs`), not the selection itself.
+    pub fn validate_mesh(&self) -> Result<(), StitchingError> {
+        validate::validate_mesh(self)
     }
 
     /// Checks this frame against the rules (see `validate.rs`): the selection against a

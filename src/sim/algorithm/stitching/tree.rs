@@ -10,9 +10,12 @@
 //! strips and its P-block, with nothing left over. With strip width 0 (Methods I and II)
 //! regions are the squares.
 //!
-//! δ_i (i = 1 ..= 32) is the mean, over the grid samples inside the region, of the absolute
-//! difference between the sample and the block tessellated at F = 2i (the regular 2i × 2i
+//! δ_i (i = 1 ..= 32) is the mean, over the grid samples of the node's square, of the absolute
+//! difference between the sample and the square tessellated at F = 2i (the regular 2i × 2i
 //! grid, heights resampled bilinearly, cells cut along their south-west–north-east diagonal).
+//! The square, not the region: the errors, and so the quadtree a view selects, are the same
+//! whatever the strip width, and the same for the strips and Method I (the paper's figure 18
+//! compares the two on one quadtree); a block narrower by a strip differs from it by a sliver.
 //! Cost: O(Σ_nodes Σ_i (samples in the region + (2i + 1)²)), once; memory 136 bytes a node.
 
 use super::tessellate::{EdgeSpacing, Rect, edge_positions, resampled_height};
@@ -100,9 +103,9 @@ impl Tree {
                     let id = NodeId { depth, ix, iy };
                     let index = tree.index(id);
                     tree.z_range[index] = square_height_range(field, tree.square(id));
-                    let region = tree.region(id);
+                    let square = tree.square(id);
                     for (i, error) in tree.errors[index].iter_mut().enumerate() {
-                        *error = mean_error(field, region, 2 * (i as u32 + 1), &mut scratch);
+                        *error = mean_error(field, square, 2 * (i as u32 + 1), &mut scratch);
                     }
                 }
             }

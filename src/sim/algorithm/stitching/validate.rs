@@ -84,6 +84,12 @@ pub(super) fn validate(alg: &Stitching, camera: &Camera) -> Result<(), Stitching
         }
     }
 
+    validate_mesh(alg)
+}
+
+/// Checks 2 and 3 alone.
+pub(super) fn validate_mesh(alg: &Stitching) -> Result<(), StitchingError> {
+    let tree = &alg.tree;
     // 2. Counts.
     let mut expected = 0;
     for &id in &alg.frame.drawn_leaves {
