@@ -53,6 +53,9 @@
 //!   edge (the OpenGL specification leaves their place to the implementation, symmetric).
 //!   Every position is rounded once to 1/65 536 of a cell; where a short segment rounds to
 //!   nothing the GPU's zero-area triangle is counted with role degenerate.
+//! - **F reaches the tessellator as an `f32`**, as a shader writes it: eq. 4's value rounded
+//!   once, so the eye moving by a rounding error (a terrain translated by 10^6 m) moves no
+//!   vertex.
 //! - **The filter** is bilinear over the cell holding the vertex.
 //! - **The ring** between a block's interior grid and its edges is triangulated by the same
 //!   bisector merge as the strips (implementation-dependent on a GPU; its count is not).
@@ -61,9 +64,10 @@
 //! - **The strip width** is `strip_width_cells` (default 1 cell), the same at every level,
 //!   clamped to half the smallest block.
 //! - **Counters.** `splits` / `merges`: nodes split this frame and not the previous, and the
-//!   reverse; `vertices_inserted` / `vertices_deleted`: 0 (the GPU tessellates every block
-//!   anew each frame); `vertices_changed`: the vertices built on the CPU and uploaded every
-//!   frame (strips and P-blocks); `metric_evaluations`: nodes whose ρ was computed. Columns:
+//!   reverse; `vertices_inserted` / `vertices_deleted`: the vertices of every block, and of
+//!   every node's cross of strips and P-block, that differs from last frame's (positions or
+//!   heights; all of the new and all of the old); `vertices_changed`: the vertices built on the
+//!   CPU and uploaded every frame (strips and P-blocks: the GPU tessellates the blocks); `metric_evaluations`: nodes whose ρ was computed. Columns:
 //!   `m_blocks`, `m_blocks_culled`, `p_blocks`, `strips`, `strips_culled`,
 //!   `tessellation_factor_mean` (over the M-blocks), the histogram of F
 //!   (`tessellation_factor_2_4` … `tessellation_factor_32_64`: blocks with F in [2, 4), …,
@@ -161,6 +165,10 @@ pub struct Stitching<'h> {
     patch_scratch: PatchScratch,
     strip_scratch: strips::StripScratch,
     frame: FrameCounts,
+    /// Per node, what it drew last frame and this frame (its block, or its cross of strips and
+    /// P-block): a signature of its vertices (positions and heights) and how many there are.
+    drawn_before: Vec<(u64, u64)>,
+    drawn_now: Vec<(u64, u64)>,
 }
 
 /// What a frame drew, for the statistics and the validator.
@@ -226,7 +234,22 @@ impl<'h> Stitching<'h> {
             patch_scratch: PatchScratch::default(),
             strip_scratch: strips::StripScratch::default(),
             frame: FrameCounts::default(),
+            drawn_before: vec![(0, 0); n],
+            drawn_now: vec![(0, 0); n],
         }
+    }
+
+    /// Records that node `index` drew the list's vertices from `first` on.
+    fn record_drawn(&mut self, index: usize, first: usize, tag: u8) {
+        use std::hash::{Hash, Hasher};
+        let vertices = &self.list.vertices()[first..];
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        tag.hash(&mut hasher);
+        for v in vertices {
+            v.position.hash(&mut hasher);
+            v.z.to_bits().hash(&mut hasher);
+        }
+        self.drawn_now[index] = (hasher.finish(), vertices.len() as u64);
     }
 
     /// This frame's M-blocks (quadtree leaves) in traversal order, with their factors.
@@ -300,7 +323,8 @@ impl<'h> Stitching<'h> {
             StitchingMethod::PowerOfTwo => select::power_of_two_factor(factor),
             _ => factor,
         };
-        (split, factor)
+        // Handed to the tessellator as a shader writes it: an f32.
+        (split, f64::from(factor as f32))
     }
 
     /// Selects this frame's leaves top-down. Returns the metric evaluations.
@@ -461,6 +485,7 @@ impl<'h> Stitching<'h> {
         self.frame.strips_culled = 0;
         self.frame.cpu_vertices = 0;
         self.frame.strip_ns = 0;
+        self.drawn_now.fill((0, 0));
         self.draw_node(NodeId::ROOT, camera);
     }
 
@@ -491,6 +516,7 @@ impl<'h> Stitching<'h> {
                     group: index as u32,
                     level: id.depth,
                 };
+                let first = self.list.vertices().len();
                 tessellate::add_quad_patch(
                     &mut self.list,
                     self.hierarchy.field(),
@@ -500,6 +526,7 @@ impl<'h> Stitching<'h> {
                     info,
                     &mut self.patch_scratch,
                 );
+                self.record_drawn(index, first, 0);
                 self.frame.drawn_leaves.push(id);
             }
             NodeState::Split => {
@@ -517,6 +544,7 @@ impl<'h> Stitching<'h> {
     /// The four strips and the P-block of split node `id`.
     fn draw_cross(&mut self, id: NodeId, camera: Option<&Camera>) {
         let start = Instant::now();
+        let first = self.list.vertices().len();
         let group = self.tree.index(id) as u32;
         let field = self.hierarchy.field();
         let state = &self.state;
@@ -559,6 +587,7 @@ impl<'h> Stitching<'h> {
             self.frame.cpu_vertices += vertices;
             self.frame.p_blocks += 1;
         }
+        self.record_drawn(group as usize, first, 1);
         self.frame.strip_ns += start.elapsed().as_nanos() as u64;
     }
 
@@ -637,8 +666,16 @@ impl LodAlgorithm for Stitching<'_> {
         stats.triangles = self.list.n_triangles();
         stats.splits = splits;
         stats.merges = merges;
-        stats.vertices_inserted = 0;
-        stats.vertices_deleted = 0;
+        let (mut inserted, mut deleted) = (0, 0);
+        for (now, before) in self.drawn_now.iter().zip(&self.drawn_before) {
+            if now != before {
+                inserted += now.1;
+                deleted += before.1;
+            }
+        }
+        std::mem::swap(&mut self.drawn_now, &mut self.drawn_before);
+        stats.vertices_inserted = inserted;
+        stats.vertices_deleted = deleted;
         stats.vertices_changed = Some(self.frame.cpu_vertices);
         stats.metric_evaluations = evaluations;
         let mut extra = vec![
@@ -674,6 +711,7 @@ impl LodAlgorithm for Stitching<'_> {
             + self.strip_scratch.memory_bytes()
             + self.frame.drawn_leaves.capacity() * std::mem::size_of::<NodeId>()
             + self.frame.drawn_strips.capacity() * std::mem::size_of::<(NodeId, strips::Arm)>()
+            + (self.drawn_before.capacity() + self.drawn_now.capacity()) * 16
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
