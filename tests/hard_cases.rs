@@ -6,24 +6,24 @@
 mod common;
 
 use common::algorithms::{
-    every_algorithm, every_block_algorithm, every_rottger, every_stitching, every_vanek,
-    reference, reference_in_view, roam_target, rottger, wu, wu_budget,
+    every_algorithm, every_block_algorithm, every_rottger, every_stitching, every_vanek, reference,
+    reference_in_view, roam_target, rottger, wu, wu_budget,
 };
 use common::{checked_step, extra, vertex_set, view_600};
 use glam::DVec3;
-use roamsim::sim::algorithm::stitching::NodeId;
-use roamsim::sim::algorithm::{Refinement, Stitching, StitchingConfig, StitchingMethod};
 use roamsim::sim::algorithm::chunked::ChunkId;
 use roamsim::sim::algorithm::columns::vanek::{
     DISTANCE_MULTIPLIER as VANEK_DISTANCE_MULTIPLIER,
     TARGET_UNREACHABLE as VANEK_TARGET_UNREACHABLE,
 };
 use roamsim::sim::algorithm::columns::wu::BASE_CLAMPED;
+use roamsim::sim::algorithm::stitching::NodeId;
 use roamsim::sim::algorithm::{
     AlgorithmConfig, BlockGoal, Chunked, ChunkedConfig, Geomipmap, GeomipmapConfig, LodAlgorithm,
     LodCurve, PatchDistance, ReferenceConfig, RoamConfig, SplitThreshold, Vanek, VanekConfig, Wu,
     WuConfig,
 };
+use roamsim::sim::algorithm::{Refinement, Stitching, StitchingConfig, StitchingMethod};
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::{Flight, speed_violations};
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
@@ -2215,7 +2215,10 @@ fn stitching_draws_the_same_mesh_scaled_translated_or_with_any_speed_bound() {
             assert_eq!(a.0.len(), b.0.len(), "{config:?} at scale {scale}");
             for ((id_a, f_a), (id_b, f_b)) in a.0.iter().zip(&b.0) {
                 assert_eq!(id_a, id_b, "{config:?} at scale {scale}");
-                assert!((f_a - f_b).abs() <= 1e-5 * f_a, "{config:?}: {f_a} vs {f_b}");
+                assert!(
+                    (f_a - f_b).abs() <= 1e-5 * f_a,
+                    "{config:?}: {f_a} vs {f_b}"
+                );
             }
         }
     }
@@ -2253,16 +2256,23 @@ fn stitching_draws_the_same_mesh_scaled_translated_or_with_any_speed_bound() {
             let camera = Camera::new(pose, view_600());
             checked_step(&near, &mut broken, frame as u64, &camera, true, "broken");
         }
-        assert_eq!(a, stitching_frame(&broken, &near), "{config:?}, bounds broken");
+        assert_eq!(
+            a,
+            stitching_frame(&broken, &near),
+            "{config:?}, bounds broken"
+        );
     }
 }
 
 #[test]
 fn stitching_in_extreme_views_a_one_pixel_window_and_fields_of_view_near_0_and_180() {
     let hierarchy = rough(129, 10.0, 30.0);
-    let eyes: Vec<Pose> = [DVec3::new(330.0, 470.0, 80.0), DVec3::new(900.0, 300.0, 40.0)]
-        .map(pose)
-        .to_vec();
+    let eyes: Vec<Pose> = [
+        DVec3::new(330.0, 470.0, 80.0),
+        DVec3::new(900.0, 300.0, 40.0),
+    ]
+    .map(pose)
+    .to_vec();
     let view = |side: u32, degrees: f64| ViewSettings {
         width_px: side,
         height_px: side,
@@ -2286,11 +2296,17 @@ fn stitching_in_extreme_views_a_one_pixel_window_and_fields_of_view_near_0_and_1
             &eyes,
         );
         let many = run_stitching(&hierarchy, config, view(600, 60.0), &eyes);
-        let (a, b) = (stitching_frame(&one, &hierarchy), stitching_frame(&many, &hierarchy));
+        let (a, b) = (
+            stitching_frame(&one, &hierarchy),
+            stitching_frame(&many, &hierarchy),
+        );
         assert_eq!(a.0.len(), b.0.len(), "{config:?}");
         for ((id_a, f_a), (id_b, f_b)) in a.0.iter().zip(&b.0) {
             assert_eq!(id_a, id_b, "{config:?}");
-            assert!((f_a - f_b).abs() <= 1e-9 * f_a, "{config:?}: {f_a} vs {f_b}");
+            assert!(
+                (f_a - f_b).abs() <= 1e-9 * f_a,
+                "{config:?}: {f_a} vs {f_b}"
+            );
         }
         // At 0.001° λ is huge: the 128-cell root (error at F = 64) splits, its 64-cell
         // children have none at F = 64 and some below: F = 64 less 2/ρ_31, next to nothing.
@@ -2345,7 +2361,10 @@ fn stitching_with_ten_kilometre_heights_millimetre_relief_and_padding() {
     let quantised =
         |offset: f32| move |i, j| offset + (noise(i, j) * 20.0 * 64.0).round() as f32 / 64.0;
     let sea_level = terrain(129, 10.0, quantised(0.0));
-    let eyes = [DVec3::new(330.0, 470.0, 60.0), DVec3::new(900.0, 250.0, 30.0)];
+    let eyes = [
+        DVec3::new(330.0, 470.0, 60.0),
+        DVec3::new(900.0, 250.0, 30.0),
+    ];
     for offset in [10_240.0_f32, -10_240.0] {
         let shifted = terrain(129, 10.0, quantised(offset));
         let lifted: Vec<Pose> = eyes

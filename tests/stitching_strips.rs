@@ -21,8 +21,8 @@ use roamsim::sim::algorithm::{
     ViewDirection,
 };
 use roamsim::sim::hierarchy::Hierarchy;
-use roamsim::sim::mesh::{MeshOutput, TriangleList, TriangleRole};
 use roamsim::sim::mesh::check::MeshChecker;
+use roamsim::sim::mesh::{MeshOutput, TriangleList, TriangleRole};
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::view::{Camera, Pose};
 
@@ -159,7 +159,10 @@ fn every_eye_and_option_passes_check_and_the_brute_force_selection() {
                 depths_seen[..=depth_max as usize].iter().all(|&s| s),
                 "level {level}, block level {block_level}: {depths_seen:?}"
             );
-            assert!(fractional && stitched, "fractional factors and strips were drawn");
+            assert!(
+                fractional && stitched,
+                "fractional factors and strips were drawn"
+            );
         }
     }
 }
@@ -206,8 +209,8 @@ fn every_quadtree_shape_and_awkward_factors_close_the_surface() {
                         _ => false,
                     };
                     let factor = |id: NodeId| {
-                        awkward[(offset + (id.ix * 7 + id.iy * 3 + id.depth) as usize)
-                            % awkward.len()]
+                        awkward
+                            [(offset + (id.ix * 7 + id.iy * 3 + id.depth) as usize) % awkward.len()]
                     };
                     stitching.draw_with(split, factor);
                     let context = format!("{method:?} {p_block:?}, shape {shape}, offset {offset}");
@@ -243,10 +246,7 @@ fn a_lone_block_at_an_even_factor_draws_the_full_grid_and_strips_join_rows() {
     assert_eq!(drawn.role_count(TriangleRole::Surface), 4 * 8 + 2);
     assert_eq!(drawn.role_count(TriangleRole::Stitch), 4 * 4);
     // Children at F = 2 and F = 6: the strip between them has 3 + 7 vertices, 8 triangles.
-    stitching.draw_with(
-        |id| id.depth == 0,
-        |id| if id.ix == 0 { 2.0 } else { 6.0 },
-    );
+    stitching.draw_with(|id| id.depth == 0, |id| if id.ix == 0 { 2.0 } else { 6.0 });
     let drawn = list(&stitching);
     // South and north strips join F = 2 and F = 6 rows (8 each), west and east join equals
     // (4 and 12).
@@ -363,7 +363,13 @@ fn an_approach_moves_the_strips_factors_continuously_and_method_one_s_by_doublin
         let mut factors = Vec::new();
         for step in 0..400 {
             let eye = DVec3::new(80.0, -400.0 + step as f64, 300.0 - 0.5 * step as f64);
-            checked(&hierarchy, &mut stitching, step, &common::camera_at(eye), "approach");
+            checked(
+                &hierarchy,
+                &mut stitching,
+                step,
+                &common::camera_at(eye),
+                "approach",
+            );
             let (_, f) = stitching.leaves().next().expect("the root");
             factors.push(f.to_bits());
         }

@@ -201,8 +201,8 @@ impl<'h> Stitching<'h> {
         let half_width = match config.method {
             StitchingMethod::Strips => {
                 let smallest = (1i64 << block_level) * SUBGRID_UNITS_PER_CELL;
-                let half = (config.strip_width_cells * 0.5 * SUBGRID_UNITS_PER_CELL as f64)
-                    .round() as i64;
+                let half =
+                    (config.strip_width_cells * 0.5 * SUBGRID_UNITS_PER_CELL as f64).round() as i64;
                 half.clamp(1, smallest / 4)
             }
             _ => 0,
@@ -254,7 +254,9 @@ impl<'h> Stitching<'h> {
 
     /// This frame's M-blocks (quadtree leaves) in traversal order, with their factors.
     pub fn leaves(&self) -> impl Iterator<Item = (NodeId, f64)> + '_ {
-        self.leaves.iter().map(|&id| (id, self.factor(id).expect("a leaf")))
+        self.leaves
+            .iter()
+            .map(|&id| (id, self.factor(id).expect("a leaf")))
     }
 
     /// The deepest depth of the tree (its blocks are 2^block_level cells).
@@ -450,7 +452,7 @@ impl<'h> Stitching<'h> {
             StitchingMethod::PowerOfTwo => {
                 let mut neighbours = Vec::new();
                 let (size, _) = self.pow2_size_and_spacing(k);
-                let spacings = [SOUTH, EAST, NORTH, WEST].map(|side| {
+                [SOUTH, EAST, NORTH, WEST].map(|side| {
                     self.neighbours_across(k, side, &mut neighbours);
                     let spacing = match neighbours[..] {
                         [n] if self.pow2_size_and_spacing(n as usize).0 > size => {
@@ -460,8 +462,7 @@ impl<'h> Stitching<'h> {
                         _ => self.pow2_side_spacing(k, side, &mut neighbours),
                     };
                     EdgeSpacing::Equal((size / spacing) as u32)
-                });
-                spacings
+                })
             }
         }
     }

@@ -148,7 +148,10 @@ impl StripScratch {
 /// Adds strip `arm` of split node `id`: its two rows' vertices and the bisector rule's
 /// triangles (role stitch; degenerate where two rounded vertices coincide). Returns (vertices,
 /// triangles) added.
-#[allow(clippy::too_many_arguments, reason = "the strip's context, each needed once")]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the strip's context, each needed once"
+)]
 pub fn add_strip(
     list: &mut TriangleList,
     field: &Heightfield,
@@ -207,8 +210,12 @@ pub fn add_p_block(
             (4, 2)
         }
         PBlockShape::Fan => {
-            let centre =
-                add_resampled_vertex(list, field, (rect.x0 + rect.x1) / 2, (rect.y0 + rect.y1) / 2);
+            let centre = add_resampled_vertex(
+                list,
+                field,
+                (rect.x0 + rect.x1) / 2,
+                (rect.y0 + rect.y1) / 2,
+            );
             for [a, b] in [[sw, se], [se, ne], [ne, nw], [nw, sw]] {
                 add_triangle_or_degenerate(list, [a, b, centre], info);
             }

@@ -86,8 +86,8 @@ pub fn resampled_height(field: &Heightfield, x: i64, y: i64) -> f32 {
     let cells = field.side() - 1;
     let locate = |v: i64| {
         let cell = ((v / SUBGRID_UNITS_PER_CELL) as usize).min(cells - 1);
-        let fraction = (v - cell as i64 * SUBGRID_UNITS_PER_CELL) as f64
-            / SUBGRID_UNITS_PER_CELL as f64;
+        let fraction =
+            (v - cell as i64 * SUBGRID_UNITS_PER_CELL) as f64 / SUBGRID_UNITS_PER_CELL as f64;
         (cell, fraction)
     };
     let ((i, fu), (j, fv)) = (locate(x), locate(y));
@@ -297,7 +297,11 @@ pub fn add_quad_patch(
 /// `outer`: 2(n − 2)² + Σ_sides (m_side + n − 2).
 pub fn quad_patch_triangles(inner: EdgeSpacing, outer: [EdgeSpacing; 4]) -> u64 {
     let n = inner.segments() as u64;
-    2 * (n - 2) * (n - 2) + outer.iter().map(|s| s.segments() as u64 + n - 2).sum::<u64>()
+    2 * (n - 2) * (n - 2)
+        + outer
+            .iter()
+            .map(|s| s.segments() as u64 + n - 2)
+            .sum::<u64>()
 }
 
 #[cfg(test)]
@@ -375,12 +379,18 @@ mod tests {
             (5.5, [5.5; 4]),
             (8.0, [2.0, 64.0, 3.3, 8.0]),
         ] {
-            let mut list =
-                TriangleList::new(&lattice, crate::sim::mesh::CrackPolicy::Stitched);
+            let mut list = TriangleList::new(&lattice, crate::sim::mesh::CrackPolicy::Stitched);
             let inner = EdgeSpacing::FractionalEven(inner);
             let outer = outer.map(EdgeSpacing::FractionalEven);
-            let (_, triangles) =
-                add_quad_patch(&mut list, &field, rect, inner, outer, info, &mut Default::default());
+            let (_, triangles) = add_quad_patch(
+                &mut list,
+                &field,
+                rect,
+                inner,
+                outer,
+                info,
+                &mut Default::default(),
+            );
             assert_eq!(triangles, quad_patch_triangles(inner, outer));
             let n = inner.segments() as u64;
             if outer.iter().all(|&o| o == inner) {

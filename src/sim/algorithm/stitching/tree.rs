@@ -45,11 +45,7 @@ impl NodeId {
     pub fn children(self) -> [NodeId; 4] {
         let (x, y) = (2 * self.ix, 2 * self.iy);
         let d = self.depth + 1;
-        [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)].map(|(ix, iy)| NodeId {
-            depth: d,
-            ix,
-            iy,
-        })
+        [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)].map(|(ix, iy)| NodeId { depth: d, ix, iy })
     }
 }
 
@@ -255,7 +251,11 @@ mod tests {
     fn regions_tile_the_parent_with_its_cross() {
         let tree = Tree::new(&field(33, |_, _| 0.0), 2, SUBGRID_UNITS_PER_CELL / 2);
         let root = tree.region(NodeId::ROOT);
-        assert_eq!(root, tree.square(NodeId::ROOT), "the root touches the border all round");
+        assert_eq!(
+            root,
+            tree.square(NodeId::ROOT),
+            "the root touches the border all round"
+        );
         let c = NodeId::ROOT.children();
         let h = SUBGRID_UNITS_PER_CELL / 2;
         let mid = 16 * SUBGRID_UNITS_PER_CELL;
@@ -263,14 +263,25 @@ mod tests {
         assert_eq!(tree.region(c[SE]).x0, mid + h);
         assert_eq!(tree.region(c[NW]).y0, mid + h);
         assert_eq!(tree.n_nodes(), 1 + 4 + 16 + 64);
-        assert_eq!(tree.index(NodeId { depth: 3, ix: 7, iy: 7 }), 84);
+        assert_eq!(
+            tree.index(NodeId {
+                depth: 3,
+                ix: 7,
+                iy: 7
+            }),
+            84
+        );
     }
 
     #[test]
     fn planes_have_no_error_and_a_spike_has_less_error_at_finer_factors() {
         let plane = Tree::new(&field(17, |i, j| (3 * i + j) as f32), 1, 0);
         assert!(plane.errors.iter().flatten().all(|&e| e.abs() < 1e-5));
-        let spike = Tree::new(&field(17, |i, j| if (i, j) == (5, 7) { 9.0 } else { 0.0 }), 1, 0);
+        let spike = Tree::new(
+            &field(17, |i, j| if (i, j) == (5, 7) { 9.0 } else { 0.0 }),
+            1,
+            0,
+        );
         let root = spike.errors(NodeId::ROOT);
         assert!(root[0] > 0.0);
         // At F = 16 (and every multiple of 16) the grid holds every sample: no error.

@@ -28,7 +28,9 @@ pub enum StitchingError {
         expected: String,
         found: String,
     },
-    #[error("the list has {found} triangles; the drawn blocks, strips and P-blocks make {expected}")]
+    #[error(
+        "the list has {found} triangles; the drawn blocks, strips and P-blocks make {expected}"
+    )]
     TriangleCount { expected: u64, found: u64 },
     #[error("stitch vertex {vertex:?} (height {z}) is no M-block's vertex")]
     StitchVertexAlone { vertex: (f64, f64), z: f32 },
