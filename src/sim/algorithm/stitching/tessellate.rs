@@ -293,7 +293,7 @@ pub fn add_quad_patch(
     )
 }
 
-/// The triangles [`add_quad_patch`] draws for inner spacing `inner` and outer spacings
+/// The triangles a quad patch's tessellation draws for inner spacing `inner` and outer spacings
 /// `outer`: 2(n − 2)² + Σ_sides (m_side + n − 2).
 pub fn quad_patch_triangles(inner: EdgeSpacing, outer: [EdgeSpacing; 4]) -> u64 {
     let n = inner.segments() as u64;
