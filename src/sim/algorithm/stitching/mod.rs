@@ -74,8 +74,8 @@
 //!   [32, 64]) and `strip_construction_ns` (the part of the update spent building strips, a
 //!   timing column).
 //!
-//! Memory: the tree (136 bytes a node), a state byte pair per node, the triangle list and a few
-//! reused buffers. Per frame: O(nodes + triangles).
+//! Memory: the tree (136 bytes a node), a few words of frame state per node, the triangle list
+//! and a few reused buffers. Per frame: O(nodes + triangles).
 
 mod select;
 mod strips;
