@@ -140,7 +140,7 @@ fn every_eye_and_option_passes_check_and_the_brute_force_selection() {
                 let mut stitching = Stitching::new(&hierarchy, config);
                 for (frame, camera) in cameras.iter().enumerate() {
                     let context = format!("{config:?} on {level}");
-                    let stats = checked(&hierarchy, &mut stitching, frame as u64, camera, &context);
+                    checked(&hierarchy, &mut stitching, frame as u64, camera, &context);
                     for (id, f) in stitching.leaves() {
                         depths_seen[id.depth as usize] = true;
                         fractional |= f.fract() != 0.0;
@@ -151,7 +151,6 @@ fn every_eye_and_option_passes_check_and_the_brute_force_selection() {
                     } else {
                         assert_eq!(stitches, 0, "{context}: no strips in Methods I and II");
                     }
-                    let _ = stats;
                 }
             }
             let depth_max = level - block_level;
