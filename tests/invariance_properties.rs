@@ -13,14 +13,17 @@
 //! power of two, exactly), and their counts.
 //!
 //! Röttger's configurations (`every_rottger`: it has no τ) run on every scene too, and so do
-//! `vanek`'s (`every_vanek`: no τ either; its mindist and maxdist scale with the scene).
+//! `vanek`'s (`every_vanek`: no τ either; its mindist and maxdist scale with the scene) and the
+//! stitching strips' (`every_stitching`: a threshold in pixels, like τ).
 //!
 //! This file does not check that the meshes are right, only that they do not move;
 //! `tests/hard_cases.rs` and the per-algorithm tests check the right answers.
 
 mod common;
 
-use common::algorithms::{every_algorithm, every_block_algorithm, every_rottger, every_vanek};
+use common::algorithms::{
+    every_algorithm, every_block_algorithm, every_rottger, every_stitching, every_vanek,
+};
 use common::{step, vertex_set, view_600};
 use glam::DVec3;
 use proptest::prelude::*;
@@ -224,7 +227,11 @@ proptest! {
             let b = decisions(&there, &config, view_600(), SPEED, &moved);
             prop_assert_eq!(a, b, "{:?}, offset {:?}", config, offset);
         }
-        for config in every_block_algorithm(scene.tau_px).into_iter().chain(every_vanek(1.0)) {
+        for config in every_block_algorithm(scene.tau_px)
+            .into_iter()
+            .chain(every_vanek(1.0))
+            .chain(every_stitching())
+        {
             let a = block_decisions(&here, &config, view_600(), &scene.poses, 1.0);
             let b = block_decisions(&there, &config, view_600(), &moved, 1.0);
             let same = a
@@ -261,7 +268,7 @@ proptest! {
             let b = decisions(&scaled, &config, scaled_view, scaled_speed, &scaled_poses);
             prop_assert_eq!(a, b, "{:?} at scale 2^{}", config, exponent);
         }
-        for config in every_block_algorithm(scene.tau_px) {
+        for config in every_block_algorithm(scene.tau_px).into_iter().chain(every_stitching()) {
             let a = block_decisions(&original, &config, view, &scene.poses, 1.0);
             let b = block_decisions(&scaled, &config, scaled_view, &scaled_poses, scale);
             prop_assert!(a == b, "{:?} at scale 2^{}", config, exponent);

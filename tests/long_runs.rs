@@ -6,15 +6,17 @@
 //! that the inserted and deleted vertices summed over the run account exactly for the final mesh
 //! (no counter wrapped or lost a change), that the algorithm's memory stays bounded (no leak
 //! from frame to frame), and that the final mesh is the one a fresh instance builds for the
-//! final view (no drift). The block-based algorithms (geomipmap, chunked) are held to the same,
-//! their vertices counted in their triangle lists (every chunk's or patch's own).
+//! final view (no drift). The block-based algorithms (geomipmap, chunked, stitching-strips) are
+//! held to the same, their vertices counted in their triangle lists (every chunk's, patch's,
+//! block's or cross of strips' own).
 //!
 //! This file does not measure speed; `benches/` does.
 
 mod common;
 
 use common::algorithms::{
-    chunked, chunked_with_everything, geomipmap, lindstrom, reference, roam_tolerance, vanek,
+    chunked, chunked_with_everything, geomipmap, lindstrom, reference, roam_tolerance, stitching,
+    vanek,
 };
 use common::{bumpy_terrain, camera_at, checked_step, extra, step, vertex_set};
 use glam::DVec3;
@@ -282,6 +284,19 @@ fn a_million_vanek_frames_with_culling_and_a_target_stay_exact() {
         target_triangles: Some(120),
         ..vanek(1, 35.0, 110.0)
     }));
+}
+
+#[test]
+fn a_million_stitching_strips_frames_with_culling_stay_exact() {
+    // The 8-cell terrain is one block (blocks of at most 64 cells have no error at F = 64, so
+    // they never split); at ρ_thr = 40 px its factor moves between 2 and a few tens around the
+    // circle, fractional all the way.
+    check_million_block_frames(AlgorithmConfig::Stitching(
+        roamsim::sim::algorithm::StitchingConfig {
+            culling: true,
+            ..stitching(40.0, 1)
+        },
+    ));
 }
 
 #[test]

@@ -11,6 +11,9 @@ use roamsim::sim::algorithm::{
     RoamConfig, RoamGoal, RottgerConfig, SkirtDepth, SplitThreshold, VanekConfig, ViewThreshold,
     WuConfig,
 };
+use roamsim::sim::algorithm::{
+    BlockDistance, PBlockShape, StitchingConfig, StitchingMethod, ViewDirection,
+};
 use roamsim::sim::hierarchy::NestingRule;
 use roamsim::sim::zone::ZoneVariant;
 
@@ -255,6 +258,51 @@ pub fn every_vanek(scale: f64) -> Vec<AlgorithmConfig> {
         }),
         AlgorithmConfig::Vanek(VanekConfig {
             target_triangles: Some(2000),
+            ..plain
+        }),
+    ]
+}
+
+/// The stitching strips at ρ_thr `threshold_px` over blocks down to 2^`block_level` cells,
+/// with the paper's defaults (strips of 1 cell, d and θ to the block's centre, two-triangle
+/// P-blocks, no culling).
+pub fn stitching(threshold_px: f64, block_level: u32) -> StitchingConfig {
+    StitchingConfig {
+        threshold_px,
+        block_level,
+        strip_width_cells: 1.0,
+        method: StitchingMethod::Strips,
+        distance: BlockDistance::Centre,
+        view_direction: ViewDirection::ToBlock,
+        p_block: PBlockShape::TwoTriangles,
+        culling: false,
+    }
+}
+
+/// Every `stitching-strips` configuration the hard cases and invariance properties run: the
+/// defaults; the strips with every other option and culling; Method I with the box distance and
+/// culling; Method II with the look direction.
+pub fn every_stitching() -> Vec<AlgorithmConfig> {
+    let plain = stitching(1.0, 2);
+    vec![
+        AlgorithmConfig::Stitching(plain),
+        AlgorithmConfig::Stitching(StitchingConfig {
+            strip_width_cells: 0.5,
+            distance: BlockDistance::Box,
+            view_direction: ViewDirection::Look,
+            p_block: PBlockShape::Fan,
+            culling: true,
+            ..plain
+        }),
+        AlgorithmConfig::Stitching(StitchingConfig {
+            method: StitchingMethod::PowerOfTwo,
+            distance: BlockDistance::Box,
+            culling: true,
+            ..plain
+        }),
+        AlgorithmConfig::Stitching(StitchingConfig {
+            method: StitchingMethod::Uniform,
+            view_direction: ViewDirection::Look,
             ..plain
         }),
     ]

@@ -1,12 +1,14 @@
-//! The experiment entries of the block-based algorithms, `geomipmap`, `chunked` and `vanek`: their
+//! The experiment entries of the block-based algorithms, `geomipmap`, `chunked`, `vanek` and
+//! `stitching-strips`: their
 //! parameters as the file writes them (format version 1, documented in
 //! `docs/experiment-format.md`) and their check into an [`AlgorithmConfig`]. Kept apart from
 //! `check.rs`, which only dispatches to it by name.
 
 use super::FieldProblem;
 use crate::sim::algorithm::{
-    AlgorithmConfig, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference, LodCurve,
-    LodRounding, PatchDistance, Projection, SkirtDepth, VanekConfig,
+    AlgorithmConfig, BlockDistance, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference,
+    LodCurve, LodRounding, PBlockShape, PatchDistance, Projection, SkirtDepth, StitchingConfig,
+    StitchingMethod, VanekConfig, ViewDirection,
 };
 use serde::Deserialize;
 use serde_json::Value;
@@ -79,6 +81,54 @@ struct VanekParameters {
     target_triangles: Option<u64>,
     #[serde(default)]
     box_culling: bool,
+}
+
+/// `stitching-strips`: ρ_thr, the smallest block's level, the strip width, the method and the
+/// options where the paper is open.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StitchingParameters {
+    rho_threshold_px: f64,
+    block_level: u32,
+    /// Default 1 cell.
+    #[serde(default)]
+    strip_width_cells: Option<f64>,
+    /// Default `strips`.
+    #[serde(default)]
+    method: Option<MethodEntry>,
+    /// Default `centre`.
+    #[serde(default)]
+    distance: Option<DistanceEntry>,
+    /// Default `to_block`.
+    #[serde(default)]
+    view_direction: Option<ViewDirectionEntry>,
+    /// Default `two_triangles`.
+    #[serde(default)]
+    p_block: Option<PBlockEntry>,
+    #[serde(default)]
+    culling: bool,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum MethodEntry {
+    Strips,
+    PowerOfTwo,
+    Uniform,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum ViewDirectionEntry {
+    ToBlock,
+    Look,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum PBlockEntry {
+    TwoTriangles,
+    Fan,
 }
 
 #[derive(Debug, Deserialize, Clone, Copy)]
@@ -236,6 +286,61 @@ pub(super) fn vanek_config(
     }))
 }
 
+/// The `stitching-strips` entry at `origin`, or every problem found in it.
+pub(super) fn stitching_config(
+    origin: &str,
+    parameters: &Value,
+) -> Result<AlgorithmConfig, Vec<FieldProblem>> {
+    let p: StitchingParameters = decode(origin, parameters)?;
+    let mut problems = Vec::new();
+    if !(p.rho_threshold_px >= 0.0 && p.rho_threshold_px.is_finite()) {
+        problems.push(FieldProblem {
+            field: format!("{origin}.rho_threshold_px"),
+            problem: format!(
+                "{}: expected a finite threshold of at least 0 pixels",
+                p.rho_threshold_px
+            ),
+        });
+    }
+    let strip_width_cells = p.strip_width_cells.unwrap_or(1.0);
+    if !(strip_width_cells > 0.0 && strip_width_cells.is_finite()) {
+        problems.push(FieldProblem {
+            field: format!("{origin}.strip_width_cells"),
+            problem: format!(
+                "{strip_width_cells}: expected a finite width above 0 cells (it is clamped to \
+                 half the smallest block)"
+            ),
+        });
+    }
+    level_in_range(origin, "block_level", p.block_level, &mut problems);
+    if !problems.is_empty() {
+        return Err(problems);
+    }
+    Ok(AlgorithmConfig::Stitching(StitchingConfig {
+        threshold_px: p.rho_threshold_px,
+        block_level: p.block_level,
+        strip_width_cells,
+        method: match p.method {
+            None | Some(MethodEntry::Strips) => StitchingMethod::Strips,
+            Some(MethodEntry::PowerOfTwo) => StitchingMethod::PowerOfTwo,
+            Some(MethodEntry::Uniform) => StitchingMethod::Uniform,
+        },
+        distance: match p.distance {
+            None | Some(DistanceEntry::Centre) => BlockDistance::Centre,
+            Some(DistanceEntry::Box) => BlockDistance::Box,
+        },
+        view_direction: match p.view_direction {
+            None | Some(ViewDirectionEntry::ToBlock) => ViewDirection::ToBlock,
+            Some(ViewDirectionEntry::Look) => ViewDirection::Look,
+        },
+        p_block: match p.p_block {
+            None | Some(PBlockEntry::TwoTriangles) => PBlockShape::TwoTriangles,
+            Some(PBlockEntry::Fan) => PBlockShape::Fan,
+        },
+        culling: p.culling,
+    }))
+}
+
 fn decode<T: serde::de::DeserializeOwned>(
     origin: &str,
     parameters: &Value,
@@ -377,6 +482,66 @@ mod tests {
             missing[0].contains("missing field `patch_level`"),
             "{missing:?}"
         );
+    }
+
+    #[test]
+    fn stitching_entries_defaults_options_and_bad_values() {
+        let plain = stitching_config(
+            "algorithms[0]",
+            &json!({"rho_threshold_px": 1.0, "block_level": 3}),
+        )
+        .expect("a plain entry");
+        assert_eq!(
+            plain,
+            AlgorithmConfig::Stitching(StitchingConfig {
+                threshold_px: 1.0,
+                block_level: 3,
+                strip_width_cells: 1.0,
+                method: StitchingMethod::Strips,
+                distance: BlockDistance::Centre,
+                view_direction: ViewDirection::ToBlock,
+                p_block: PBlockShape::TwoTriangles,
+                culling: false,
+            })
+        );
+        let AlgorithmConfig::Stitching(options) = stitching_config(
+            "algorithms[0]",
+            &json!({"rho_threshold_px": 2.0, "block_level": 4,
+                    "strip_width_cells": 0.5, "method": "power_of_two", "distance": "box",
+                    "view_direction": "look", "p_block": "fan", "culling": true}),
+        )
+        .expect("every option") else {
+            panic!("not stitching-strips")
+        };
+        assert_eq!(options.method, StitchingMethod::PowerOfTwo);
+        assert_eq!(options.distance, BlockDistance::Box);
+        assert_eq!(options.view_direction, ViewDirection::Look);
+        assert_eq!(options.p_block, PBlockShape::Fan);
+        assert!(options.culling && options.strip_width_cells == 0.5);
+        let problems: Vec<String> = stitching_config(
+            "algorithms[2]",
+            &json!({"rho_threshold_px": -1.0, "block_level": 0,
+                    "strip_width_cells": 0.0}),
+        )
+        .expect_err("bad values")
+        .into_iter()
+        .map(|p| p.field)
+        .collect();
+        assert_eq!(
+            problems,
+            [
+                "algorithms[2].rho_threshold_px",
+                "algorithms[2].strip_width_cells",
+                "algorithms[2].block_level"
+            ]
+        );
+        let unknown = stitching_config(
+            "algorithms[0]",
+            &json!({"rho_threshold_px": 1.0, "block_level": 3,
+                    "method": "quadtree"}),
+        )
+        .expect_err("an unknown method");
+        assert_eq!(unknown[0].field, "algorithms[0].method");
     }
 
     #[test]

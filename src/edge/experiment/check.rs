@@ -39,6 +39,7 @@ pub const KNOWN_ALGORITHMS: &[&str] = &[
     "chunked",
     "rottger",
     "vanek",
+    "stitching-strips",
 ];
 
 /// What stage 2 makes of a parsed file: the checked settings and entries.
@@ -624,6 +625,9 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                 .map_err(|list| problems.list.extend(list))
                 .ok(),
             "vanek" => super::block_lod::vanek_config(k, &parameters)
+                .map_err(|list| problems.list.extend(list))
+                .ok(),
+            "stitching-strips" => super::block_lod::stitching_config(k, &parameters)
                 .map_err(|list| problems.list.extend(list))
                 .ok(),
             "rottger" => decode::<RottgerParameters>(k, &parameters, problems)

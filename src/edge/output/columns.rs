@@ -68,7 +68,7 @@ pub const POPPING_COLUMNS: &[&str] = &[
 ];
 
 /// Columns whose values are wall-clock measurements (excluded from determinism comparisons).
-pub const TIMING_COLUMNS: &[&str] = &["update_ns"];
+pub const TIMING_COLUMNS: &[&str] = &["update_ns", "strip_construction_ns"];
 
 /// One algorithm's frames with the names of its extra columns.
 pub struct RunColumns<'a> {

@@ -77,6 +77,23 @@ pub mod vanek {
     pub const TARGET_UNREACHABLE: &str = "target_unreachable";
 }
 
+/// `stitching-strips` (the 2019 dynamic stitching strips).
+pub mod stitching {
+    pub const M_BLOCKS: &str = "m_blocks";
+    pub const M_BLOCKS_CULLED: &str = "m_blocks_culled";
+    pub const P_BLOCKS: &str = "p_blocks";
+    pub const STRIPS: &str = "strips";
+    pub const STRIPS_CULLED: &str = "strips_culled";
+    pub const TESSELLATION_FACTOR_MEAN: &str = "tessellation_factor_mean";
+    pub const TESSELLATION_FACTOR_2_4: &str = "tessellation_factor_2_4";
+    pub const TESSELLATION_FACTOR_4_8: &str = "tessellation_factor_4_8";
+    pub const TESSELLATION_FACTOR_8_16: &str = "tessellation_factor_8_16";
+    pub const TESSELLATION_FACTOR_16_32: &str = "tessellation_factor_16_32";
+    pub const TESSELLATION_FACTOR_32_64: &str = "tessellation_factor_32_64";
+    /// The part of the update spent building strips and P-blocks (a timing column).
+    pub const STRIP_CONSTRUCTION_NS: &str = "strip_construction_ns";
+}
+
 /// `rottger` (Röttger et al. 1998).
 pub mod rottger {
     pub const DESIRED_RESOLUTION_C: &str = "desired_resolution_c";
@@ -140,6 +157,18 @@ pub const ALL: &[&str] = &[
     vanek::PATCH_LOD_MEAN,
     vanek::DISTANCE_MULTIPLIER,
     vanek::TARGET_UNREACHABLE,
+    stitching::M_BLOCKS,
+    stitching::M_BLOCKS_CULLED,
+    stitching::P_BLOCKS,
+    stitching::STRIPS,
+    stitching::STRIPS_CULLED,
+    stitching::TESSELLATION_FACTOR_MEAN,
+    stitching::TESSELLATION_FACTOR_2_4,
+    stitching::TESSELLATION_FACTOR_4_8,
+    stitching::TESSELLATION_FACTOR_8_16,
+    stitching::TESSELLATION_FACTOR_16_32,
+    stitching::TESSELLATION_FACTOR_32_64,
+    stitching::STRIP_CONSTRUCTION_NS,
     rottger::DESIRED_RESOLUTION_C,
     rottger::C_CLAMPED,
     rottger::FANS,

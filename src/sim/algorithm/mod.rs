@@ -14,6 +14,7 @@ pub mod lindstrom;
 mod reference;
 mod roam;
 pub mod rottger;
+pub mod stitching;
 pub mod vanek;
 mod wu;
 
@@ -30,6 +31,9 @@ pub use wu::{BudgetConfig, Refinement, TauRecentring, Wu, WuConfig, initial_tau_
 
 pub use crate::sim::flight::BrokenBounds;
 pub use rottger::{Rottger, RottgerConfig};
+pub use stitching::{
+    BlockDistance, PBlockShape, Stitching, StitchingConfig, StitchingMethod, ViewDirection,
+};
 pub use vanek::{LodCurve, LodRounding, PatchDistance, Vanek, VanekConfig};
 
 use crate::sim::hierarchy::Hierarchy;
@@ -91,6 +95,7 @@ pub enum AlgorithmConfig {
     Chunked(ChunkedConfig),
     Rottger(RottgerConfig),
     Vanek(VanekConfig),
+    Stitching(StitchingConfig),
 }
 
 impl AlgorithmConfig {
@@ -105,6 +110,7 @@ impl AlgorithmConfig {
             AlgorithmConfig::Chunked(_) => chunked::NAME,
             AlgorithmConfig::Rottger(_) => rottger::NAME,
             AlgorithmConfig::Vanek(_) => vanek::NAME,
+            AlgorithmConfig::Stitching(_) => stitching::NAME,
         }
     }
 
@@ -144,7 +150,9 @@ impl AlgorithmConfig {
             AlgorithmConfig::Vanek(config) => {
                 config.target_triangles.and_then(|n| goal("triangles", n))
             }
-            AlgorithmConfig::Reference(_) | AlgorithmConfig::Lindstrom(_) => None,
+            AlgorithmConfig::Reference(_)
+            | AlgorithmConfig::Lindstrom(_)
+            | AlgorithmConfig::Stitching(_) => None,
         }
     }
 
@@ -173,6 +181,7 @@ impl AlgorithmConfig {
             AlgorithmConfig::Chunked(config) => Box::new(Chunked::new(hierarchy, *config, view)),
             AlgorithmConfig::Rottger(config) => Box::new(Rottger::new(hierarchy, *config)),
             AlgorithmConfig::Vanek(config) => Box::new(Vanek::new(hierarchy, *config)),
+            AlgorithmConfig::Stitching(config) => Box::new(Stitching::new(hierarchy, *config)),
         }
     }
 }
