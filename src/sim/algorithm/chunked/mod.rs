@@ -62,12 +62,16 @@
 //! drawn triangles), several selection passes with a target.
 
 mod brute_force;
+pub mod detail;
 mod mesh;
 mod select;
+mod source;
+mod synthesis;
 mod tree;
 mod validate;
 
 pub use brute_force::chunks_from_scratch;
+pub use detail::DetailConfig;
 pub use select::DrawnChunk;
 pub use tree::{ChunkId, ChunkRecord, SkirtDepth};
 pub use validate::ChunkedError;
@@ -81,7 +85,10 @@ use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
+use detail::DetailGeometry;
 use select::{Selection, SelectionSettings, select};
+use source::Available;
+use synthesis::RuntimeDetail;
 use tree::{ChunkSource, ChunkTree};
 
 pub(super) const NAME: &str = "chunked";
@@ -93,6 +100,24 @@ const EXTRA_COLUMNS: &[&str] = &[
     columns::ORDER_INVERSIONS,
     columns::TAU,
     columns::TARGET_UNREACHABLE,
+];
+
+/// With synthesised detail on: the columns above, then the detail's.
+const EXTRA_COLUMNS_WITH_DETAIL: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::DETAIL_SYNTHESISED,
+    columns::DETAIL_EVICTED,
+    columns::DETAIL_CACHED,
+    columns::DETAIL_REFUSED,
+    columns::DETAIL_SYNTHESIS_MS,
+    columns::DETAIL_BYTES,
+    columns::DETAIL_DEEPEST_DRAWN,
 ];
 
 /// Parameters of the chunked quadtree.
@@ -110,6 +135,8 @@ pub struct ChunkedConfig {
     pub culling: bool,
     /// Children visited nearest first.
     pub front_to_back: bool,
+    /// Detail synthesised below the finest source level at run time (§3.3–3.4); `None`: off.
+    pub detail: Option<DetailConfig>,
 }
 
 /// The chunked quadtree. Per frame: O(chunks visited + drawn triangles); buffers are reused.
@@ -117,6 +144,8 @@ pub struct Chunked<'h> {
     config: ChunkedConfig,
     lambda: f64,
     tree: ChunkTree<'h>,
+    /// Runtime detail, when on.
+    detail: Option<RuntimeDetail>,
     list: TriangleList,
     selection: Selection,
     /// Scratch selection for the target search's counting passes.
@@ -151,10 +180,35 @@ impl<'h> Chunked<'h> {
             }
             BlockGoal::TargetTriangles(_) => 1.0,
         };
+        let terrain_level = hierarchy.lattice().level();
+        let cells = 1u32 << config.chunk_level.clamp(1, terrain_level);
+        let leaf_level = terrain_level - config.chunk_level.clamp(1, terrain_level);
+        let geometry = DetailGeometry { cells, leaf_level };
+        // The deepest level is at most 15 (chunk numbers fit a u32): deeper levels are dropped,
+        // and the run fact `detail_finest_level` says how deep the run could go.
+        let detail_config = config.detail.map(|detail| DetailConfig {
+            levels: detail
+                .levels
+                .clamp(1, detail::MAX_DETAIL_LEVELS)
+                .min(15u32.saturating_sub(leaf_level)),
+            ..detail
+        });
+        let detail_config = detail_config.filter(|detail| detail.levels > 0);
+        let leaf_error = detail_config.map_or(0.0, |detail| {
+            geometry.estimate_leaf_error(hierarchy, &detail)
+        });
+        let tree = ChunkTree::new(
+            hierarchy,
+            config.chunk_level,
+            config.skirts,
+            config.morph,
+            leaf_error,
+        );
         Chunked {
             config,
             lambda: view.pixels_per_unit(),
-            tree: ChunkTree::new(hierarchy, config.chunk_level, config.skirts, config.morph),
+            detail: detail_config.map(|detail| RuntimeDetail::new(detail, geometry, config.skirts)),
+            tree,
             list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted),
             selection: Selection::default(),
             counting: Selection::default(),
@@ -183,9 +237,35 @@ impl<'h> Chunked<'h> {
         self.tau_px
     }
 
-    /// The tree's record of chunk `id`; `None` outside the tree.
+    /// The record of chunk `id`, from the source tree or the detail cache; `None` when it is
+    /// not available.
     pub fn chunk(&self, id: ChunkId) -> Option<&ChunkRecord> {
-        self.tree.chunk(id)
+        available(&self.tree, &self.detail).get(id)
+    }
+
+    /// The height of vertex (a, b) of the available chunk `id`'s grid.
+    ///
+    /// # Panics
+    /// When `id` is not available.
+    pub fn chunk_height(&self, id: ChunkId, a: u32, b: u32) -> f32 {
+        available(&self.tree, &self.detail).height(id, a, b)
+    }
+
+    /// The synthesised chunks held, in id order, with their drawn heights ((2^c + 1)², row by
+    /// row); empty with detail off.
+    pub fn synthesised_chunks(&self) -> Vec<(ChunkId, &[f32])> {
+        self.detail.as_ref().map_or_else(Vec::new, |detail| {
+            detail
+                .cache
+                .iter()
+                .map(|(id, chunk)| (id, chunk.heights.as_slice()))
+                .collect()
+        })
+    }
+
+    /// The deepest level a chunk can have (the source leaves', or the deepest synthesised).
+    pub fn finest_level(&self) -> u32 {
+        available(&self.tree, &self.detail).finest_level()
     }
 
     /// The level of the full-resolution leaves.
@@ -210,7 +290,7 @@ impl<'h> Chunked<'h> {
     pub fn validate_frame(&self, camera: &Camera) -> Result<(), ChunkedError> {
         let settings = self.settings(self.tau_px);
         validate::validate_frame(&validate::FrameView {
-            tree: &self.tree,
+            source: available(&self.tree, &self.detail),
             config: self.config,
             settings: &settings,
             selection: &self.selection,
@@ -236,6 +316,7 @@ impl<'h> Chunked<'h> {
         };
         let per_chunk = mesh::triangles_per_chunk(self.tree.geometry().cells);
         let mut visited = 0;
+        let source = available(&self.tree, &self.detail);
         let (tree, counting) = (&self.tree, &mut self.counting);
         let (lambda, config) = (self.lambda, self.config);
         let choice = finest_tau_within(target, self.tau_px, |tau_px| {
@@ -246,7 +327,7 @@ impl<'h> Chunked<'h> {
                 front_to_back: false,
                 morph: false,
             };
-            select(tree, tree.geometry(), camera, &settings, counting);
+            select(&source, tree.geometry(), camera, &settings, counting);
             visited += counting.visited;
             counting.drawn.len() as u64 * per_chunk
         });
@@ -263,11 +344,12 @@ impl<'h> Chunked<'h> {
             let (low, high) = geometry.square(id);
             self.list.add_culled_region(low, high);
         }
+        let source = available(&self.tree, &self.detail);
         for chunk in &self.selection.drawn {
-            let record = *self.tree.record(chunk.id);
+            let record = *source.record(chunk.id);
             mesh::add_chunk(
                 &mut self.list,
-                &self.tree,
+                &source,
                 &geometry,
                 chunk,
                 &record,
@@ -279,13 +361,14 @@ impl<'h> Chunked<'h> {
     /// Consecutive drawn chunks whose second is nearer (Euclidean distance to the box).
     fn order_inversions(&self, camera: &Camera) -> u64 {
         let geometry = self.tree.geometry();
+        let source = available(&self.tree, &self.detail);
         let distances: Vec<f64> = self
             .selection
             .drawn
             .iter()
             .map(|c| {
                 geometry
-                    .block_box(c.id, self.tree.record(c.id))
+                    .block_box(c.id, source.record(c.id))
                     .distance(camera.eye)
             })
             .collect();
@@ -299,7 +382,11 @@ impl LodAlgorithm for Chunked<'_> {
     }
 
     fn extra_columns(&self) -> &'static [&'static str] {
-        EXTRA_COLUMNS
+        if self.detail.is_some() {
+            EXTRA_COLUMNS_WITH_DETAIL
+        } else {
+            EXTRA_COLUMNS
+        }
     }
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
@@ -307,13 +394,28 @@ impl LodAlgorithm for Chunked<'_> {
         let search_visits = self.choose_tau(camera);
         let settings = self.settings(self.tau_px);
         select(
-            &self.tree,
+            &available(&self.tree, &self.detail),
             self.tree.geometry(),
             camera,
             &settings,
             &mut self.selection,
         );
         self.build_mesh();
+        let skirt_depth_max = {
+            let source = available(&self.tree, &self.detail);
+            self.selection
+                .drawn
+                .iter()
+                .map(|c| f64::from(source.record(c.id).skirt_depth))
+                .fold(0.0, f64::max)
+        };
+        let order_inversions = self.order_inversions(camera);
+        let deepest_drawn = self.selection.drawn.iter().map(|c| c.id.level).max();
+        // Runtime detail: the children this frame asked for, there from the next frame on.
+        let detail_frame = self
+            .detail
+            .as_mut()
+            .map(|detail| detail.after_selection(&self.tree, &self.selection, input.frame));
 
         // What changed since the previous frame.
         let cells = self.tree.geometry().cells;
@@ -360,20 +462,26 @@ impl LodAlgorithm for Chunked<'_> {
         stats.vertices_changed =
             Some(entered * per_chunk + morph_moved * mesh::morph_dependent_vertices(cells));
         stats.metric_evaluations = search_visits + self.selection.visited;
-        let skirt_depth_max = self
-            .selection
-            .drawn
-            .iter()
-            .map(|c| f64::from(self.tree.record(c.id).skirt_depth))
-            .fold(0.0, f64::max);
         stats.extra = vec![
             self.selection.drawn.len() as f64,
             self.selection.culled.len() as f64,
             skirt_depth_max,
-            self.order_inversions(camera) as f64,
+            order_inversions as f64,
             self.tau_px,
             f64::from(u8::from(self.target_unreachable)),
         ];
+        if let (Some(detail), Some(frame)) = (self.detail.as_ref(), detail_frame) {
+            stats.extra.extend([
+                self.selection.unavailable as f64,
+                frame.synthesised as f64,
+                frame.evicted as f64,
+                detail.cache.len() as f64,
+                frame.refused as f64,
+                frame.synthesis_ns as f64 * 1e-6,
+                detail.memory_bytes() as f64,
+                f64::from(deepest_drawn.unwrap_or(0)),
+            ]);
+        }
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
@@ -394,16 +502,34 @@ impl LodAlgorithm for Chunked<'_> {
             + (self.previous_refined.capacity() + self.refined_sorted.capacity())
                 * std::mem::size_of::<ChunkId>()
             + self.indices.capacity() * std::mem::size_of::<u32>()
+            + self.detail.as_ref().map_or(0, RuntimeDetail::memory_bytes)
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
-        vec![
+        let mut facts = vec![
             ("chunks", self.tree.n_chunks() as f64),
             ("leaf_level", f64::from(self.tree.leaf_level())),
             (
                 "triangles_per_chunk",
                 mesh::triangles_per_chunk(self.tree.geometry().cells) as f64,
             ),
-        ]
+        ];
+        if let Some(detail) = &self.detail {
+            facts.extend([
+                ("detail_finest_level", f64::from(detail.finest_level)),
+                ("detail_leaf_error_m", f64::from(self.tree.leaf_error())),
+            ]);
+        }
+        facts
+    }
+}
+
+/// The chunks available now: the tree, and the detail cache when detail is on.
+fn available<'a>(tree: &'a ChunkTree<'a>, detail: &'a Option<RuntimeDetail>) -> Available<'a> {
+    Available {
+        tree,
+        detail: detail
+            .as_ref()
+            .map(|detail| (&detail.cache, detail.finest_level)),
     }
 }
