@@ -2,7 +2,8 @@
 //! Lauritsen–Nielsen §3.3–3.4): every frame of a low flight through the `--check` validators
 //! and the chunked frame validator; the per-frame creation limit and the cache's cap in every
 //! frame; the synthesised chunks equal to the synthesised surface computed for the whole
-//! terrain at once; the same synthesised chunks on every thread count.
+//! terrain at once; the same synthesised chunks on every thread count; the two audits, against
+//! the source and against the detail-extended surface.
 
 mod common;
 
@@ -15,8 +16,12 @@ use roamsim::sim::algorithm::columns::chunked::{
     CHUNKS_COARSER, DETAIL_CACHED, DETAIL_DEEPEST_DRAWN, DETAIL_EVICTED, DETAIL_REFUSED,
     DETAIL_SYNTHESISED,
 };
-use roamsim::sim::algorithm::{Chunked, ChunkedConfig};
+use roamsim::sim::algorithm::{AlgorithmConfig, Chunked, ChunkedConfig};
+use roamsim::sim::audit::AuditSettings;
+use roamsim::sim::flight::Flight;
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
+use roamsim::sim::run::{Effects, RunInputs, run_algorithm};
+use roamsim::sim::view::ViewSettings;
 use roamsim::sim::view::{Camera, Pose};
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
@@ -237,4 +242,61 @@ fn synthesis_is_the_same_on_every_thread_count() {
             }
         }
     }
+}
+
+#[test]
+fn the_detail_audit_measures_against_the_synthesised_surface_and_the_source_audit_against_the_source()
+ {
+    // 17², chunks of 5²: source leaves at level 2, one synthesised level. τ = 0 refines every
+    // chunk with an error, so once the children are made the finest level is drawn everywhere.
+    let hierarchy = bumpy_terrain(4);
+    let config = ChunkedConfig {
+        detail: Some(detail(1, 64, 64)),
+        ..chunked(0.0, 2)
+    };
+    let pose = Pose {
+        position: DVec3::new(80.0, 80.0, 400.0),
+        yaw: 0.0,
+        pitch: -std::f64::consts::FRAC_PI_2 + 0.01,
+    };
+    let flight = Flight::from_poses(vec![pose; 3]).unwrap();
+    let truth = AlgorithmConfig::Chunked(config)
+        .detail_truth(&hierarchy)
+        .unwrap();
+    assert_eq!(truth.depth(), 1);
+    let view = ViewSettings {
+        fovy: 120f64.to_radians(),
+        ..view_600()
+    };
+    let inputs = RunInputs {
+        hierarchy: &hierarchy,
+        view: &view,
+        flight: &flight,
+        violations: &[],
+        effects: Effects {
+            audit: Some(AuditSettings {
+                stride: 1,
+                popping: false,
+            }),
+            culling: false,
+            check_meshes: true,
+        },
+        max_triangles: None,
+        detail_truth: Some(&truth),
+    };
+    let mut algorithm = Chunked::new(&hierarchy, config, &view);
+    let frames = run_algorithm(&inputs, "detail", &mut algorithm, &mut |_| {}).unwrap();
+    // Frame 0 draws the source leaves: exact at the source's samples, not at the synthesised
+    // ones (4 times as many in each direction, less one).
+    let (source0, detail0) = (frames[0].audit.unwrap(), frames[0].audit_detail.unwrap());
+    assert_eq!(source0.samples_in_view, 17 * 17);
+    assert_eq!(detail0.samples_in_view, 33 * 33);
+    assert_eq!(source0.projected.unwrap().max, 0.0);
+    assert!(detail0.projected.unwrap().max > 0.1, "{detail0:?}");
+    // Frame 1 draws the synthesised level everywhere: exact against both (the synthesised
+    // surface keeps the source samples).
+    let (source1, detail1) = (frames[1].audit.unwrap(), frames[1].audit_detail.unwrap());
+    assert_eq!(source1.projected.unwrap().max, 0.0);
+    assert_eq!(detail1.projected.unwrap().max, 0.0, "{detail1:?}");
+    assert_eq!(detail1.coverage.unwrap().holes, 0);
 }

@@ -100,6 +100,7 @@ fn run_with_every_effect(
             check_meshes: true,
         },
         max_triangles: None,
+        detail_truth: None,
     };
     run_algorithm(&inputs, algorithm.name(), algorithm, &mut |_| {}).unwrap()
 }

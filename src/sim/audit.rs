@@ -31,14 +31,17 @@
 //! segment of the change's length at the sample). Samples that were a hole in either frame are
 //! left out; the first frame has no previous one. Off, it keeps no previous frame.
 //!
-//! The truth is the field's samples ([`Auditor::audit`] reads them in one place); the lattice
-//! and the general rasteriser are written for samples at any fixed-point step, so a truth with
-//! more detail than the source (synthesised detail) would change only where the samples come
-//! from.
+//! The truth is the field's samples ([`Auditor::audit`]), or, for an entry that synthesises
+//! detail below the source (`chunked`'s detail effect), the synthesised surface at its deepest
+//! level ([`Auditor::refined`], [`Auditor::audit_against`]): the same audit over the source grid
+//! refined 2^k times, through the general rasteriser (its samples are at a fixed-point step of
+//! 1/2^k cell). The runner reports both for such an entry, named apart (`audit_*`: against the
+//! source; `audit_detail_*`: against the detail-extended surface).
 //!
 //! Cost: O(audited samples + triangles) per frame; buffers are reused across frames, and those
 //! of the general path and of popping are allocated only when first needed.
 
+use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle};
 use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, TriangleRole};
@@ -59,6 +62,9 @@ pub struct AuditSettings {
 /// Reusable audit state.
 pub struct Auditor {
     stride: usize,
+    /// Levels of synthesised detail between the source samples and the audited lattice's: the
+    /// lattice is the source grid refined 2^refine times (0: the source's own samples).
+    refine: u32,
     /// Audited samples per side: the grid side subsampled by `stride`.
     lattice_side: usize,
     /// The drawn height at every audited sample (NaN: a hole, triangle lists only).
@@ -105,10 +111,18 @@ impl CrackHeights {
 
 impl Auditor {
     pub fn new(hierarchy: &Hierarchy, settings: AuditSettings) -> Auditor {
+        Auditor::refined(hierarchy, settings, 0)
+    }
+
+    /// An auditor whose samples are those of the source grid refined `refine` times (every
+    /// `stride`-th of them), for a truth with synthesised detail ([`DetailField`] of depth
+    /// `refine`, see [`Auditor::audit_against`]).
+    pub fn refined(hierarchy: &Hierarchy, settings: AuditSettings, refine: u32) -> Auditor {
         let stride = settings.stride.max(1) as usize;
-        let lattice_side = (hierarchy.field().side() - 1) / stride + 1;
+        let lattice_side = ((hierarchy.field().side() - 1) << refine) / stride + 1;
         Auditor {
             stride,
+            refine,
             lattice_side,
             mesh_height: vec![0.0; lattice_side * lattice_side],
             crack: None,
@@ -119,14 +133,35 @@ impl Auditor {
         }
     }
 
-    /// Measures one frame's mesh (and, with popping on, its change since the last call).
+    /// Measures one frame's mesh (and, with popping on, its change since the last call)
+    /// against the source's samples.
     pub fn audit(
         &mut self,
         hierarchy: &Hierarchy,
         mesh: MeshOutput,
         camera: &Camera,
     ) -> AuditFrame {
-        let general = matches!(mesh, MeshOutput::Triangles(_));
+        self.audit_against(hierarchy, mesh, camera, None)
+    }
+
+    /// [`Auditor::audit`] against `truth`, the synthesised surface at this auditor's depth
+    /// (`None`: the source's samples, for an auditor of depth 0).
+    ///
+    /// # Panics
+    /// When `truth`'s depth is not this auditor's.
+    pub fn audit_against(
+        &mut self,
+        hierarchy: &Hierarchy,
+        mesh: MeshOutput,
+        camera: &Camera,
+        truth: Option<&DetailField>,
+    ) -> AuditFrame {
+        assert_eq!(
+            truth.map_or(0, DetailField::depth),
+            self.refine,
+            "the audit's truth is not at its lattice's depth"
+        );
+        let general = matches!(mesh, MeshOutput::Triangles(_)) || self.refine > 0;
         if general {
             self.rasterise_general(hierarchy, mesh);
         } else {
@@ -148,10 +183,24 @@ impl Auditor {
         });
         let mut popping = PoppingSums::default();
         let previous = self.previous_height.as_deref();
-        for j in (0..field.data_rows()).step_by(stride) {
-            for i in (0..field.data_columns()).step_by(stride) {
-                // The truth: the field's sample.
-                let sample = field.position(i, j);
+        let refine = self.refine;
+        let (rows, columns) = (
+            ((field.data_rows() - 1) << refine) + 1,
+            ((field.data_columns() - 1) << refine) + 1,
+        );
+        let spacing = field.spacing();
+        let fine = 1.0 / f64::from(1u32 << refine);
+        for j in (0..rows).step_by(stride) {
+            for i in (0..columns).step_by(stride) {
+                // The truth: the field's sample, or the synthesised surface's.
+                let sample = match truth {
+                    None => field.position(i, j),
+                    Some(truth) => DVec3::new(
+                        i as f64 * spacing.dx * fine,
+                        j as f64 * spacing.dy * fine,
+                        f64::from(truth.height(i as u32, j as u32)),
+                    ),
+                };
                 if !camera.sees(sample) {
                     continue;
                 }
@@ -239,7 +288,7 @@ impl Auditor {
         crack.skirt_spans.clear();
         let domain_max = i64::from(hierarchy.lattice().cells()) * SUBGRID_UNITS_PER_CELL;
         let raster = SampleRaster::new(
-            self.stride as i64 * SUBGRID_UNITS_PER_CELL,
+            (self.stride as i64 * SUBGRID_UNITS_PER_CELL) >> self.refine,
             self.lattice_side,
             domain_max,
         );

@@ -184,16 +184,7 @@ impl<'h> Chunked<'h> {
         let cells = 1u32 << config.chunk_level.clamp(1, terrain_level);
         let leaf_level = terrain_level - config.chunk_level.clamp(1, terrain_level);
         let geometry = DetailGeometry { cells, leaf_level };
-        // The deepest level is at most 15 (chunk numbers fit a u32): deeper levels are dropped,
-        // and the run fact `detail_finest_level` says how deep the run could go.
-        let detail_config = config.detail.map(|detail| DetailConfig {
-            levels: detail
-                .levels
-                .clamp(1, detail::MAX_DETAIL_LEVELS)
-                .min(15u32.saturating_sub(leaf_level)),
-            ..detail
-        });
-        let detail_config = detail_config.filter(|detail| detail.levels > 0);
+        let detail_config = effective_detail(hierarchy, &config);
         let leaf_error = detail_config.map_or(0.0, |detail| {
             geometry.estimate_leaf_error(hierarchy, &detail)
         });
@@ -522,6 +513,28 @@ impl LodAlgorithm for Chunked<'_> {
         }
         facts
     }
+}
+
+/// The detail `config` asks for on `hierarchy`, as a run can have it: the deepest level is at
+/// most 15 (chunk numbers fit a `u32`), so deeper levels are dropped (the run fact
+/// `detail_finest_level` says how deep the run could go); `None` when off or when no level is
+/// left.
+pub fn effective_detail(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option<DetailConfig> {
+    let terrain_level = hierarchy.lattice().level();
+    let leaf_level = terrain_level - config.chunk_level.clamp(1, terrain_level);
+    let detail = config.detail?;
+    let levels = detail
+        .levels
+        .clamp(1, detail::MAX_DETAIL_LEVELS)
+        .min(15u32.saturating_sub(leaf_level));
+    (levels > 0).then_some(DetailConfig { levels, ..detail })
+}
+
+/// The synthesised surface at the deepest level `config`'s detail reaches on `hierarchy`, the
+/// truth the detail audit measures against; `None` with detail off. O(4^levels · samples).
+pub fn detail_truth(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option<detail::DetailField> {
+    effective_detail(hierarchy, config)
+        .map(|detail| detail::DetailField::new(hierarchy, &detail, detail.levels))
 }
 
 /// The chunks available now: the tree, and the detail cache when detail is on.
