@@ -155,6 +155,7 @@ pub fn chunked(tau_px: f64, chunk_level: u32) -> ChunkedConfig {
         culling: false,
         front_to_back: false,
         detail: None,
+        loading: None,
     }
 }
 

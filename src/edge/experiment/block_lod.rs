@@ -4,8 +4,8 @@
 //! `check.rs`, which only dispatches to it by name.
 
 use super::FieldProblem;
-use crate::sim::algorithm::chunked::DetailConfig;
 use crate::sim::algorithm::chunked::detail::MAX_DETAIL_LEVELS;
+use crate::sim::algorithm::chunked::{DetailConfig, LoadingConfig};
 use crate::sim::algorithm::{
     AlgorithmConfig, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference, LodCurve,
     LodRounding, PatchDistance, Projection, SkirtDepth, VanekConfig,
@@ -61,6 +61,18 @@ struct ChunkedParameters {
     /// Runtime detail below the finest source level (§3.3–3.4); absent: off.
     #[serde(default)]
     detail: Option<DetailEntry>,
+    /// Out-of-core loading with latency (§3.2.14); absent: off.
+    #[serde(default)]
+    loading: Option<LoadingEntry>,
+}
+
+/// `chunked.loading`: the latency, the bandwidth and the memory cap.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LoadingEntry {
+    latency_frames: u32,
+    bandwidth_chunks_per_frame: u32,
+    resident_chunks: u32,
 }
 
 /// `chunked.detail`: the synthesised levels, the displacement function, the creation limit
@@ -174,9 +186,44 @@ pub(super) fn chunked_config(
     let detail = p
         .detail
         .map(|entry| detail_config(origin, &entry, &mut problems));
+    let loading = p.loading.map(|entry| {
+        let mut add = |field: &str, problem: String| {
+            problems.push(FieldProblem {
+                field: format!("{origin}.loading.{field}"),
+                problem,
+            })
+        };
+        if entry.latency_frames < 1 {
+            add(
+                "latency_frames",
+                "0: expected at least 1 frame (a request is made after the frame's selection)"
+                    .to_string(),
+            );
+        }
+        for (field, value) in [
+            (
+                "bandwidth_chunks_per_frame",
+                entry.bandwidth_chunks_per_frame,
+            ),
+            ("resident_chunks", entry.resident_chunks),
+        ] {
+            if value < 4 {
+                add(
+                    field,
+                    format!("{value}: expected at least 4 chunks (siblings travel together)"),
+                );
+            }
+        }
+        LoadingConfig {
+            latency_frames: entry.latency_frames,
+            bandwidth_chunks_per_frame: entry.bandwidth_chunks_per_frame,
+            resident_chunks: entry.resident_chunks,
+        }
+    });
     match goal {
         Some(goal) if problems.is_empty() => Ok(AlgorithmConfig::Chunked(ChunkedConfig {
             detail,
+            loading,
             chunk_level,
             goal,
             projection: projection(p.projection),
@@ -407,6 +454,7 @@ mod tests {
                 culling: false,
                 front_to_back: false,
                 detail: None,
+                loading: None,
             })
         );
         let geomipmap = geomipmap_config(

@@ -77,6 +77,16 @@ pub mod chunked {
     pub const DETAIL_BYTES: &str = "detail_bytes";
     /// The deepest level drawn this frame.
     pub const DETAIL_DEEPEST_DRAWN: &str = "detail_deepest_level_drawn";
+    /// Chunks requested and on their way (issued, not yet arrived), source and synthesised.
+    pub const REQUESTS_IN_FLIGHT: &str = "requests_in_flight";
+    /// Load requests the selection made this frame that were not issued (bandwidth, room).
+    pub const REQUESTS_WAITING: &str = "requests_waiting";
+    pub const CHUNKS_LOADED: &str = "chunks_loaded";
+    pub const CHUNKS_UNLOADED: &str = "chunks_unloaded";
+    /// Source chunks resident or on their way, the root not counted.
+    pub const RESIDENT_CHUNKS: &str = "resident_chunks";
+    /// Bytes the resident source chunks hold.
+    pub const RESIDENT_BYTES: &str = "resident_bytes";
 }
 
 /// `vanek` (Vaněk and Ježek 2004).
@@ -154,6 +164,12 @@ pub const ALL: &[&str] = &[
     chunked::DETAIL_SYNTHESIS_MS,
     chunked::DETAIL_BYTES,
     chunked::DETAIL_DEEPEST_DRAWN,
+    chunked::REQUESTS_IN_FLIGHT,
+    chunked::REQUESTS_WAITING,
+    chunked::CHUNKS_LOADED,
+    chunked::CHUNKS_UNLOADED,
+    chunked::RESIDENT_CHUNKS,
+    chunked::RESIDENT_BYTES,
     vanek::STRIP_INDICES,
     vanek::DEGENERATE_TRIANGLES,
     vanek::COLLAPSED_TRIANGLES,

@@ -54,9 +54,9 @@
 //! ((2^c + 1)² `f32`), about 36 KiB for 65² chunks, plus the map's entry.
 
 use super::super::block_lod::grid::{coarser_neighbours, round_up_f32};
+use super::cache::GroupCache;
 use super::tree::{ChunkId, ChunkRecord};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
-use std::collections::BTreeMap;
 
 /// Samples of border kept around every base grid, on each side.
 pub const BORDER: u32 = 2;
@@ -430,93 +430,19 @@ impl DetailField {
     }
 }
 
-/// The synthesised chunks held, with the frame each was last used.
-#[derive(Clone, Debug, Default)]
-pub struct DetailCache {
-    chunks: BTreeMap<ChunkId, (SynthesisedChunk, u64)>,
-}
+/// The synthesised chunks held (see [`GroupCache`]).
+pub type DetailCache = GroupCache<SynthesisedChunk>;
 
 impl DetailCache {
-    pub fn get(&self, id: ChunkId) -> Option<&SynthesisedChunk> {
-        self.chunks.get(&id).map(|(chunk, _)| chunk)
-    }
-
-    pub fn len(&self) -> usize {
-        self.chunks.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.chunks.is_empty()
-    }
-
-    /// Marks `id` (if cached) as used in `frame`.
-    pub fn touch(&mut self, id: ChunkId, frame: u64) {
-        if let Some((_, used)) = self.chunks.get_mut(&id) {
-            *used = frame;
-        }
-    }
-
-    pub fn insert(&mut self, id: ChunkId, chunk: SynthesisedChunk, frame: u64) {
-        self.chunks.insert(id, (chunk, frame));
-    }
-
-    /// Evicts the least recently used sibling group none of whose chunks has cached children
-    /// and none of which was used in `frame`; the group's chunks evicted, or 0 when none can go.
-    /// Ties: the deeper group first, then the lower parent id. O(cached chunks).
-    pub fn evict_one(&mut self, frame: u64) -> usize {
-        let mut best: Option<((u64, std::cmp::Reverse<u32>, ChunkId), ChunkId)> = None;
-        for (&id, &(_, used)) in &self.chunks {
-            let Some(parent) = id.parent() else { continue };
-            if id != parent.children()[0] {
-                continue;
-            }
-            let group = parent.children();
-            let mut last_used = 0;
-            let mut evictable = true;
-            for child in group {
-                match self.chunks.get(&child) {
-                    Some(&(_, child_used)) => last_used = last_used.max(child_used),
-                    None => evictable = false,
-                }
-                if self.chunks.contains_key(&child.children()[0]) {
-                    evictable = false;
-                }
-            }
-            let _ = used;
-            if !evictable || last_used >= frame {
-                continue;
-            }
-            let key = (last_used, std::cmp::Reverse(id.level), parent);
-            if best.as_ref().is_none_or(|(best_key, _)| key < *best_key) {
-                best = Some((key, parent));
-            }
-        }
-        match best {
-            Some((_, parent)) => {
-                for child in parent.children() {
-                    self.chunks.remove(&child);
-                }
-                4
-            }
-            None => 0,
-        }
-    }
-
     /// Heap bytes held (grids, heights and the map's entries).
     pub fn memory_bytes(&self) -> usize {
-        self.chunks
-            .values()
-            .map(|(chunk, _)| {
+        self.iter_all()
+            .map(|(_, chunk)| {
                 chunk.base.memory_bytes()
                     + chunk.heights.capacity() * std::mem::size_of::<f32>()
-                    + std::mem::size_of::<(ChunkId, (SynthesisedChunk, u64))>()
+                    + GroupCache::<SynthesisedChunk>::ENTRY_BYTES
             })
             .sum()
-    }
-
-    /// Iterates the cached chunks in id order.
-    pub fn iter(&self) -> impl Iterator<Item = (ChunkId, &SynthesisedChunk)> {
-        self.chunks.iter().map(|(&id, (chunk, _))| (id, chunk))
     }
 }
 
@@ -645,23 +571,23 @@ mod tests {
         for (x, frame) in [(0, 5), (1, 3)] {
             let base = source_leaf_base(&hierarchy, leaf(x), 8);
             for (id, chunk) in geometry.synthesise_children(leaf(x), &base, 1.0, &displacement) {
-                cache.insert(id, chunk, frame);
+                cache.insert(id, chunk, frame, frame);
             }
         }
         // Grandchildren below leaf 0's first child, used at frame 1 (older than everything).
         let first = leaf(0).children()[0];
-        let base = cache.get(first).unwrap().base.clone();
+        let base = cache.get_any(first).unwrap().base.clone();
         for (id, chunk) in geometry.synthesise_children(first, &base, 0.5, &displacement) {
-            cache.insert(id, chunk, 1);
+            cache.insert(id, chunk, 1, 1);
         }
         assert_eq!(cache.len(), 12);
         // At frame 6 the grandchildren go first (oldest, and childless), then leaf 1's group
         // (used at 3) before leaf 0's (used at 5).
         assert_eq!(cache.evict_one(6), 4);
-        assert!(cache.get(first.children()[0]).is_none());
+        assert!(cache.get_any(first.children()[0]).is_none());
         assert_eq!(cache.evict_one(6), 4);
-        assert!(cache.get(leaf(1).children()[0]).is_none());
-        assert!(cache.get(first).is_some());
+        assert!(cache.get_any(leaf(1).children()[0]).is_none());
+        assert!(cache.get_any(first).is_some());
         // Leaf 0's group was used at frame 5: not evictable at frame 5.
         assert_eq!(cache.evict_one(5), 0);
         assert_eq!(cache.len(), 4);

@@ -62,8 +62,11 @@
 //! drawn triangles), several selection passes with a target.
 
 mod brute_force;
+mod cache;
 pub mod detail;
+mod loading;
 mod mesh;
+mod requests;
 mod select;
 mod source;
 mod synthesis;
@@ -72,6 +75,7 @@ mod validate;
 
 pub use brute_force::chunks_from_scratch;
 pub use detail::DetailConfig;
+pub use loading::LoadingConfig;
 pub use select::DrawnChunk;
 pub use tree::{ChunkId, ChunkRecord, SkirtDepth};
 pub use validate::ChunkedError;
@@ -86,6 +90,7 @@ use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
 use detail::DetailGeometry;
+use loading::Loading;
 use select::{Selection, SelectionSettings, select};
 use source::Available;
 use synthesis::RuntimeDetail;
@@ -111,6 +116,7 @@ const EXTRA_COLUMNS_WITH_DETAIL: &[&str] = &[
     columns::TAU,
     columns::TARGET_UNREACHABLE,
     columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
     columns::DETAIL_SYNTHESISED,
     columns::DETAIL_EVICTED,
     columns::DETAIL_CACHED,
@@ -118,6 +124,47 @@ const EXTRA_COLUMNS_WITH_DETAIL: &[&str] = &[
     columns::DETAIL_SYNTHESIS_MS,
     columns::DETAIL_BYTES,
     columns::DETAIL_DEEPEST_DRAWN,
+];
+
+/// With out-of-core loading on: the first columns, then the loading's.
+const EXTRA_COLUMNS_WITH_LOADING: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
+    columns::REQUESTS_WAITING,
+    columns::CHUNKS_LOADED,
+    columns::CHUNKS_UNLOADED,
+    columns::RESIDENT_CHUNKS,
+    columns::RESIDENT_BYTES,
+];
+
+/// With both: every column.
+const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
+    columns::DETAIL_SYNTHESISED,
+    columns::DETAIL_EVICTED,
+    columns::DETAIL_CACHED,
+    columns::DETAIL_REFUSED,
+    columns::DETAIL_SYNTHESIS_MS,
+    columns::DETAIL_BYTES,
+    columns::DETAIL_DEEPEST_DRAWN,
+    columns::REQUESTS_WAITING,
+    columns::CHUNKS_LOADED,
+    columns::CHUNKS_UNLOADED,
+    columns::RESIDENT_CHUNKS,
+    columns::RESIDENT_BYTES,
 ];
 
 /// Parameters of the chunked quadtree.
@@ -137,6 +184,9 @@ pub struct ChunkedConfig {
     pub front_to_back: bool,
     /// Detail synthesised below the finest source level at run time (§3.3–3.4); `None`: off.
     pub detail: Option<DetailConfig>,
+    /// Out-of-core loading with a latency and a bandwidth (§3.2.14); `None`: off, every source
+    /// chunk resident.
+    pub loading: Option<LoadingConfig>,
 }
 
 /// The chunked quadtree. Per frame: O(chunks visited + drawn triangles); buffers are reused.
@@ -146,6 +196,8 @@ pub struct Chunked<'h> {
     tree: ChunkTree<'h>,
     /// Runtime detail, when on.
     detail: Option<RuntimeDetail>,
+    /// Out-of-core loading, when on.
+    loading: Option<Loading>,
     list: TriangleList,
     selection: Selection,
     /// Scratch selection for the target search's counting passes.
@@ -199,6 +251,7 @@ impl<'h> Chunked<'h> {
             config,
             lambda: view.pixels_per_unit(),
             detail: detail_config.map(|detail| RuntimeDetail::new(detail, geometry, config.skirts)),
+            loading: config.loading.map(|loading| Loading::new(loading, cells)),
             tree,
             list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted),
             selection: Selection::default(),
@@ -218,6 +271,12 @@ impl<'h> Chunked<'h> {
         &self.selection.drawn
     }
 
+    /// The chunks this frame drew in place of children that were not available, in visiting
+    /// order: the requests for those children (listing 3.6).
+    pub fn requested(&self) -> &[ChunkId] {
+        &self.selection.requested
+    }
+
     /// This frame's culled chunks.
     pub fn culled(&self) -> &[ChunkId] {
         &self.selection.culled
@@ -231,7 +290,7 @@ impl<'h> Chunked<'h> {
     /// The record of chunk `id`, from the source tree or the detail cache; `None` when it is
     /// not available.
     pub fn chunk(&self, id: ChunkId) -> Option<&ChunkRecord> {
-        available(&self.tree, &self.detail).get(id)
+        available(&self.tree, &self.detail, &self.loading).get(id)
     }
 
     /// The height of vertex (a, b) of the available chunk `id`'s grid.
@@ -239,7 +298,7 @@ impl<'h> Chunked<'h> {
     /// # Panics
     /// When `id` is not available.
     pub fn chunk_height(&self, id: ChunkId, a: u32, b: u32) -> f32 {
-        available(&self.tree, &self.detail).height(id, a, b)
+        available(&self.tree, &self.detail, &self.loading).height(id, a, b)
     }
 
     /// The synthesised chunks held, in id order, with their drawn heights ((2^c + 1)², row by
@@ -256,7 +315,7 @@ impl<'h> Chunked<'h> {
 
     /// The deepest level a chunk can have (the source leaves', or the deepest synthesised).
     pub fn finest_level(&self) -> u32 {
-        available(&self.tree, &self.detail).finest_level()
+        available(&self.tree, &self.detail, &self.loading).finest_level()
     }
 
     /// The level of the full-resolution leaves.
@@ -281,7 +340,7 @@ impl<'h> Chunked<'h> {
     pub fn validate_frame(&self, camera: &Camera) -> Result<(), ChunkedError> {
         let settings = self.settings(self.tau_px);
         validate::validate_frame(&validate::FrameView {
-            source: available(&self.tree, &self.detail),
+            source: available(&self.tree, &self.detail, &self.loading),
             config: self.config,
             settings: &settings,
             selection: &self.selection,
@@ -307,7 +366,7 @@ impl<'h> Chunked<'h> {
         };
         let per_chunk = mesh::triangles_per_chunk(self.tree.geometry().cells);
         let mut visited = 0;
-        let source = available(&self.tree, &self.detail);
+        let source = available(&self.tree, &self.detail, &self.loading);
         let (tree, counting) = (&self.tree, &mut self.counting);
         let (lambda, config) = (self.lambda, self.config);
         let choice = finest_tau_within(target, self.tau_px, |tau_px| {
@@ -335,7 +394,7 @@ impl<'h> Chunked<'h> {
             let (low, high) = geometry.square(id);
             self.list.add_culled_region(low, high);
         }
-        let source = available(&self.tree, &self.detail);
+        let source = available(&self.tree, &self.detail, &self.loading);
         for chunk in &self.selection.drawn {
             let record = *source.record(chunk.id);
             mesh::add_chunk(
@@ -352,7 +411,7 @@ impl<'h> Chunked<'h> {
     /// Consecutive drawn chunks whose second is nearer (Euclidean distance to the box).
     fn order_inversions(&self, camera: &Camera) -> u64 {
         let geometry = self.tree.geometry();
-        let source = available(&self.tree, &self.detail);
+        let source = available(&self.tree, &self.detail, &self.loading);
         let distances: Vec<f64> = self
             .selection
             .drawn
@@ -373,19 +432,27 @@ impl LodAlgorithm for Chunked<'_> {
     }
 
     fn extra_columns(&self) -> &'static [&'static str] {
-        if self.detail.is_some() {
-            EXTRA_COLUMNS_WITH_DETAIL
-        } else {
-            EXTRA_COLUMNS
+        match (self.detail.is_some(), self.loading.is_some()) {
+            (false, false) => EXTRA_COLUMNS,
+            (true, false) => EXTRA_COLUMNS_WITH_DETAIL,
+            (false, true) => EXTRA_COLUMNS_WITH_LOADING,
+            (true, true) => EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING,
         }
     }
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let camera = input.camera;
+        // Chunks due by this frame arrive.
+        if let Some(detail) = self.detail.as_mut() {
+            detail.cache.set_frame(input.frame);
+        }
+        if let Some(loading) = self.loading.as_mut() {
+            loading.resident.set_frame(input.frame);
+        }
         let search_visits = self.choose_tau(camera);
         let settings = self.settings(self.tau_px);
         select(
-            &available(&self.tree, &self.detail),
+            &available(&self.tree, &self.detail, &self.loading),
             self.tree.geometry(),
             camera,
             &settings,
@@ -393,7 +460,7 @@ impl LodAlgorithm for Chunked<'_> {
         );
         self.build_mesh();
         let skirt_depth_max = {
-            let source = available(&self.tree, &self.detail);
+            let source = available(&self.tree, &self.detail, &self.loading);
             self.selection
                 .drawn
                 .iter()
@@ -403,10 +470,13 @@ impl LodAlgorithm for Chunked<'_> {
         let order_inversions = self.order_inversions(camera);
         let deepest_drawn = self.selection.drawn.iter().map(|c| c.id.level).max();
         // Runtime detail: the children this frame asked for, there from the next frame on.
-        let detail_frame = self
-            .detail
-            .as_mut()
-            .map(|detail| detail.after_selection(&self.tree, &self.selection, input.frame));
+        let requests = requests::serve(
+            &self.tree,
+            &self.selection,
+            self.detail.as_mut(),
+            self.loading.as_mut(),
+            input.frame,
+        );
 
         // What changed since the previous frame.
         let cells = self.tree.geometry().cells;
@@ -461,16 +531,31 @@ impl LodAlgorithm for Chunked<'_> {
             self.tau_px,
             f64::from(u8::from(self.target_unreachable)),
         ];
-        if let (Some(detail), Some(frame)) = (self.detail.as_ref(), detail_frame) {
+        if self.detail.is_some() || self.loading.is_some() {
+            let in_flight = self.detail.as_ref().map_or(0, |d| d.cache.in_flight())
+                + self.loading.as_ref().map_or(0, |l| l.resident.in_flight());
+            stats
+                .extra
+                .extend([self.selection.unavailable as f64, in_flight as f64]);
+        }
+        if let Some(detail) = self.detail.as_ref() {
             stats.extra.extend([
-                self.selection.unavailable as f64,
-                frame.synthesised as f64,
-                frame.evicted as f64,
+                requests.synthesised as f64,
+                requests.evicted as f64,
                 detail.cache.len() as f64,
-                frame.refused as f64,
-                frame.synthesis_ns as f64 * 1e-6,
+                requests.refused as f64,
+                requests.synthesis_ns as f64 * 1e-6,
                 detail.memory_bytes() as f64,
                 f64::from(deepest_drawn.unwrap_or(0)),
+            ]);
+        }
+        if let Some(loading) = self.loading.as_ref() {
+            stats.extra.extend([
+                requests.waiting as f64,
+                requests.loaded as f64,
+                requests.unloaded as f64,
+                loading.resident.len() as f64,
+                loading.memory_bytes() as f64,
             ]);
         }
     }
@@ -494,6 +579,7 @@ impl LodAlgorithm for Chunked<'_> {
                 * std::mem::size_of::<ChunkId>()
             + self.indices.capacity() * std::mem::size_of::<u32>()
             + self.detail.as_ref().map_or(0, RuntimeDetail::memory_bytes)
+            + self.loading.as_ref().map_or(0, Loading::memory_bytes)
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
@@ -538,9 +624,14 @@ pub fn detail_truth(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option<det
 }
 
 /// The chunks available now: the tree, and the detail cache when detail is on.
-fn available<'a>(tree: &'a ChunkTree<'a>, detail: &'a Option<RuntimeDetail>) -> Available<'a> {
+fn available<'a>(
+    tree: &'a ChunkTree<'a>,
+    detail: &'a Option<RuntimeDetail>,
+    loading: &'a Option<Loading>,
+) -> Available<'a> {
     Available {
         tree,
+        resident: loading.as_ref().map(|loading| &loading.resident),
         detail: detail
             .as_ref()
             .map(|detail| (&detail.cache, detail.finest_level)),

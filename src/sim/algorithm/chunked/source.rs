@@ -1,8 +1,9 @@
-//! The chunks one frame can read: the source tree and, with synthesised detail on, the cache
-//! of chunks made below its leaves. The selection, the mesh builder and the frame validator
+//! The chunks one frame can read: the source tree (with out-of-core loading, its resident
+//! chunks only) and, with synthesised detail on, the cache of chunks made below its leaves. The selection, the mesh builder and the frame validator
 //! read chunks only through this view ([`ChunkSource`]), so a synthesised chunk and a source
 //! chunk look alike to them; a chunk not cached is simply not available.
 
+use super::cache::GroupCache;
 use super::detail::DetailCache;
 use super::tree::{ChunkId, ChunkRecord, ChunkSource, ChunkTree};
 
@@ -11,13 +12,19 @@ use super::tree::{ChunkId, ChunkRecord, ChunkSource, ChunkTree};
 pub(super) struct Available<'a> {
     pub(super) tree: &'a ChunkTree<'a>,
     pub(super) detail: Option<(&'a DetailCache, u32)>,
+    /// With out-of-core loading, the resident source chunks (the root always is).
+    pub(super) resident: Option<&'a GroupCache<()>>,
 }
 
 impl<'a> Available<'a> {
     /// The chunk `id` if it is available, borrowed for as long as the tree and the cache.
     pub(super) fn get(&self, id: ChunkId) -> Option<&'a ChunkRecord> {
         if id.level <= self.tree.leaf_level() {
-            return self.tree.chunk(id);
+            let resident = match self.resident {
+                Some(resident) => id == ChunkId::ROOT || resident.get(id).is_some(),
+                None => true,
+            };
+            return self.tree.chunk(id).filter(|_| resident);
         }
         let (cache, _) = self.detail?;
         cache.get(id).map(|chunk| &chunk.record)

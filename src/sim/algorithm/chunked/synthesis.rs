@@ -1,14 +1,10 @@
-//! The per-frame work of runtime detail: after the selection, mark what it visited as used,
-//! then serve its requests for missing children (synthesis, within the per-frame creation
-//! limit), evicting to stay within the cache's cap. The policy is described in `detail.rs`.
-//!
-//! Per frame: O(chunks visited + requests · (cached chunks + a chunk's samples)).
+//! Runtime detail's state between frames: the displacement function, the cache of synthesised
+//! chunks, and how a sibling group is made (the policy is described in `detail.rs`; requests are
+//! served in `requests.rs`).
 
 use super::SkirtDepth;
 use super::detail::{DetailCache, DetailConfig, DetailGeometry, Displacement, source_leaf_base};
-use super::select::Selection;
 use super::tree::{ChunkId, ChunkTree};
-use std::time::Instant;
 
 /// The runtime detail's state: its settings, the displacement function and the cache.
 pub(super) struct RuntimeDetail {
@@ -19,19 +15,6 @@ pub(super) struct RuntimeDetail {
     pub(super) cache: DetailCache,
     /// The deepest synthesised level.
     pub(super) finest_level: u32,
-}
-
-/// What one frame's synthesis did.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(super) struct DetailFrame {
-    /// Chunks synthesised.
-    pub(super) synthesised: u64,
-    /// Chunks evicted.
-    pub(super) evicted: u64,
-    /// Requests not served this frame (over the creation limit, or no room in the cache).
-    pub(super) refused: u64,
-    /// Time spent synthesising and evicting, nanoseconds (inside the update).
-    pub(super) synthesis_ns: u64,
 }
 
 impl RuntimeDetail {
@@ -50,55 +33,24 @@ impl RuntimeDetail {
         }
     }
 
-    /// Marks the chunks `selection` visited as used in `frame`, then serves its requests.
-    pub(super) fn after_selection(
-        &mut self,
-        tree: &ChunkTree,
-        selection: &Selection,
-        frame: u64,
-    ) -> DetailFrame {
-        let start = Instant::now();
-        let leaf_level = self.geometry.leaf_level;
-        let visited = selection
-            .drawn
-            .iter()
-            .map(|c| c.id)
-            .chain(selection.refined.iter().copied())
-            .chain(selection.culled.iter().copied());
-        for id in visited {
-            if id.level > leaf_level {
-                self.cache.touch(id, frame);
-            }
-        }
-        let mut out = DetailFrame::default();
-        let limit = u64::from(self.config.max_created_per_frame);
-        let cap = self.config.cache_chunks as usize;
-        for (k, &parent) in selection.requested.iter().enumerate() {
-            let remaining = (selection.requested.len() - k) as u64;
-            if out.synthesised + 4 > limit {
-                out.refused += remaining;
-                break;
-            }
-            while self.cache.len() + 4 > cap {
-                let evicted = self.cache.evict_one(frame);
-                if evicted == 0 {
-                    break;
-                }
-                out.evicted += evicted as u64;
-            }
-            if self.cache.len() + 4 > cap {
-                out.refused += remaining;
-                break;
-            }
-            self.synthesise_children(tree, parent, frame);
-            out.synthesised += 4;
-        }
-        out.synthesis_ns = start.elapsed().as_nanos() as u64;
-        out
+    /// The most chunks made per frame.
+    pub(super) fn creation_limit(&self) -> u64 {
+        u64::from(self.config.max_created_per_frame)
     }
 
-    /// Makes and caches `parent`'s four children.
-    fn synthesise_children(&mut self, tree: &ChunkTree, parent: ChunkId, frame: u64) {
+    /// The most chunks held.
+    pub(super) fn cache_cap(&self) -> usize {
+        self.config.cache_chunks as usize
+    }
+
+    /// Makes `parent`'s four children in `frame` and holds them, drawn from `available_from` on.
+    pub(super) fn synthesise_children(
+        &mut self,
+        tree: &ChunkTree,
+        parent: ChunkId,
+        frame: u64,
+        available_from: u64,
+    ) {
         let leaf_level = self.geometry.leaf_level;
         let children = if parent.level == leaf_level {
             let base = source_leaf_base(tree.hierarchy(), parent, self.geometry.cells);
@@ -108,7 +60,7 @@ impl RuntimeDetail {
         } else {
             let chunk = self
                 .cache
-                .get(parent)
+                .get_any(parent)
                 .expect("a synthesised chunk requesting children is cached");
             self.geometry.synthesise_children(
                 parent,
@@ -127,7 +79,7 @@ impl RuntimeDetail {
                     tree.record(leaf).skirt_depth
                 }
             };
-            self.cache.insert(id, chunk, frame);
+            self.cache.insert(id, chunk, frame, available_from);
         }
     }
 
