@@ -277,6 +277,7 @@ fn the_detail_audit_measures_against_the_synthesised_surface_and_the_source_audi
             audit: Some(AuditSettings {
                 stride: 1,
                 popping: false,
+                detail_stride: None,
             }),
             culling: false,
             check_meshes: true,

@@ -80,7 +80,11 @@ fn circle(frames: u32) -> Vec<Pose> {
 }
 
 fn audit_settings(popping: bool) -> AuditSettings {
-    AuditSettings { stride: 1, popping }
+    AuditSettings {
+        stride: 1,
+        popping,
+        detail_stride: None,
+    }
 }
 
 /// Runs `algorithm` through the shared runner with every effect on and the checks every frame.

@@ -57,6 +57,9 @@ pub struct AuditSettings {
     pub stride: u32,
     /// Also measure popping (the change of the drawn surface since the previous frame).
     pub popping: bool,
+    /// The stride of the audit against a detail-extended surface, in that surface's samples
+    /// (`None`: `stride`).
+    pub detail_stride: Option<u32>,
 }
 
 /// Reusable audit state.
@@ -400,7 +403,11 @@ mod tests {
     use crate::sim::view::{Pose, ViewSettings};
 
     fn settings(stride: u32, popping: bool) -> AuditSettings {
-        AuditSettings { stride, popping }
+        AuditSettings {
+            stride,
+            popping,
+            detail_stride: None,
+        }
     }
 
     fn camera_above(hierarchy: &Hierarchy) -> Camera {

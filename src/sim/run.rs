@@ -140,8 +140,9 @@ impl<'a> FrameRunner<'a> {
             detail_auditor: inputs.effects.audit.zip(inputs.detail_truth).map(
                 |(settings, truth)| {
                     let settings = AuditSettings {
+                        stride: settings.detail_stride.unwrap_or(settings.stride),
                         popping: false,
-                        ..settings
+                        detail_stride: None,
                     };
                     Auditor::refined(inputs.hierarchy, settings, truth.depth())
                 },

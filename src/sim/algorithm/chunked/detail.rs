@@ -68,6 +68,9 @@ pub const ERROR_SAMPLE_LEAVES: usize = 64;
 /// bits as long as leaf level + detail levels ≤ 15 (the chunk numbering's limit).
 pub const MAX_DETAIL_LEVELS: u32 = 8;
 
+/// The largest [`DetailField`] the detail audit builds: 2^26 samples (256 MiB of heights).
+pub const DETAIL_TRUTH_MAX_SAMPLES: u64 = 1 << 26;
+
 /// The detail effect as the experiment declares it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DetailConfig {

@@ -618,9 +618,13 @@ pub fn effective_detail(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option
 
 /// The synthesised surface at the deepest level `config`'s detail reaches on `hierarchy`, the
 /// truth the detail audit measures against; `None` with detail off. O(4^levels · samples).
+/// `None` too when that surface has more than [`detail::DETAIL_TRUTH_MAX_SAMPLES`] samples (a
+/// run that flies a terrain too large for memory is not audited against it).
 pub fn detail_truth(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option<detail::DetailField> {
-    effective_detail(hierarchy, config)
-        .map(|detail| detail::DetailField::new(hierarchy, &detail, detail.levels))
+    let detail = effective_detail(hierarchy, config)?;
+    let side = (u64::from(hierarchy.lattice().cells()) << detail.levels) + 1;
+    (side * side <= detail::DETAIL_TRUTH_MAX_SAMPLES)
+        .then(|| detail::DetailField::new(hierarchy, &detail, detail.levels))
 }
 
 /// The chunks available now: the tree, and the detail cache when detail is on.
