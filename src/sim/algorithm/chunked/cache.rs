@@ -11,6 +11,10 @@
 use super::tree::ChunkId;
 use std::collections::BTreeMap;
 
+/// The order of eviction: least recently used first, then the deeper group, then the lower
+/// parent id.
+type EvictionKey = (u64, std::cmp::Reverse<u32>, ChunkId);
+
 /// One held chunk.
 #[derive(Clone, Debug, PartialEq)]
 struct Entry<T> {
@@ -104,7 +108,7 @@ impl<T> GroupCache<T> {
     /// none of which was used in `frame` or is on its way; the chunks evicted (4), or 0 when no
     /// group can go. Ties: the deeper group first, then the lower parent id.
     pub fn evict_one(&mut self, frame: u64) -> usize {
-        let mut best: Option<((u64, std::cmp::Reverse<u32>, ChunkId), ChunkId)> = None;
+        let mut best: Option<(EvictionKey, ChunkId)> = None;
         for &id in self.entries.keys() {
             let Some(parent) = id.parent() else { continue };
             if id != parent.children()[0] {

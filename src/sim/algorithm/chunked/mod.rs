@@ -50,12 +50,35 @@
 //!   deepest skirt drawn), `order_inversions` (consecutive drawn chunks the second of which is
 //!   nearer: what front-to-back order removes), `tau_px`, `target_unreachable`.
 //!
-//! # For the extension to runtime detail and out-of-core loading
+//! # Runtime detail and out-of-core loading (§3.2.14, §3.3–3.4), two effects
 //!
 //! Chunks are named by [`ChunkId`] (level, x, y), never by an index into an array built up
-//! front, and the selection and the mesh builder read them through the `ChunkSource` trait
-//! (`tree.rs`), asking whether a chunk is available: a cache of synthesised or loaded chunks
-//! is another source, and a chunk whose children are not available is drawn in their place.
+//! front, and the selection, the mesh builder and the validator read them through the
+//! `ChunkSource` trait (`tree.rs`) as one view, `source.rs`'s `Available`: the source tree (with
+//! loading on, only its resident chunks) and the cache of synthesised chunks. A chunk whose
+//! children are not available is drawn in their place and its children are requested
+//! (listing 3.6 / 3.7); `requests.rs` serves the requests after the frame's selection.
+//!
+//! - **`detail`** (`detail.rs`, `synthesis.rs`): the source leaves get the estimated error ε
+//!   (the largest δ_m of sampled one-level detail additions, §3.4.1) and the tree's errors nest
+//!   over it; below them, chunks down to `levels` more levels are synthesised from their parent
+//!   by the four-point subdivision (Kobbelt's scheme on a regular grid) with a two-sample border,
+//!   plus a seeded gradient-noise fractal displacement kept apart from the base (§3.3.1), each
+//!   with half its parent's error. At most `max_created_per_frame` chunks made per frame
+//!   (§3.4.4's request limit); at most `cache_chunks` held, least recently used sibling groups
+//!   evicted. The paper's alternative limit by the viewpoint's velocity is not implemented.
+//! - **`loading`** (`loading.rs`): source chunks are resident only after a request, a latency in
+//!   frames and a bandwidth in chunks per frame, under a cap of resident chunks (LRU, the
+//!   paper's cache); synthesised chunks travel the same way.
+//! - **Decisions.** Requests are made after the frame's selection, so a chunk is drawn at the
+//!   earliest the frame after it was wanted (the asynchronous scheme; latency ≥ 1). Requests
+//!   not served are not queued: the selection asks again while it still wants them. A group
+//!   used in the current frame, or still on its way, is never evicted; with nothing evictable a
+//!   request waits, so the caps hold in every frame. Synthesised chunks' boxes are their own
+//!   samples' range (the source leaves' boxes are not widened by the detail below them), so with
+//!   box culling a leaf whose detail rises above its box can be culled while that detail would
+//!   be in view: the audit counts such samples as holes. With both effects off every count is
+//!   what it was before they existed.
 //!
 //! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
 //! triangle list (O(drawn triangles)), the selection's buffers. Per frame: O(chunks visited +
@@ -194,14 +217,14 @@ pub struct Chunked<'h> {
     config: ChunkedConfig,
     lambda: f64,
     tree: ChunkTree<'h>,
-    /// Runtime detail, when on.
-    detail: Option<RuntimeDetail>,
+    /// Runtime detail, when on (boxed: an entry without it stays small).
+    detail: Option<Box<RuntimeDetail>>,
     /// Out-of-core loading, when on.
-    loading: Option<Loading>,
+    loading: Option<Box<Loading>>,
     list: TriangleList,
     selection: Selection,
-    /// Scratch selection for the target search's counting passes.
-    counting: Selection,
+    /// Scratch selection for the target search's counting passes (boxed: only a target uses it).
+    counting: Box<Selection>,
     /// τ of the current frame (the last one drawn), pixels.
     tau_px: f64,
     target_unreachable: bool,
@@ -250,12 +273,15 @@ impl<'h> Chunked<'h> {
         Chunked {
             config,
             lambda: view.pixels_per_unit(),
-            detail: detail_config.map(|detail| RuntimeDetail::new(detail, geometry, config.skirts)),
-            loading: config.loading.map(|loading| Loading::new(loading, cells)),
+            detail: detail_config
+                .map(|detail| Box::new(RuntimeDetail::new(detail, geometry, config.skirts))),
+            loading: config
+                .loading
+                .map(|loading| Box::new(Loading::new(loading, cells))),
             tree,
             list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted),
             selection: Selection::default(),
-            counting: Selection::default(),
+            counting: Box::default(),
             tau_px,
             target_unreachable: false,
             previous_drawn: Vec::new(),
@@ -367,7 +393,7 @@ impl<'h> Chunked<'h> {
         let per_chunk = mesh::triangles_per_chunk(self.tree.geometry().cells);
         let mut visited = 0;
         let source = available(&self.tree, &self.detail, &self.loading);
-        let (tree, counting) = (&self.tree, &mut self.counting);
+        let (tree, counting) = (&self.tree, &mut *self.counting);
         let (lambda, config) = (self.lambda, self.config);
         let choice = finest_tau_within(target, self.tau_px, |tau_px| {
             let settings = SelectionSettings {
@@ -473,8 +499,8 @@ impl LodAlgorithm for Chunked<'_> {
         let requests = requests::serve(
             &self.tree,
             &self.selection,
-            self.detail.as_mut(),
-            self.loading.as_mut(),
+            self.detail.as_deref_mut(),
+            self.loading.as_deref_mut(),
             input.frame,
         );
 
@@ -578,8 +604,11 @@ impl LodAlgorithm for Chunked<'_> {
             + (self.previous_refined.capacity() + self.refined_sorted.capacity())
                 * std::mem::size_of::<ChunkId>()
             + self.indices.capacity() * std::mem::size_of::<u32>()
-            + self.detail.as_ref().map_or(0, RuntimeDetail::memory_bytes)
-            + self.loading.as_ref().map_or(0, Loading::memory_bytes)
+            + self
+                .detail
+                .as_deref()
+                .map_or(0, RuntimeDetail::memory_bytes)
+            + self.loading.as_deref().map_or(0, Loading::memory_bytes)
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
@@ -630,8 +659,8 @@ pub fn detail_truth(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option<det
 /// The chunks available now: the tree, and the detail cache when detail is on.
 fn available<'a>(
     tree: &'a ChunkTree<'a>,
-    detail: &'a Option<RuntimeDetail>,
-    loading: &'a Option<Loading>,
+    detail: &'a Option<Box<RuntimeDetail>>,
+    loading: &'a Option<Box<Loading>>,
 ) -> Available<'a> {
     Available {
         tree,
