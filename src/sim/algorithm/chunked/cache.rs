@@ -25,7 +25,7 @@ struct Entry<T> {
 
 /// Chunks held in sibling groups, with the frame the cache is at.
 #[derive(Clone, Debug)]
-pub struct GroupCache<T> {
+pub(super) struct GroupCache<T> {
     entries: BTreeMap<ChunkId, Entry<T>>,
     /// The current frame: chunks arriving later are held but not available.
     now: u64,
@@ -43,15 +43,15 @@ impl<T> Default for GroupCache<T> {
 impl<T> GroupCache<T> {
     /// Bytes of one map entry besides what its value allocates (a B-tree's per-entry share is
     /// counted as the key and the entry).
-    pub const ENTRY_BYTES: usize = std::mem::size_of::<(ChunkId, Entry<T>)>();
+    pub(super) const ENTRY_BYTES: usize = std::mem::size_of::<(ChunkId, Entry<T>)>();
 
     /// Moves the cache to `frame`: chunks due by then become available.
-    pub fn set_frame(&mut self, frame: u64) {
+    pub(super) fn set_frame(&mut self, frame: u64) {
         self.now = frame;
     }
 
     /// The chunk `id` if held and available now.
-    pub fn get(&self, id: ChunkId) -> Option<&T> {
+    pub(super) fn get(&self, id: ChunkId) -> Option<&T> {
         self.entries
             .get(&id)
             .filter(|entry| entry.available_from <= self.now)
@@ -59,26 +59,17 @@ impl<T> GroupCache<T> {
     }
 
     /// The chunk `id` if held, available or on its way.
-    pub fn get_any(&self, id: ChunkId) -> Option<&T> {
+    pub(super) fn get_any(&self, id: ChunkId) -> Option<&T> {
         self.entries.get(&id).map(|entry| &entry.value)
     }
 
-    /// The frame `id` becomes (or became) available, if held.
-    pub fn available_from(&self, id: ChunkId) -> Option<u64> {
-        self.entries.get(&id).map(|entry| entry.available_from)
-    }
-
     /// Chunks held, available or on their way.
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.entries.len()
     }
 
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
-
     /// Chunks held that are still on their way.
-    pub fn in_flight(&self) -> usize {
+    pub(super) fn in_flight(&self) -> usize {
         self.entries
             .values()
             .filter(|entry| entry.available_from > self.now)
@@ -86,14 +77,14 @@ impl<T> GroupCache<T> {
     }
 
     /// Marks `id` (if held) as used in `frame`.
-    pub fn touch(&mut self, id: ChunkId, frame: u64) {
+    pub(super) fn touch(&mut self, id: ChunkId, frame: u64) {
         if let Some(entry) = self.entries.get_mut(&id) {
             entry.last_used = entry.last_used.max(frame);
         }
     }
 
     /// Holds `id`, made or requested in `frame`, available from `available_from`.
-    pub fn insert(&mut self, id: ChunkId, value: T, frame: u64, available_from: u64) {
+    pub(super) fn insert(&mut self, id: ChunkId, value: T, frame: u64, available_from: u64) {
         self.entries.insert(
             id,
             Entry {
@@ -107,7 +98,7 @@ impl<T> GroupCache<T> {
     /// Evicts the least recently used sibling group none of whose chunks has children held and
     /// none of which was used in `frame` or is on its way; the chunks evicted (4), or 0 when no
     /// group can go. Ties: the deeper group first, then the lower parent id.
-    pub fn evict_one(&mut self, frame: u64) -> usize {
+    pub(super) fn evict_one(&mut self, frame: u64) -> usize {
         let mut best: Option<(EvictionKey, ChunkId)> = None;
         for &id in self.entries.keys() {
             let Some(parent) = id.parent() else { continue };
@@ -145,7 +136,7 @@ impl<T> GroupCache<T> {
     }
 
     /// The available chunks in id order.
-    pub fn iter(&self) -> impl Iterator<Item = (ChunkId, &T)> {
+    pub(super) fn iter(&self) -> impl Iterator<Item = (ChunkId, &T)> {
         self.entries
             .iter()
             .filter(|(_, entry)| entry.available_from <= self.now)
@@ -153,7 +144,7 @@ impl<T> GroupCache<T> {
     }
 
     /// Every chunk held, on its way or not, in id order.
-    pub fn iter_all(&self) -> impl Iterator<Item = (ChunkId, &T)> {
+    pub(super) fn iter_all(&self) -> impl Iterator<Item = (ChunkId, &T)> {
         self.entries.iter().map(|(&id, entry)| (id, &entry.value))
     }
 }

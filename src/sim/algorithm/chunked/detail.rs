@@ -433,12 +433,12 @@ impl DetailField {
     }
 }
 
-/// The synthesised chunks held (see [`GroupCache`]).
-pub type DetailCache = GroupCache<SynthesisedChunk>;
+/// The synthesised chunks held (see `cache.rs`).
+pub(super) type DetailCache = GroupCache<SynthesisedChunk>;
 
 impl DetailCache {
     /// Heap bytes held (grids, heights and the map's entries).
-    pub fn memory_bytes(&self) -> usize {
+    pub(super) fn memory_bytes(&self) -> usize {
         self.iter_all()
             .map(|(_, chunk)| {
                 chunk.base.memory_bytes()
