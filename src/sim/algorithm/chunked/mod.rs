@@ -495,7 +495,7 @@ impl LodAlgorithm for Chunked<'_> {
         };
         let order_inversions = self.order_inversions(camera);
         let deepest_drawn = self.selection.drawn.iter().map(|c| c.id.level).max();
-        // Runtime detail: the children this frame asked for, there from the next frame on.
+        // The children this frame asked for: made or loaded now, drawn after the latency.
         let requests = requests::serve(
             &self.tree,
             &self.selection,

@@ -7,13 +7,13 @@
 //! follow from the id alone, at any level, finer than the source included.
 //!
 //! **Availability.** The selection and the mesh builder read chunks through [`ChunkSource`]:
-//! "is this chunk available now, and what are its vertices' heights?". This issue has one
-//! source, [`ChunkTree`], the source tree built completely before the first frame, in which
-//! every chunk down to the full-resolution leaves is always available. Runtime detail below the
-//! finest source level and out-of-core loading with latency are other sources: chunks that
-//! exist only once made or loaded, and are evicted again. The selection never assumes a chunk
-//! is there; when it wants a chunk's children and they are not available it draws the chunk
-//! itself (listing 3.6).
+//! "is this chunk available now, and what are its vertices' heights?". [`ChunkTree`] is the
+//! source tree built completely before the first frame, in which every chunk down to the
+//! full-resolution leaves exists; `source.rs`'s view adds what the two effects change: with
+//! out-of-core loading only the resident source chunks are available, and with runtime detail
+//! the synthesised chunks below the leaves are (chunks that exist only once made or loaded, and
+//! are evicted again). The selection never assumes a chunk is there; when it wants a chunk's
+//! children and they are not available it draws the chunk itself (listing 3.6).
 //!
 //! **What the tree holds per chunk** ([`ChunkRecord`], 16 bytes): its nested error δ_c
 //! (eq. 3.1: 0 at a leaf, max(children's δ_c) + δ_m above, δ_m the largest vertex error of the
