@@ -76,7 +76,11 @@ fn audit(c: &mut Criterion) {
     );
     let mut group = c.benchmark_group("audit_one_frame");
     group.sample_size(20);
-    let settings = |stride, popping| AuditSettings { stride, popping };
+    let settings = |stride, popping| AuditSettings {
+        stride,
+        popping,
+        detail_stride: None,
+    };
     for stride in [1, 4] {
         let mut auditor = Auditor::new(&hierarchy, settings(stride, false));
         group.bench_function(BenchmarkId::new("stride", stride), |b| {

@@ -70,6 +70,7 @@ fn main() {
     let settings = AuditSettings {
         stride,
         popping: false,
+        detail_stride: None,
     };
     let mut auditor = Auditor::new(&hierarchy, settings);
     let figures = if list {

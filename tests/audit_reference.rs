@@ -78,7 +78,11 @@ fn camera(view: (DVec3, f64, f64, f64, f64), width_px: u32) -> Camera {
 fn compare(hierarchy: &Hierarchy, config: AlgorithmConfig, extent: f64) {
     for stride in [1, 3, 16] {
         for popping in [false, true] {
-            let settings = AuditSettings { stride, popping };
+            let settings = AuditSettings {
+                stride,
+                popping,
+                detail_stride: None,
+            };
             let mut optimised = Auditor::new(hierarchy, settings);
             let mut reference = ReferenceAuditor::new(hierarchy, settings);
             let mut algorithm: Box<dyn LodAlgorithm + '_> =
@@ -132,6 +136,7 @@ fn every_view_of_the_tests_sees_something_but_one() {
         AuditSettings {
             stride: 1,
             popping: false,
+            detail_stride: None,
         },
     );
     let mut in_view = Vec::new();

@@ -216,6 +216,7 @@ fn audit(hierarchy: &Hierarchy, mesh: MeshOutput, camera: &Camera) -> SurfaceCov
     let settings = AuditSettings {
         stride: 1,
         popping: false,
+        detail_stride: None,
     };
     let frame = Auditor::new(hierarchy, settings).audit(hierarchy, mesh, camera);
     frame
@@ -595,6 +596,7 @@ fn morphing_makes_level_changes_continuous() {
             AuditSettings {
                 stride: 1,
                 popping: true,
+                detail_stride: None,
             },
         );
         let mut largest: f64 = 0.0;

@@ -317,6 +317,71 @@ fn popping_is_an_option_of_the_audit() {
     );
 }
 
+/// The quickstart's first entry replaced by a `chunked` entry with runtime detail and
+/// out-of-core loading, as `detail` and `loading` say.
+fn chunked_with(e: &mut Value, detail: Value, loading: Value) {
+    e["algorithms"][0] = json!({
+        "name": "chunked", "label": "chunked", "tau_px": 4,
+        "detail": detail, "loading": loading
+    });
+}
+
+fn good_detail() -> Value {
+    json!({"levels": 2, "seed": 1, "amplitude_m": 3, "max_created_per_frame": 8,
+           "cache_chunks": 256})
+}
+
+fn good_loading() -> Value {
+    json!({"latency_frames": 3, "bandwidth_chunks_per_frame": 16, "resident_chunks": 512})
+}
+
+#[test]
+fn chunked_detail_and_loading_are_checked_field_by_field() {
+    assert_eq!(
+        problems_of(|e| chunked_with(e, good_detail(), good_loading())),
+        Vec::<String>::new()
+    );
+    let mut bad_detail = good_detail();
+    bad_detail["levels"] = json!(0);
+    bad_detail["amplitude_m"] = json!(-1);
+    bad_detail["roughness"] = json!(1.5);
+    bad_detail["max_created_per_frame"] = json!(3);
+    bad_detail["cache_chunks"] = json!(0);
+    let mut bad_loading = good_loading();
+    bad_loading["latency_frames"] = json!(0);
+    bad_loading["bandwidth_chunks_per_frame"] = json!(2);
+    bad_loading["resident_chunks"] = json!(1);
+    let problems = problems_of(|e| chunked_with(e, bad_detail, bad_loading));
+    for expected in [
+        "algorithms[0].detail.levels: 0: expected 1 to 8 synthesised levels",
+        "algorithms[0].detail.amplitude_m: -1: expected a finite amplitude of at least 0 m",
+        "algorithms[0].detail.roughness: 1.5: expected a ratio from 0 to 1",
+        "algorithms[0].detail.max_created_per_frame: 3: expected at least 4 chunks",
+        "algorithms[0].detail.cache_chunks: 0: expected at least 4 chunks",
+        "algorithms[0].loading.latency_frames: 0: expected at least 1 frame",
+        "algorithms[0].loading.bandwidth_chunks_per_frame: 2: expected at least 4 chunks",
+        "algorithms[0].loading.resident_chunks: 1: expected at least 4 chunks",
+    ] {
+        assert!(
+            problems.iter().any(|p| p.starts_with(expected)),
+            "{expected} not in {problems:#?}"
+        );
+    }
+    assert_eq!(problems.len(), 8, "{problems:#?}");
+    let mut missing_seed = good_detail();
+    missing_seed.as_object_mut().unwrap().remove("seed");
+    assert_one_problem(
+        |e| chunked_with(e, missing_seed, good_loading()),
+        "algorithms[0].detail",
+        "missing field `seed`",
+    );
+    assert_one_problem(
+        |e| e["effects"]["audit"]["detail_stride"] = json!(0),
+        "effects.audit.detail_stride",
+        "0: expected at least 1",
+    );
+}
+
 /// A 9 × 9 ESRI ASCII grid of 3-arc-second cells at 8.5° E, 47° N, written into `dir`.
 fn degree_grid(dir: &std::path::Path) -> std::path::PathBuf {
     let mut text =

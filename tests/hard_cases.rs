@@ -557,6 +557,7 @@ fn audited_max_px(hierarchy: &Hierarchy, mesh: &VertexSet, eye: DVec3) -> f64 {
     let settings = AuditSettings {
         stride: 1,
         popping: false,
+        detail_stride: None,
     };
     let mut auditor = Auditor::new(hierarchy, settings);
     let audit = auditor.audit(hierarchy, MeshOutput::lattice(mesh), &camera);
@@ -977,6 +978,7 @@ fn audited_list_max_px(hierarchy: &Hierarchy, mesh: MeshOutput, eye: DVec3) -> f
     let settings = AuditSettings {
         stride: 1,
         popping: false,
+        detail_stride: None,
     };
     let audit = Auditor::new(hierarchy, settings).audit(hierarchy, mesh, &camera);
     assert!(audit.samples_in_view > 0);

@@ -513,6 +513,7 @@ fn patches_at_each_checked_frame(check: &mut dyn FnMut(&Hierarchy, &Patches, &Fr
             check_meshes: true,
         },
         max_triangles: None,
+        detail_truth: None,
     };
     let mut patches = Patches::new(hierarchy, patches_config());
     let mut runner = FrameRunner::new(&inputs);

@@ -860,6 +860,11 @@ fn summary_json_records_the_command_threads_and_check_and_echoes_inputs_as_writt
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let run = &summary["run"];
     assert_eq!(run["threads"], 2);
+    if cfg!(target_os = "linux") {
+        // At least the 1025² terrain's heights were resident.
+        let peak = run["peak_resident_bytes"].as_u64().unwrap();
+        assert!(peak > 1025 * 1025 * 4, "{peak}");
+    }
     assert_eq!(run["check_meshes"], true);
     let entries = summary["algorithms"].as_array().unwrap().len() as u64;
     assert_eq!(run["meshes_checked"], 3 * entries);

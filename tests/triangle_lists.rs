@@ -80,7 +80,11 @@ fn circle(frames: u32) -> Vec<Pose> {
 }
 
 fn audit_settings(popping: bool) -> AuditSettings {
-    AuditSettings { stride: 1, popping }
+    AuditSettings {
+        stride: 1,
+        popping,
+        detail_stride: None,
+    }
 }
 
 /// Runs `algorithm` through the shared runner with every effect on and the checks every frame.
@@ -100,6 +104,7 @@ fn run_with_every_effect(
             check_meshes: true,
         },
         max_triangles: None,
+        detail_truth: None,
     };
     run_algorithm(&inputs, algorithm.name(), algorithm, &mut |_| {}).unwrap()
 }

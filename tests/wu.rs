@@ -375,6 +375,7 @@ fn max_nesting_does_not_bound_the_audited_surface_error_on_a_real_tile() {
         roamsim::sim::audit::AuditSettings {
             stride: 4,
             popping: false,
+            detail_stride: None,
         },
     );
     let audit = auditor.audit(&hierarchy, MeshOutput::lattice(wu.vertex_set()), &camera);

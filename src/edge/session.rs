@@ -779,6 +779,7 @@ fn run_point<'a>(
         violations: &experiment.violations,
         effects: experiment.effects,
         max_triangles: Some(experiment.max_triangles),
+        detail_truth: None,
     };
     let n_frames = experiment.flight.n_frames();
     let exported = |k: usize| {
@@ -812,6 +813,15 @@ fn run_point<'a>(
         };
         let mut meshes = Vec::new();
         let mut reported = 0;
+        // An entry that synthesises detail is audited against the detail-extended surface too.
+        let detail_truth = experiment
+            .effects
+            .audit
+            .and_then(|_| spec.config.detail_truth(&hierarchy));
+        let inputs = RunInputs {
+            detail_truth: detail_truth.as_ref(),
+            ..inputs
+        };
         let frames_started = Instant::now();
         let frames = run_algorithm_with(
             &inputs,

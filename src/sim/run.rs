@@ -2,12 +2,14 @@
 //!
 //! Per frame: the camera from the flight's pose → the algorithm's update (timed, nothing else
 //! inside the timed span) → optional effects in a fixed order: mesh validation (`check`),
-//! culling (triangles meeting the view volume), audit (with popping when asked). Every effect
+//! culling (triangles meeting the view volume), audit (with popping when asked; and, for an
+//! entry that synthesises detail, a second audit against the detail-extended surface). Every effect
 //! reads the mesh through its triangle visitor ([`MeshOutput::for_each_triangle`]), whatever
 //! its form. An effect that is off costs nothing. The mesh's role counts, draw batches and
 //! morphing vertices (triangle lists and morphed 4-8 meshes only) are read off the mesh in
 //! O(1). Progress is reported through a callback; the runner itself does no IO.
 
+use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
 use crate::sim::audit::{AuditSettings, Auditor};
 use crate::sim::flight::{Flight, SpeedViolation};
@@ -41,6 +43,9 @@ pub struct RunInputs<'a> {
     pub effects: Effects,
     /// Most triangles a frame's mesh may have; more stops the run ([`CheckError::TooManyTriangles`]).
     pub max_triangles: Option<u64>,
+    /// The surface an entry that synthesises detail draws beyond the source: with the audit on,
+    /// the frame is audited against it too (`FrameStats::audit_detail`).
+    pub detail_truth: Option<&'a DetailField>,
 }
 
 /// A run stopped: a checked frame found a broken mesh, or a mesh outgrew the run's limit.
@@ -112,6 +117,8 @@ pub fn run_algorithm_with(
 pub struct FrameRunner<'a> {
     inputs: RunInputs<'a>,
     auditor: Option<Auditor>,
+    /// The auditor against the detail-extended surface, when there is one and the audit is on.
+    detail_auditor: Option<Auditor>,
     /// The mesh checks' buffers, when meshes are checked.
     checker: Option<MeshChecker>,
     /// Index into `inputs.violations` of the first violation not yet reached.
@@ -136,6 +143,16 @@ impl<'a> FrameRunner<'a> {
                 .effects
                 .audit
                 .map(|settings| Auditor::new(inputs.hierarchy, settings)),
+            detail_auditor: inputs.effects.audit.zip(inputs.detail_truth).map(
+                |(settings, truth)| {
+                    let settings = AuditSettings {
+                        stride: settings.detail_stride.unwrap_or(settings.stride),
+                        popping: false,
+                        detail_stride: None,
+                    };
+                    Auditor::refined(inputs.hierarchy, settings, truth.depth())
+                },
+            ),
             checker: inputs.effects.check_meshes.then(MeshChecker::new),
             next_violation: 0,
             next_frame: 0,
@@ -219,6 +236,9 @@ impl<'a> FrameRunner<'a> {
         stats.mesh = mesh.counts(stats.triangles);
         if let Some(auditor) = self.auditor.as_mut() {
             stats.audit = Some(auditor.audit(hierarchy, mesh, &camera));
+        }
+        if let (Some(auditor), Some(truth)) = (self.detail_auditor.as_mut(), inputs.detail_truth) {
+            stats.audit_detail = Some(auditor.audit_against(hierarchy, mesh, &camera, Some(truth)));
         }
         Some(Ok(FrameOutcome { stats, camera }))
     }

@@ -105,7 +105,11 @@ pub struct FrameStats {
     pub vertices_changed: Option<u64>,
     /// Filled by the runner from the mesh, for triangle lists and morphed 4-8 meshes.
     pub mesh: Option<MeshCounts>,
+    /// The audit against the source height field.
     pub audit: Option<AuditFrame>,
+    /// The audit against the detail-extended surface, for an entry that synthesises detail
+    /// below the source (popping is not measured there).
+    pub audit_detail: Option<AuditFrame>,
 }
 
 /// Mean, median, 95th percentile and maximum of a column.

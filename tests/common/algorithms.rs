@@ -157,6 +157,8 @@ pub fn chunked(tau_px: f64, chunk_level: u32) -> ChunkedConfig {
         morph: false,
         culling: false,
         front_to_back: false,
+        detail: None,
+        loading: None,
     }
 }
 

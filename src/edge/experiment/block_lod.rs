@@ -5,6 +5,8 @@
 //! `check.rs`, which only dispatches to it by name.
 
 use super::FieldProblem;
+use crate::sim::algorithm::chunked::detail::MAX_DETAIL_LEVELS;
+use crate::sim::algorithm::chunked::{DetailConfig, LoadingConfig};
 use crate::sim::algorithm::{
     AlgorithmConfig, BlockDistance, BlockGoal, ChunkedConfig, GeomipmapConfig, LevelDifference,
     LodCurve, LodRounding, PBlockShape, PatchDistance, Projection, SkirtDepth, StitchingConfig,
@@ -58,6 +60,36 @@ struct ChunkedParameters {
     box_culling: bool,
     #[serde(default)]
     front_to_back: bool,
+    /// Runtime detail below the finest source level (§3.3–3.4); absent: off.
+    #[serde(default)]
+    detail: Option<DetailEntry>,
+    /// Out-of-core loading with latency (§3.2.14); absent: off.
+    #[serde(default)]
+    loading: Option<LoadingEntry>,
+}
+
+/// `chunked.loading`: the latency, the bandwidth and the memory cap.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LoadingEntry {
+    latency_frames: u32,
+    bandwidth_chunks_per_frame: u32,
+    resident_chunks: u32,
+}
+
+/// `chunked.detail`: the synthesised levels, the displacement function, the creation limit
+/// and the cache's size.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DetailEntry {
+    levels: u32,
+    seed: u64,
+    amplitude_m: f64,
+    /// Default 0.5 (each octave half the previous one's amplitude).
+    #[serde(default)]
+    roughness: Option<f64>,
+    max_created_per_frame: u32,
+    cache_chunks: u32,
 }
 
 /// `vanek`: the patch level n, the paper's mindist, maxdist and exp, how k is rounded and dist
@@ -201,8 +233,47 @@ pub(super) fn chunked_config(
     let goal = goal(origin, p.tau_px, p.target_triangles, &mut problems);
     let chunk_level = p.chunk_level.unwrap_or(CHUNKED_DEFAULT_CHUNK_LEVEL);
     level_in_range(origin, "chunk_level", chunk_level, &mut problems);
+    let detail = p
+        .detail
+        .map(|entry| detail_config(origin, &entry, &mut problems));
+    let loading = p.loading.map(|entry| {
+        let mut add = |field: &str, problem: String| {
+            problems.push(FieldProblem {
+                field: format!("{origin}.loading.{field}"),
+                problem,
+            })
+        };
+        if entry.latency_frames < 1 {
+            add(
+                "latency_frames",
+                "0: expected at least 1 frame (a request is made after the frame's selection)"
+                    .to_string(),
+            );
+        }
+        for (field, value) in [
+            (
+                "bandwidth_chunks_per_frame",
+                entry.bandwidth_chunks_per_frame,
+            ),
+            ("resident_chunks", entry.resident_chunks),
+        ] {
+            if value < 4 {
+                add(
+                    field,
+                    format!("{value}: expected at least 4 chunks (siblings travel together)"),
+                );
+            }
+        }
+        LoadingConfig {
+            latency_frames: entry.latency_frames,
+            bandwidth_chunks_per_frame: entry.bandwidth_chunks_per_frame,
+            resident_chunks: entry.resident_chunks,
+        }
+    });
     match goal {
         Some(goal) if problems.is_empty() => Ok(AlgorithmConfig::Chunked(ChunkedConfig {
+            detail,
+            loading,
             chunk_level,
             goal,
             projection: projection(p.projection),
@@ -215,6 +286,64 @@ pub(super) fn chunked_config(
             front_to_back: p.front_to_back,
         })),
         _ => Err(problems),
+    }
+}
+
+/// The detail effect of the `chunked` entry at `origin`; problems added to `problems`.
+fn detail_config(
+    origin: &str,
+    entry: &DetailEntry,
+    problems: &mut Vec<FieldProblem>,
+) -> DetailConfig {
+    let mut add = |field: &str, problem: String| {
+        problems.push(FieldProblem {
+            field: format!("{origin}.detail.{field}"),
+            problem,
+        })
+    };
+    if !(1..=MAX_DETAIL_LEVELS).contains(&entry.levels) {
+        add(
+            "levels",
+            format!(
+                "{}: expected 1 to {MAX_DETAIL_LEVELS} synthesised levels",
+                entry.levels
+            ),
+        );
+    }
+    if !(entry.amplitude_m >= 0.0 && entry.amplitude_m.is_finite()) {
+        add(
+            "amplitude_m",
+            format!(
+                "{}: expected a finite amplitude of at least 0 m",
+                entry.amplitude_m
+            ),
+        );
+    }
+    let roughness = entry.roughness.unwrap_or(0.5);
+    if !(0.0..=1.0).contains(&roughness) {
+        add(
+            "roughness",
+            format!("{roughness}: expected a ratio from 0 to 1"),
+        );
+    }
+    for (field, value) in [
+        ("max_created_per_frame", entry.max_created_per_frame),
+        ("cache_chunks", entry.cache_chunks),
+    ] {
+        if value < 4 {
+            add(
+                field,
+                format!("{value}: expected at least 4 chunks (children are made four at a time)"),
+            );
+        }
+    }
+    DetailConfig {
+        levels: entry.levels,
+        seed: entry.seed,
+        amplitude_m: entry.amplitude_m,
+        roughness,
+        max_created_per_frame: entry.max_created_per_frame,
+        cache_chunks: entry.cache_chunks,
     }
 }
 
@@ -429,6 +558,8 @@ mod tests {
                 morph: false,
                 culling: false,
                 front_to_back: false,
+                detail: None,
+                loading: None,
             })
         );
         let geomipmap = geomipmap_config(

@@ -119,6 +119,9 @@ pub(super) fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, Exper
     let algorithms = check_algorithms(&file.algorithms, &mut problems);
     if let Some(audit) = &file.effects.audit {
         problems.positive_int("effects.audit.stride", audit.stride);
+        if let Some(detail_stride) = audit.detail_stride {
+            problems.positive_int("effects.audit.detail_stride", detail_stride);
+        }
     }
     let max_triangles = match file.limits.max_triangles {
         Some(0) => {
@@ -162,6 +165,7 @@ pub(super) fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, Exper
             audit: file.effects.audit.as_ref().map(|a| AuditSettings {
                 stride: a.stride,
                 popping: a.popping,
+                detail_stride: a.detail_stride,
             }),
             culling: file.effects.culling,
             check_meshes: false,

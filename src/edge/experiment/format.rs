@@ -434,6 +434,10 @@ pub struct AuditEntry {
     /// Also measure popping (default false).
     #[serde(default)]
     pub popping: bool,
+    /// The stride of the audit against a detail-extended surface, in its samples (default:
+    /// `stride`).
+    #[serde(default)]
+    pub detail_stride: Option<u32>,
 }
 
 #[derive(Debug, Deserialize)]

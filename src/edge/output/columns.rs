@@ -59,6 +59,19 @@ pub const COVERAGE_COLUMNS: &[&str] = &[
     "audit_crack_uncovered_max_px",
 ];
 
+/// The audit against the detail-extended surface, in order (present when some entry
+/// synthesised detail under the audit): the `audit_*` columns measure against the source.
+pub const DETAIL_AUDIT_COLUMNS: &[&str] = &[
+    "audit_detail_samples_in_view",
+    "audit_detail_projected_max_px",
+    "audit_detail_projected_mean_px",
+    "audit_detail_projected_p95_px",
+    "audit_detail_view_angle_max_px",
+    "audit_detail_view_angle_mean_px",
+    "audit_detail_view_angle_p95_px",
+    "audit_detail_holes",
+];
+
 /// Popping columns, in order (present when popping was measured).
 pub const POPPING_COLUMNS: &[&str] = &[
     "popping_rmse_m",
@@ -68,7 +81,7 @@ pub const POPPING_COLUMNS: &[&str] = &[
 ];
 
 /// Columns whose values are wall-clock measurements (excluded from determinism comparisons).
-pub const TIMING_COLUMNS: &[&str] = &["update_ns", "strip_construction_ns"];
+pub const TIMING_COLUMNS: &[&str] = &["update_ns", "strip_construction_ns", "detail_synthesis_ms"];
 
 /// One algorithm's frames with the names of its extra columns.
 pub struct RunColumns<'a> {
@@ -100,6 +113,9 @@ pub fn numeric_columns<'a>(runs: &[RunColumns<'a>], audited: bool) -> Vec<&'a st
         if any_frame(&|f| f.audit.is_some_and(|a| a.popping.is_some())) {
             names.extend_from_slice(POPPING_COLUMNS);
         }
+        if any_frame(&|f| f.audit_detail.is_some()) {
+            names.extend_from_slice(DETAIL_AUDIT_COLUMNS);
+        }
     }
     names
 }
@@ -128,6 +144,10 @@ pub fn value(run: &RunColumns, frame: &FrameStats, column: &str) -> Option<f64> 
         "draw_batches" => mesh.map(|m| m.draw_batches as f64),
         "morphing_vertices" => mesh.map(|m| m.morphing_vertices as f64),
         "vertices_changed" => frame.vertices_changed.map(|n| n as f64),
+        _ if column.starts_with("audit_detail_") => audit_value(
+            frame.audit_detail.as_ref(),
+            &column.replacen("audit_detail_", "audit_", 1),
+        ),
         _ if column.starts_with("audit_") => audit_value(audit, column),
         _ if column.starts_with("popping_") => {
             popping_value(audit.and_then(|a| a.popping.as_ref()), column)

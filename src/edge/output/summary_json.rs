@@ -48,8 +48,25 @@ impl RunRecord {
             "check_meshes": self.check_meshes,
             "meshes_checked": if self.check_meshes { meshes } else { 0 },
             "command_line": self.command_line,
+            "peak_resident_bytes": peak_resident_bytes(),
         })
     }
+}
+
+/// The process's peak resident set so far, bytes (`VmHWM` of `/proc/self/status`); `None`
+/// where the system does not say (not Linux). Measured when the summary is written, so it
+/// covers every point run before it.
+pub fn peak_resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
+    let kib: u64 = line
+        .trim_start_matches("VmHWM:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kib * 1024)
 }
 
 /// The whole document.
@@ -224,7 +241,7 @@ pub fn summary_json(
             "audit": experiment
                 .effects
                 .audit
-                .map(|a| json!({"stride": a.stride, "popping": a.popping})),
+                .map(|a| json!({"stride": a.stride, "popping": a.popping, "detail_stride": a.detail_stride})),
             "culling": experiment.effects.culling,
         },
         "algorithms": algorithms,

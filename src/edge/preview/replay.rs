@@ -71,6 +71,8 @@ impl Scene {
             violations: &self.experiment.violations,
             effects: self.experiment.effects,
             max_triangles: Some(self.experiment.max_triangles),
+            // The preview audits against the source only.
+            detail_truth: None,
         }
     }
 }

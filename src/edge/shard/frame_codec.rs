@@ -28,6 +28,7 @@ pub fn encode_frame(stats: &FrameStats) -> Vec<u64> {
         vertices_changed,
         mesh,
         audit,
+        audit_detail,
     } = stats;
     let mut words = vec![
         *frame,
@@ -55,6 +56,7 @@ pub fn encode_frame(stats: &FrameStats) -> Vec<u64> {
         words.extend([*draw_batches, *morphing_vertices]);
     });
     push_option(&mut words, audit.as_ref(), push_audit);
+    push_option(&mut words, audit_detail.as_ref(), push_audit);
     words
 }
 
@@ -81,6 +83,7 @@ pub fn decode_frame(words: &[u64]) -> Option<FrameStats> {
         })
     })?;
     let audit = reader.option(read_audit)?;
+    let audit_detail = reader.option(read_audit)?;
     if reader.at != words.len() {
         return None;
     }
@@ -109,6 +112,7 @@ pub fn decode_frame(words: &[u64]) -> Option<FrameStats> {
         vertices_changed,
         mesh,
         audit,
+        audit_detail,
     })
 }
 
@@ -326,21 +330,25 @@ mod tests {
             proptest::option::of(any::<u64>()),
             mesh,
             proptest::option::of(audit()),
+            proptest::option::of(audit()),
         )
-            .prop_map(|(c, extra, vertices_changed, mesh, audit)| FrameStats {
-                frame: c[0],
-                triangles: c[1],
-                triangles_rendered: c[2],
-                splits: c[3],
-                merges: c[4],
-                vertices_inserted: c[5],
-                vertices_deleted: c[6],
-                metric_evaluations: c[7],
-                update_ns: c[8],
-                extra,
-                vertices_changed,
-                mesh,
-                audit,
+            .prop_map(|(c, extra, vertices_changed, mesh, audit, audit_detail)| {
+                FrameStats {
+                    frame: c[0],
+                    triangles: c[1],
+                    triangles_rendered: c[2],
+                    splits: c[3],
+                    merges: c[4],
+                    vertices_inserted: c[5],
+                    vertices_deleted: c[6],
+                    metric_evaluations: c[7],
+                    update_ns: c[8],
+                    extra,
+                    vertices_changed,
+                    mesh,
+                    audit,
+                    audit_detail,
+                }
             })
     }
 
@@ -371,7 +379,7 @@ mod tests {
     #[test]
     fn a_presence_word_other_than_0_or_1_is_refused() {
         let mut words = encode_frame(&FrameStats::default());
-        // The last word is the audit's presence word (absent: 0).
+        // The last word is the detail audit's presence word (absent: 0).
         *words.last_mut().expect("words") = 2;
         assert!(decode_frame(&words).is_none());
     }

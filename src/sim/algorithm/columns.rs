@@ -64,6 +64,29 @@ pub mod chunked {
     pub const ORDER_INVERSIONS: &str = "order_inversions";
     pub const TAU: &str = "tau_px";
     pub const TARGET_UNREACHABLE: &str = "target_unreachable";
+    /// Chunks drawn coarser than the criterion wants: their children were not available.
+    pub const CHUNKS_COARSER: &str = "chunks_coarser";
+    pub const DETAIL_SYNTHESISED: &str = "detail_synthesised";
+    pub const DETAIL_EVICTED: &str = "detail_evicted";
+    pub const DETAIL_CACHED: &str = "detail_cached";
+    /// Requests for children not served this frame (creation limit or cache cap).
+    pub const DETAIL_REFUSED: &str = "detail_refused";
+    /// Time spent synthesising and evicting inside the update, milliseconds.
+    pub const DETAIL_SYNTHESIS_MS: &str = "detail_synthesis_ms";
+    /// Bytes held by the synthesised chunks.
+    pub const DETAIL_BYTES: &str = "detail_bytes";
+    /// The deepest level drawn this frame.
+    pub const DETAIL_DEEPEST_DRAWN: &str = "detail_deepest_level_drawn";
+    /// Chunks requested and on their way (issued, not yet arrived), source and synthesised.
+    pub const REQUESTS_IN_FLIGHT: &str = "requests_in_flight";
+    /// Load requests the selection made this frame that were not issued (bandwidth, room).
+    pub const REQUESTS_WAITING: &str = "requests_waiting";
+    pub const CHUNKS_LOADED: &str = "chunks_loaded";
+    pub const CHUNKS_UNLOADED: &str = "chunks_unloaded";
+    /// Source chunks resident or on their way, the root not counted.
+    pub const RESIDENT_CHUNKS: &str = "resident_chunks";
+    /// Bytes the resident source chunks hold.
+    pub const RESIDENT_BYTES: &str = "resident_bytes";
 }
 
 /// `vanek` (Vaněk and Ježek 2004).
@@ -150,6 +173,20 @@ pub const ALL: &[&str] = &[
     chunked::ORDER_INVERSIONS,
     chunked::TAU,
     chunked::TARGET_UNREACHABLE,
+    chunked::CHUNKS_COARSER,
+    chunked::DETAIL_SYNTHESISED,
+    chunked::DETAIL_EVICTED,
+    chunked::DETAIL_CACHED,
+    chunked::DETAIL_REFUSED,
+    chunked::DETAIL_SYNTHESIS_MS,
+    chunked::DETAIL_BYTES,
+    chunked::DETAIL_DEEPEST_DRAWN,
+    chunked::REQUESTS_IN_FLIGHT,
+    chunked::REQUESTS_WAITING,
+    chunked::CHUNKS_LOADED,
+    chunked::CHUNKS_UNLOADED,
+    chunked::RESIDENT_CHUNKS,
+    chunked::RESIDENT_BYTES,
     vanek::STRIP_INDICES,
     vanek::DEGENERATE_TRIANGLES,
     vanek::COLLAPSED_TRIANGLES,

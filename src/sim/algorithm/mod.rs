@@ -156,6 +156,15 @@ impl AlgorithmConfig {
         }
     }
 
+    /// The surface an entry that synthesises detail draws beyond the source (the detail audit's
+    /// truth); `None` for every other entry. O(4^levels · samples).
+    pub fn detail_truth(&self, hierarchy: &Hierarchy) -> Option<chunked::detail::DetailField> {
+        match self {
+            AlgorithmConfig::Chunked(config) => chunked::detail_truth(hierarchy, config),
+            _ => None,
+        }
+    }
+
     /// Builds the algorithm on a preprocessed terrain.
     pub fn build<'h>(
         &self,

@@ -31,16 +31,19 @@
 //! segment of the change's length at the sample). Samples that were a hole in either frame are
 //! left out; the first frame has no previous one. Off, it keeps no previous frame.
 //!
-//! The truth is the field's samples ([`Auditor::audit`] reads them in one place); the lattice
-//! and the general rasteriser are written for samples at any fixed-point step, so a truth with
-//! more detail than the source (synthesised detail) would change only where the samples come
-//! from.
+//! The truth is the field's samples ([`Auditor::audit`]), or, for an entry that synthesises
+//! detail below the source (`chunked`'s detail effect), the synthesised surface at its deepest
+//! level ([`Auditor::refined`], [`Auditor::audit_against`]): the same audit over the source grid
+//! refined 2^k times, through the general rasteriser (its samples are at a fixed-point step of
+//! 1/2^k cell). The runner reports both for such an entry, named apart (`audit_*`: against the
+//! source; `audit_detail_*`: against the detail-extended surface).
 //!
 //! Cost: O(audited samples + triangles) per frame; buffers are reused across frames, and those
 //! of the general path and of popping are allocated only when first needed.
 
 pub mod reference;
 
+use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle};
 use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleRole};
@@ -56,6 +59,9 @@ pub struct AuditSettings {
     pub stride: u32,
     /// Also measure popping (the change of the drawn surface since the previous frame).
     pub popping: bool,
+    /// The stride of the audit against a detail-extended surface, in that surface's samples
+    /// (`None`: `stride`).
+    pub detail_stride: Option<u32>,
 }
 
 /// Audited samples per side of a tile: the unit of the exact skip of samples out of view.
@@ -64,6 +70,9 @@ const TILE: usize = 16;
 /// Reusable audit state.
 pub struct Auditor {
     stride: usize,
+    /// Levels of synthesised detail between the source samples and the audited lattice's: the
+    /// lattice is the source grid refined 2^refine times (0: the source's own samples).
+    refine: u32,
     /// Audited samples per side: the grid side subsampled by `stride`.
     lattice_side: usize,
     /// Audited columns and rows holding real data (padding excluded).
@@ -120,16 +129,32 @@ impl CrackHeights {
 
 impl Auditor {
     pub fn new(hierarchy: &Hierarchy, settings: AuditSettings) -> Auditor {
+        Auditor::refined(hierarchy, settings, 0)
+    }
+
+    /// An auditor whose samples are those of the source grid refined `refine` times (every
+    /// `stride`-th of them), for a truth with synthesised detail ([`DetailField`] of depth
+    /// `refine`, see [`Auditor::audit_against`]).
+    pub fn refined(hierarchy: &Hierarchy, settings: AuditSettings, refine: u32) -> Auditor {
         let stride = settings.stride.max(1) as usize;
         let field = hierarchy.field();
-        let lattice_side = (field.side() - 1) / stride + 1;
-        let lattice_columns = field.data_columns().div_ceil(stride);
-        let lattice_rows = field.data_rows().div_ceil(stride);
+        let lattice_side = ((field.side() - 1) << refine) / stride + 1;
+        // Audited columns and rows of real data: every `stride`-th sample of the source grid
+        // refined 2^refine times.
+        let lattice_columns = (((field.data_columns() - 1) << refine) + 1).div_ceil(stride);
+        let lattice_rows = (((field.data_rows() - 1) << refine) + 1).div_ceil(stride);
         let tiles_x = lattice_columns.div_ceil(TILE);
         let tiles_y = lattice_rows.div_ceil(TILE);
+        // Tile boxes from the source's heights; a refined auditor's truth is synthesised per
+        // frame, so it tests every tile (`skip_tiles` false).
+        let skip_tiles = refine == 0;
         let mut tile_boxes = Vec::with_capacity(tiles_x * tiles_y);
         for ty in 0..tiles_y {
             for tx in 0..tiles_x {
+                if !skip_tiles {
+                    tile_boxes.push((DVec3::ZERO, DVec3::ZERO));
+                    continue;
+                }
                 let rows = ty * TILE..((ty + 1) * TILE).min(lattice_rows);
                 let columns = tx * TILE..((tx + 1) * TILE).min(lattice_columns);
                 let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -150,6 +175,7 @@ impl Auditor {
         }
         Auditor {
             stride,
+            refine,
             lattice_side,
             lattice_columns,
             lattice_rows,
@@ -165,17 +191,39 @@ impl Auditor {
         }
     }
 
-    /// Measures one frame's mesh (and, with popping on, its change since the last call).
+    /// Measures one frame's mesh (and, with popping on, its change since the last call)
+    /// against the source's samples.
     pub fn audit(
         &mut self,
         hierarchy: &Hierarchy,
         mesh: MeshOutput,
         camera: &Camera,
     ) -> AuditFrame {
+        self.audit_against(hierarchy, mesh, camera, None)
+    }
+
+    /// [`Auditor::audit`] against `truth`, the synthesised surface at this auditor's depth
+    /// (`None`: the source's samples, for an auditor of depth 0).
+    ///
+    /// # Panics
+    /// When `truth`'s depth is not this auditor's.
+    pub fn audit_against(
+        &mut self,
+        hierarchy: &Hierarchy,
+        mesh: MeshOutput,
+        camera: &Camera,
+        truth: Option<&DetailField>,
+    ) -> AuditFrame {
+        assert_eq!(
+            truth.map_or(0, DetailField::depth),
+            self.refine,
+            "the audit's truth is not at its lattice's depth"
+        );
+        let skip_tiles = self.refine == 0;
         for (in_view, &(low, high)) in self.tile_in_view.iter_mut().zip(&self.tile_boxes) {
-            *in_view = !camera.surely_misses_box(low, high);
+            *in_view = !skip_tiles || !camera.surely_misses_box(low, high);
         }
-        let general = matches!(mesh, MeshOutput::Triangles(_));
+        let general = matches!(mesh, MeshOutput::Triangles(_)) || self.refine > 0;
         if general {
             self.rasterise_general(hierarchy, mesh);
         } else {
@@ -201,14 +249,23 @@ impl Auditor {
         // summed in), the tiles the view surely misses skipped: their samples would all fail
         // `sees`.
         let tiles_x = self.tiles_x;
+        let spacing = field.spacing();
+        let fine = 1.0 / f64::from(1u32 << self.refine);
         for lj in 0..self.lattice_rows {
             let j = lj * stride;
             let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
             for (tx, _) in tile_row.iter().enumerate().filter(|(_, in_view)| **in_view) {
                 for li in tx * TILE..((tx + 1) * TILE).min(self.lattice_columns) {
                     let i = li * stride;
-                    // The truth: the field's sample.
-                    let sample = field.position(i, j);
+                    // The truth: the field's sample, or the synthesised surface's.
+                    let sample = match truth {
+                        None => field.position(i, j),
+                        Some(truth) => DVec3::new(
+                            i as f64 * spacing.dx * fine,
+                            j as f64 * spacing.dy * fine,
+                            f64::from(truth.height(i as u32, j as u32)),
+                        ),
+                    };
                     let in_camera = camera.to_camera(sample);
                     if !camera.sees_camera(in_camera) {
                         continue;
@@ -316,7 +373,7 @@ impl Auditor {
             tiles_x: self.tiles_x,
             lattice_columns: self.lattice_columns,
             lattice_rows: self.lattice_rows,
-            units_per_sample: self.stride as i64 * SUBGRID_UNITS_PER_CELL,
+            units_per_sample: (self.stride as i64 * SUBGRID_UNITS_PER_CELL) >> self.refine,
         }
     }
 
@@ -336,7 +393,7 @@ impl Auditor {
         crack.skirt_spans.clear();
         let domain_max = i64::from(hierarchy.lattice().cells()) * SUBGRID_UNITS_PER_CELL;
         let raster = SampleRaster::new(
-            self.stride as i64 * SUBGRID_UNITS_PER_CELL,
+            (self.stride as i64 * SUBGRID_UNITS_PER_CELL) >> self.refine,
             self.lattice_side,
             domain_max,
         );
@@ -491,7 +548,11 @@ mod tests {
     use crate::sim::view::{Pose, ViewSettings};
 
     fn settings(stride: u32, popping: bool) -> AuditSettings {
-        AuditSettings { stride, popping }
+        AuditSettings {
+            stride,
+            popping,
+            detail_stride: None,
+        }
     }
 
     fn camera_above(hierarchy: &Hierarchy) -> Camera {

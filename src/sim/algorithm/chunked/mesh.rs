@@ -147,7 +147,7 @@ mod tests {
             .collect();
         let hierarchy =
             Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 3.0, dy: 3.0 }).unwrap());
-        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, true);
+        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, true, 0.0);
         let geometry = *tree.geometry();
         let drawn = |id: ChunkId, morph: f64| DrawnChunk {
             id,

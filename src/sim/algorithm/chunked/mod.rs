@@ -50,24 +50,55 @@
 //!   deepest skirt drawn), `order_inversions` (consecutive drawn chunks the second of which is
 //!   nearer: what front-to-back order removes), `tau_px`, `target_unreachable`.
 //!
-//! # For the extension to runtime detail and out-of-core loading
+//! # Runtime detail and out-of-core loading (§3.2.14, §3.3–3.4), two effects
 //!
 //! Chunks are named by [`ChunkId`] (level, x, y), never by an index into an array built up
-//! front, and the selection and the mesh builder read them through the `ChunkSource` trait
-//! (`tree.rs`), asking whether a chunk is available: a cache of synthesised or loaded chunks
-//! is another source, and a chunk whose children are not available is drawn in their place.
+//! front, and the selection, the mesh builder and the validator read them through the
+//! `ChunkSource` trait (`tree.rs`) as one view, `source.rs`'s `Available`: the source tree (with
+//! loading on, only its resident chunks) and the cache of synthesised chunks. A chunk whose
+//! children are not available is drawn in their place and its children are requested
+//! (listing 3.6 / 3.7); `requests.rs` serves the requests after the frame's selection.
+//!
+//! - **`detail`** (`detail.rs`, `synthesis.rs`): the source leaves get the estimated error ε
+//!   (the largest δ_m of sampled one-level detail additions, §3.4.1) and the tree's errors nest
+//!   over it; below them, chunks down to `levels` more levels are synthesised from their parent
+//!   by the four-point subdivision (Kobbelt's scheme on a regular grid) with a two-sample border,
+//!   plus a seeded gradient-noise fractal displacement kept apart from the base (§3.3.1), each
+//!   with half its parent's error. At most `max_created_per_frame` chunks made per frame
+//!   (§3.4.4's request limit); at most `cache_chunks` held, least recently used sibling groups
+//!   evicted. The paper's alternative limit by the viewpoint's velocity is not implemented.
+//! - **`loading`** (`loading.rs`): source chunks are resident only after a request, a latency in
+//!   frames and a bandwidth in chunks per frame, under a cap of resident chunks (LRU, the
+//!   paper's cache); synthesised chunks travel the same way.
+//! - **Decisions.** Requests are made after the frame's selection, so a chunk is drawn at the
+//!   earliest the frame after it was wanted (the asynchronous scheme; latency ≥ 1). Requests
+//!   not served are not queued: the selection asks again while it still wants them. A group
+//!   used in the current frame, or still on its way, is never evicted; with nothing evictable a
+//!   request waits, so the caps hold in every frame. Synthesised chunks' boxes are their own
+//!   samples' range (the source leaves' boxes are not widened by the detail below them), so with
+//!   box culling a leaf whose detail rises above its box can be culled while that detail would
+//!   be in view: the audit counts such samples as holes. With both effects off every count is
+//!   what it was before they existed.
 //!
 //! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
 //! triangle list (O(drawn triangles)), the selection's buffers. Per frame: O(chunks visited +
 //! drawn triangles), several selection passes with a target.
 
 mod brute_force;
+mod cache;
+pub mod detail;
+mod loading;
 mod mesh;
+mod requests;
 mod select;
+mod source;
+mod synthesis;
 mod tree;
 mod validate;
 
 pub use brute_force::chunks_from_scratch;
+pub use detail::DetailConfig;
+pub use loading::LoadingConfig;
 pub use select::DrawnChunk;
 pub use tree::{ChunkId, ChunkRecord, SkirtDepth};
 pub use validate::ChunkedError;
@@ -81,7 +112,11 @@ use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
+use detail::DetailGeometry;
+use loading::Loading;
 use select::{Selection, SelectionSettings, select};
+use source::Available;
+use synthesis::RuntimeDetail;
 use tree::{ChunkSource, ChunkTree};
 
 pub(super) const NAME: &str = "chunked";
@@ -93,6 +128,66 @@ const EXTRA_COLUMNS: &[&str] = &[
     columns::ORDER_INVERSIONS,
     columns::TAU,
     columns::TARGET_UNREACHABLE,
+];
+
+/// With synthesised detail on: the columns above, then the detail's.
+const EXTRA_COLUMNS_WITH_DETAIL: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
+    columns::DETAIL_SYNTHESISED,
+    columns::DETAIL_EVICTED,
+    columns::DETAIL_CACHED,
+    columns::DETAIL_REFUSED,
+    columns::DETAIL_SYNTHESIS_MS,
+    columns::DETAIL_BYTES,
+    columns::DETAIL_DEEPEST_DRAWN,
+];
+
+/// With out-of-core loading on: the first columns, then the loading's.
+const EXTRA_COLUMNS_WITH_LOADING: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
+    columns::REQUESTS_WAITING,
+    columns::CHUNKS_LOADED,
+    columns::CHUNKS_UNLOADED,
+    columns::RESIDENT_CHUNKS,
+    columns::RESIDENT_BYTES,
+];
+
+/// With both: every column.
+const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
+    columns::DETAIL_SYNTHESISED,
+    columns::DETAIL_EVICTED,
+    columns::DETAIL_CACHED,
+    columns::DETAIL_REFUSED,
+    columns::DETAIL_SYNTHESIS_MS,
+    columns::DETAIL_BYTES,
+    columns::DETAIL_DEEPEST_DRAWN,
+    columns::REQUESTS_WAITING,
+    columns::CHUNKS_LOADED,
+    columns::CHUNKS_UNLOADED,
+    columns::RESIDENT_CHUNKS,
+    columns::RESIDENT_BYTES,
 ];
 
 /// Parameters of the chunked quadtree.
@@ -110,6 +205,11 @@ pub struct ChunkedConfig {
     pub culling: bool,
     /// Children visited nearest first.
     pub front_to_back: bool,
+    /// Detail synthesised below the finest source level at run time (§3.3–3.4); `None`: off.
+    pub detail: Option<DetailConfig>,
+    /// Out-of-core loading with a latency and a bandwidth (§3.2.14); `None`: off, every source
+    /// chunk resident.
+    pub loading: Option<LoadingConfig>,
 }
 
 /// The chunked quadtree. Per frame: O(chunks visited + drawn triangles); buffers are reused.
@@ -117,10 +217,14 @@ pub struct Chunked<'h> {
     config: ChunkedConfig,
     lambda: f64,
     tree: ChunkTree<'h>,
+    /// Runtime detail, when on (boxed: an entry without it stays small).
+    detail: Option<Box<RuntimeDetail>>,
+    /// Out-of-core loading, when on.
+    loading: Option<Box<Loading>>,
     list: TriangleList,
     selection: Selection,
-    /// Scratch selection for the target search's counting passes.
-    counting: Selection,
+    /// Scratch selection for the target search's counting passes (boxed: only a target uses it).
+    counting: Box<Selection>,
     /// τ of the current frame (the last one drawn), pixels.
     tau_px: f64,
     target_unreachable: bool,
@@ -151,13 +255,33 @@ impl<'h> Chunked<'h> {
             }
             BlockGoal::TargetTriangles(_) => 1.0,
         };
+        let terrain_level = hierarchy.lattice().level();
+        let cells = 1u32 << config.chunk_level.clamp(1, terrain_level);
+        let leaf_level = terrain_level - config.chunk_level.clamp(1, terrain_level);
+        let geometry = DetailGeometry { cells, leaf_level };
+        let detail_config = effective_detail(hierarchy, &config);
+        let leaf_error = detail_config.map_or(0.0, |detail| {
+            geometry.estimate_leaf_error(hierarchy, &detail)
+        });
+        let tree = ChunkTree::new(
+            hierarchy,
+            config.chunk_level,
+            config.skirts,
+            config.morph,
+            leaf_error,
+        );
         Chunked {
             config,
             lambda: view.pixels_per_unit(),
-            tree: ChunkTree::new(hierarchy, config.chunk_level, config.skirts, config.morph),
+            detail: detail_config
+                .map(|detail| Box::new(RuntimeDetail::new(detail, geometry, config.skirts))),
+            loading: config
+                .loading
+                .map(|loading| Box::new(Loading::new(loading, cells))),
+            tree,
             list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted),
             selection: Selection::default(),
-            counting: Selection::default(),
+            counting: Box::default(),
             tau_px,
             target_unreachable: false,
             previous_drawn: Vec::new(),
@@ -173,6 +297,12 @@ impl<'h> Chunked<'h> {
         &self.selection.drawn
     }
 
+    /// The chunks this frame drew in place of children that were not available, in visiting
+    /// order: the requests for those children (listing 3.6).
+    pub fn requested(&self) -> &[ChunkId] {
+        &self.selection.requested
+    }
+
     /// This frame's culled chunks.
     pub fn culled(&self) -> &[ChunkId] {
         &self.selection.culled
@@ -183,9 +313,35 @@ impl<'h> Chunked<'h> {
         self.tau_px
     }
 
-    /// The tree's record of chunk `id`; `None` outside the tree.
+    /// The record of chunk `id`, from the source tree or the detail cache; `None` when it is
+    /// not available.
     pub fn chunk(&self, id: ChunkId) -> Option<&ChunkRecord> {
-        self.tree.chunk(id)
+        available(&self.tree, &self.detail, &self.loading).get(id)
+    }
+
+    /// The height of vertex (a, b) of the available chunk `id`'s grid.
+    ///
+    /// # Panics
+    /// When `id` is not available.
+    pub fn chunk_height(&self, id: ChunkId, a: u32, b: u32) -> f32 {
+        available(&self.tree, &self.detail, &self.loading).height(id, a, b)
+    }
+
+    /// The synthesised chunks held, in id order, with their drawn heights ((2^c + 1)², row by
+    /// row); empty with detail off.
+    pub fn synthesised_chunks(&self) -> Vec<(ChunkId, &[f32])> {
+        self.detail.as_ref().map_or_else(Vec::new, |detail| {
+            detail
+                .cache
+                .iter()
+                .map(|(id, chunk)| (id, chunk.heights.as_slice()))
+                .collect()
+        })
+    }
+
+    /// The deepest level a chunk can have (the source leaves', or the deepest synthesised).
+    pub fn finest_level(&self) -> u32 {
+        available(&self.tree, &self.detail, &self.loading).finest_level()
     }
 
     /// The level of the full-resolution leaves.
@@ -210,7 +366,7 @@ impl<'h> Chunked<'h> {
     pub fn validate_frame(&self, camera: &Camera) -> Result<(), ChunkedError> {
         let settings = self.settings(self.tau_px);
         validate::validate_frame(&validate::FrameView {
-            tree: &self.tree,
+            source: available(&self.tree, &self.detail, &self.loading),
             config: self.config,
             settings: &settings,
             selection: &self.selection,
@@ -236,7 +392,8 @@ impl<'h> Chunked<'h> {
         };
         let per_chunk = mesh::triangles_per_chunk(self.tree.geometry().cells);
         let mut visited = 0;
-        let (tree, counting) = (&self.tree, &mut self.counting);
+        let source = available(&self.tree, &self.detail, &self.loading);
+        let (tree, counting) = (&self.tree, &mut *self.counting);
         let (lambda, config) = (self.lambda, self.config);
         let choice = finest_tau_within(target, self.tau_px, |tau_px| {
             let settings = SelectionSettings {
@@ -246,7 +403,7 @@ impl<'h> Chunked<'h> {
                 front_to_back: false,
                 morph: false,
             };
-            select(tree, tree.geometry(), camera, &settings, counting);
+            select(&source, tree.geometry(), camera, &settings, counting);
             visited += counting.visited;
             counting.drawn.len() as u64 * per_chunk
         });
@@ -263,11 +420,12 @@ impl<'h> Chunked<'h> {
             let (low, high) = geometry.square(id);
             self.list.add_culled_region(low, high);
         }
+        let source = available(&self.tree, &self.detail, &self.loading);
         for chunk in &self.selection.drawn {
-            let record = *self.tree.record(chunk.id);
+            let record = *source.record(chunk.id);
             mesh::add_chunk(
                 &mut self.list,
-                &self.tree,
+                &source,
                 &geometry,
                 chunk,
                 &record,
@@ -279,13 +437,14 @@ impl<'h> Chunked<'h> {
     /// Consecutive drawn chunks whose second is nearer (Euclidean distance to the box).
     fn order_inversions(&self, camera: &Camera) -> u64 {
         let geometry = self.tree.geometry();
+        let source = available(&self.tree, &self.detail, &self.loading);
         let distances: Vec<f64> = self
             .selection
             .drawn
             .iter()
             .map(|c| {
                 geometry
-                    .block_box(c.id, self.tree.record(c.id))
+                    .block_box(c.id, source.record(c.id))
                     .distance(camera.eye)
             })
             .collect();
@@ -299,21 +458,51 @@ impl LodAlgorithm for Chunked<'_> {
     }
 
     fn extra_columns(&self) -> &'static [&'static str] {
-        EXTRA_COLUMNS
+        match (self.detail.is_some(), self.loading.is_some()) {
+            (false, false) => EXTRA_COLUMNS,
+            (true, false) => EXTRA_COLUMNS_WITH_DETAIL,
+            (false, true) => EXTRA_COLUMNS_WITH_LOADING,
+            (true, true) => EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING,
+        }
     }
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let camera = input.camera;
+        // Chunks due by this frame arrive.
+        if let Some(detail) = self.detail.as_mut() {
+            detail.cache.set_frame(input.frame);
+        }
+        if let Some(loading) = self.loading.as_mut() {
+            loading.resident.set_frame(input.frame);
+        }
         let search_visits = self.choose_tau(camera);
         let settings = self.settings(self.tau_px);
         select(
-            &self.tree,
+            &available(&self.tree, &self.detail, &self.loading),
             self.tree.geometry(),
             camera,
             &settings,
             &mut self.selection,
         );
         self.build_mesh();
+        let skirt_depth_max = {
+            let source = available(&self.tree, &self.detail, &self.loading);
+            self.selection
+                .drawn
+                .iter()
+                .map(|c| f64::from(source.record(c.id).skirt_depth))
+                .fold(0.0, f64::max)
+        };
+        let order_inversions = self.order_inversions(camera);
+        let deepest_drawn = self.selection.drawn.iter().map(|c| c.id.level).max();
+        // The children this frame asked for: made or loaded now, drawn after the latency.
+        let requests = requests::serve(
+            &self.tree,
+            &self.selection,
+            self.detail.as_deref_mut(),
+            self.loading.as_deref_mut(),
+            input.frame,
+        );
 
         // What changed since the previous frame.
         let cells = self.tree.geometry().cells;
@@ -360,20 +549,41 @@ impl LodAlgorithm for Chunked<'_> {
         stats.vertices_changed =
             Some(entered * per_chunk + morph_moved * mesh::morph_dependent_vertices(cells));
         stats.metric_evaluations = search_visits + self.selection.visited;
-        let skirt_depth_max = self
-            .selection
-            .drawn
-            .iter()
-            .map(|c| f64::from(self.tree.record(c.id).skirt_depth))
-            .fold(0.0, f64::max);
         stats.extra = vec![
             self.selection.drawn.len() as f64,
             self.selection.culled.len() as f64,
             skirt_depth_max,
-            self.order_inversions(camera) as f64,
+            order_inversions as f64,
             self.tau_px,
             f64::from(u8::from(self.target_unreachable)),
         ];
+        if self.detail.is_some() || self.loading.is_some() {
+            let in_flight = self.detail.as_ref().map_or(0, |d| d.cache.in_flight())
+                + self.loading.as_ref().map_or(0, |l| l.resident.in_flight());
+            stats
+                .extra
+                .extend([self.selection.unavailable as f64, in_flight as f64]);
+        }
+        if let Some(detail) = self.detail.as_ref() {
+            stats.extra.extend([
+                requests.synthesised as f64,
+                requests.evicted as f64,
+                detail.cache.len() as f64,
+                requests.refused as f64,
+                requests.synthesis_ns as f64 * 1e-6,
+                detail.memory_bytes() as f64,
+                f64::from(deepest_drawn.unwrap_or(0)),
+            ]);
+        }
+        if let Some(loading) = self.loading.as_ref() {
+            stats.extra.extend([
+                requests.waiting as f64,
+                requests.loaded as f64,
+                requests.unloaded as f64,
+                loading.resident.len() as f64,
+                loading.memory_bytes() as f64,
+            ]);
+        }
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
@@ -394,16 +604,69 @@ impl LodAlgorithm for Chunked<'_> {
             + (self.previous_refined.capacity() + self.refined_sorted.capacity())
                 * std::mem::size_of::<ChunkId>()
             + self.indices.capacity() * std::mem::size_of::<u32>()
+            + self
+                .detail
+                .as_deref()
+                .map_or(0, RuntimeDetail::memory_bytes)
+            + self.loading.as_deref().map_or(0, Loading::memory_bytes)
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
-        vec![
+        let mut facts = vec![
             ("chunks", self.tree.n_chunks() as f64),
             ("leaf_level", f64::from(self.tree.leaf_level())),
             (
                 "triangles_per_chunk",
                 mesh::triangles_per_chunk(self.tree.geometry().cells) as f64,
             ),
-        ]
+        ];
+        if let Some(detail) = &self.detail {
+            facts.extend([
+                ("detail_finest_level", f64::from(detail.finest_level)),
+                ("detail_leaf_error_m", f64::from(self.tree.leaf_error())),
+            ]);
+        }
+        facts
+    }
+}
+
+/// The detail `config` asks for on `hierarchy`, as a run can have it: the deepest level is at
+/// most 15 (chunk numbers fit a `u32`), so deeper levels are dropped (the run fact
+/// `detail_finest_level` says how deep the run could go); `None` when off or when no level is
+/// left.
+pub fn effective_detail(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option<DetailConfig> {
+    let terrain_level = hierarchy.lattice().level();
+    let leaf_level = terrain_level - config.chunk_level.clamp(1, terrain_level);
+    let detail = config.detail?;
+    let levels = detail
+        .levels
+        .clamp(1, detail::MAX_DETAIL_LEVELS)
+        .min(15u32.saturating_sub(leaf_level));
+    (levels > 0).then_some(DetailConfig { levels, ..detail })
+}
+
+/// The synthesised surface at the deepest level `config`'s detail reaches on `hierarchy`, the
+/// truth the detail audit measures against; `None` with detail off. O(4^levels · samples).
+/// `None` too when that surface has more than [`detail::DETAIL_TRUTH_MAX_SAMPLES`] samples (a
+/// run that flies a terrain too large for memory is not audited against it).
+pub fn detail_truth(hierarchy: &Hierarchy, config: &ChunkedConfig) -> Option<detail::DetailField> {
+    let detail = effective_detail(hierarchy, config)?;
+    let side = (u64::from(hierarchy.lattice().cells()) << detail.levels) + 1;
+    (side * side <= detail::DETAIL_TRUTH_MAX_SAMPLES)
+        .then(|| detail::DetailField::new(hierarchy, &detail, detail.levels))
+}
+
+/// The chunks available now: the tree, and the detail cache when detail is on.
+fn available<'a>(
+    tree: &'a ChunkTree<'a>,
+    detail: &'a Option<Box<RuntimeDetail>>,
+    loading: &'a Option<Box<Loading>>,
+) -> Available<'a> {
+    Available {
+        tree,
+        resident: loading.as_ref().map(|loading| &loading.resident),
+        detail: detail
+            .as_ref()
+            .map(|detail| (&detail.cache, detail.finest_level)),
     }
 }

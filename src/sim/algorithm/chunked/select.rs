@@ -54,6 +54,8 @@ pub(super) struct Selection {
     pub(super) visited: u64,
     /// Chunks drawn although they wanted refining, because a child was not available.
     pub(super) unavailable: u64,
+    /// Those chunks, in visiting order: the requests for their children (listing 3.7).
+    pub(super) requested: Vec<ChunkId>,
 }
 
 impl Selection {
@@ -63,12 +65,14 @@ impl Selection {
         self.culled.clear();
         self.visited = 0;
         self.unavailable = 0;
+        self.requested.clear();
     }
 
     /// Heap bytes held.
     pub(super) fn memory_bytes(&self) -> usize {
         self.drawn.capacity() * std::mem::size_of::<DrawnChunk>()
-            + (self.refined.capacity() + self.culled.capacity()) * std::mem::size_of::<ChunkId>()
+            + (self.refined.capacity() + self.culled.capacity() + self.requested.capacity())
+                * std::mem::size_of::<ChunkId>()
     }
 }
 
@@ -135,6 +139,7 @@ impl<S: ChunkSource> Visit<'_, S> {
                 return;
             }
             out.unavailable += 1;
+            out.requested.push(id);
         }
         let morph = match (self.settings.morph, parent_error) {
             (true, Some(parent_error)) => threshold.morph_factor(record.error, parent_error, d),
@@ -183,7 +188,7 @@ mod tests {
         let heights = (0..side * side).map(|k| ((k * 37) % 11) as f32).collect();
         let hierarchy =
             Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 1.0, dy: 1.0 }).unwrap());
-        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false);
+        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false, 0.0);
         let camera = Camera::new(
             &Pose {
                 position: DVec3::new(8.0, 8.0, 20.0),

@@ -7,13 +7,13 @@
 //! follow from the id alone, at any level, finer than the source included.
 //!
 //! **Availability.** The selection and the mesh builder read chunks through [`ChunkSource`]:
-//! "is this chunk available now, and what are its vertices' heights?". This issue has one
-//! source, [`ChunkTree`], the source tree built completely before the first frame, in which
-//! every chunk down to the full-resolution leaves is always available. Runtime detail below the
-//! finest source level and out-of-core loading with latency are other sources: chunks that
-//! exist only once made or loaded, and are evicted again. The selection never assumes a chunk
-//! is there; when it wants a chunk's children and they are not available it draws the chunk
-//! itself (listing 3.6).
+//! "is this chunk available now, and what are its vertices' heights?". [`ChunkTree`] is the
+//! source tree built completely before the first frame, in which every chunk down to the
+//! full-resolution leaves exists; `source.rs`'s view adds what the two effects change: with
+//! out-of-core loading only the resident source chunks are available, and with runtime detail
+//! the synthesised chunks below the leaves are (chunks that exist only once made or loaded, and
+//! are evicted again). The selection never assumes a chunk is there; when it wants a chunk's
+//! children and they are not available it draws the chunk itself (listing 3.6).
 //!
 //! **What the tree holds per chunk** ([`ChunkRecord`], 16 bytes): its nested error δ_c
 //! (eq. 3.1: 0 at a leaf, max(children's δ_c) + δ_m above, δ_m the largest vertex error of the
@@ -196,6 +196,8 @@ pub(super) struct ChunkTree<'h> {
     geometry: ChunkGeometry,
     /// The level of the leaves, D = n − c.
     leaf_level: u32,
+    /// δ_c of every leaf: 0, or with synthesised detail the estimated ε (§3.4.1).
+    leaf_error: f32,
     /// Per level, its 4^L chunks row by row.
     levels: Vec<Vec<ChunkRecord>>,
 }
@@ -203,12 +205,14 @@ pub(super) struct ChunkTree<'h> {
 impl<'h> ChunkTree<'h> {
     /// Builds the tree for chunks of (2^`chunk_level` + 1)² vertices (clamped to the terrain:
     /// a chunk level at or above the terrain's gives one chunk, the whole terrain at full
-    /// resolution), with skirts as `skirts` says for a run that morphs or not.
+    /// resolution), with skirts as `skirts` says for a run that morphs or not, and `leaf_error`
+    /// as every leaf's δ_c (0 without synthesised detail).
     pub(super) fn new(
         hierarchy: &'h Hierarchy,
         chunk_level: u32,
         skirts: SkirtDepth,
         morph: bool,
+        leaf_error: f32,
     ) -> ChunkTree<'h> {
         let terrain_level = hierarchy.lattice().level();
         let chunk_level = chunk_level.clamp(1, terrain_level);
@@ -224,6 +228,7 @@ impl<'h> ChunkTree<'h> {
             hierarchy,
             geometry,
             leaf_level,
+            leaf_error,
             levels: Vec::new(),
         };
         // Bottom-up: errors and height ranges, finest level first.
@@ -257,6 +262,16 @@ impl<'h> ChunkTree<'h> {
     /// The level of the full-resolution leaves.
     pub(super) fn leaf_level(&self) -> u32 {
         self.leaf_level
+    }
+
+    /// Every leaf's δ_c.
+    pub(super) fn leaf_error(&self) -> f32 {
+        self.leaf_error
+    }
+
+    /// The shared height field.
+    pub(super) fn hierarchy(&self) -> &'h Hierarchy {
+        self.hierarchy
     }
 
     /// Chunks in the tree.
@@ -303,7 +318,7 @@ impl<'h> ChunkTree<'h> {
             }
         }
         ChunkRecord {
-            error: 0.0,
+            error: self.leaf_error,
             z_min,
             z_max,
             skirt_depth: 0.0,
@@ -509,7 +524,7 @@ mod tests {
         // 17×17, chunks of 5×5: leaves at level 2 (stride 1), level 1 (stride 2), root
         // (stride 4). The bump at (3, 5) is odd, so the level-1 chunk holding it drops it.
         let hierarchy = ramp_with_bump(4);
-        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false);
+        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false, 0.0);
         assert_eq!((tree.leaf_level(), tree.n_chunks()), (2, 21));
         let bump_leaf = ChunkId {
             level: 2,
@@ -545,8 +560,8 @@ mod tests {
     #[test]
     fn the_papers_skirts_are_the_chunk_errors_and_covering_ones_add_the_neighbours() {
         let hierarchy = ramp_with_bump(4);
-        let paper = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false);
-        let covering = ChunkTree::new(&hierarchy, 2, SkirtDepth::Covering, false);
+        let paper = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false, 0.0);
+        let covering = ChunkTree::new(&hierarchy, 2, SkirtDepth::Covering, false, 0.0);
         let leaf = ChunkId {
             level: 2,
             x: 2,
@@ -568,7 +583,7 @@ mod tests {
     #[test]
     fn geometry_follows_from_the_id() {
         let hierarchy = ramp_with_bump(4);
-        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false);
+        let tree = ChunkTree::new(&hierarchy, 2, SkirtDepth::ChunkError, false, 0.0);
         let geometry = tree.geometry();
         let id = ChunkId {
             level: 1,

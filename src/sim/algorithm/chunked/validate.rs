@@ -2,7 +2,7 @@
 //! each frame's selection. Tests call them after every frame; the mesh itself is checked by the
 //! triangle-list validator like every algorithm's.
 //!
-//! Tree: every leaf's error is 0; every internal chunk's is eq. 3.1 recomputed (its children's
+//! Tree: every leaf's error is 0 (ε with synthesised detail); every internal chunk's is eq. 3.1 recomputed (its children's
 //! largest plus its own δ_m, rounded up once); every box holds its children's and is the range
 //! of its samples; every skirt is as deep as [`SkirtDepth`] says (the covering depth checked
 //! against every pair of chunks that touch without nesting, O(chunks²)).
@@ -10,7 +10,8 @@
 //! Frame: drawn and culled chunks tile the terrain (each area once, every ancestor of one of
 //! them refined, every child of a refined chunk accounted for); every refined chunk wants
 //! refining (d < δ_c·C), is internal and not culled; every drawn chunk does not want refining
-//! or is a leaf, and is not culled; every culled chunk's box is outside the view volume; every
+//! or is a leaf, or else is one whose children it requested (they were not available), and is
+//! not culled; every culled chunk's box is outside the view volume; every
 //! morph factor is eq. 3.5's; the draw order visits children nearest first with front-to-back
 //! on (in south-west, south-east, north-west, north-east order without); the triangle list has
 //! the triangles, skirts and culled regions the selection implies.
@@ -20,6 +21,7 @@ use super::super::block_lod::grid::round_up_f32;
 use super::ChunkedConfig;
 use super::mesh::triangles_per_chunk;
 use super::select::{Selection, SelectionSettings};
+use super::source::Available;
 use super::tree::{ChunkId, ChunkSource, ChunkTree, SkirtDepth};
 use crate::sim::mesh::{TriangleList, TriangleRole};
 use crate::sim::view::Camera;
@@ -89,7 +91,7 @@ pub(super) fn validate_tree(tree: &ChunkTree, config: ChunkedConfig) -> Result<(
     for &id in &all {
         let record = tree.record(id);
         let expected = if id.level == leaf_level {
-            0.0
+            tree.leaf_error()
         } else {
             let children = id.children().map(|c| f64::from(tree.record(c).error));
             round_up_f32(children.into_iter().fold(0.0, f64::max) + tree.own_error(id))
@@ -167,7 +169,7 @@ pub(super) fn validate_tree(tree: &ChunkTree, config: ChunkedConfig) -> Result<(
 
 /// What a frame's check reads.
 pub(super) struct FrameView<'a> {
-    pub(super) tree: &'a ChunkTree<'a>,
+    pub(super) source: Available<'a>,
     pub(super) config: ChunkedConfig,
     pub(super) settings: &'a SelectionSettings,
     pub(super) selection: &'a Selection,
@@ -177,12 +179,14 @@ pub(super) struct FrameView<'a> {
 
 /// Checks one frame's selection (see the module docs).
 pub(super) fn validate_frame(view: &FrameView) -> Result<(), ChunkedError> {
-    let (tree, selection, settings) = (view.tree, view.selection, view.settings);
-    let geometry = tree.geometry();
+    let (tree, selection, settings) = (&view.source, view.selection, view.settings);
+    let geometry = view.source.tree.geometry();
+    let finest_level = tree.finest_level();
+    let requested: HashSet<ChunkId> = selection.requested.iter().copied().collect();
     let eye = view.camera.eye;
     let refined: HashSet<ChunkId> = selection.refined.iter().copied().collect();
     let mut area: u128 = 0;
-    let full: u128 = 1u128 << (2 * tree.leaf_level());
+    let full: u128 = 1u128 << (2 * finest_level);
     let mut seen = HashSet::new();
     let leaves = selection
         .drawn
@@ -210,7 +214,7 @@ pub(super) fn validate_frame(view: &FrameView) -> Result<(), ChunkedError> {
                 problem: "its parent is not refined",
             });
         }
-        area += 1u128 << (2 * (tree.leaf_level() - id.level));
+        area += 1u128 << (2 * (finest_level - id.level));
     }
     if area != full {
         return Err(ChunkedError::NotATiling {
@@ -263,10 +267,15 @@ pub(super) fn validate_frame(view: &FrameView) -> Result<(), ChunkedError> {
                 problem: "drawn with another distance than its box's",
             });
         }
-        if tree.is_internal(id) && settings.threshold.refines(record.error, d) {
+        let wants_children = tree.is_internal(id) && settings.threshold.refines(record.error, d);
+        if wants_children != requested.contains(&id) {
             return Err(ChunkedError::WrongDecision {
                 chunk: id,
-                problem: "drawn although d < δ_c·C and internal",
+                problem: if wants_children {
+                    "drawn although d < δ_c·C and internal, and its children not requested"
+                } else {
+                    "its children requested although it does not want refining"
+                },
             });
         }
         if settings.culling && box_outside_view(view.camera, &block) {

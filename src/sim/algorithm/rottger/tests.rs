@@ -312,6 +312,7 @@ fn popping_between(hierarchy: &Hierarchy, from: MeshOutput, to: MeshOutput) -> P
         AuditSettings {
             stride: 1,
             popping: true,
+            detail_stride: None,
         },
     );
     auditor.audit(hierarchy, from, &overhead);
