@@ -126,7 +126,12 @@ fn popping_mesh_exports_and_each_entrys_preprocessing_are_written_when_asked() {
     experiment["algorithms"]
         .as_array_mut()
         .unwrap()
-        .retain(|a| !matches!(a["name"].as_str(), Some("geomipmap" | "chunked" | "vanek")));
+        .retain(|a| {
+            !matches!(
+                a["name"].as_str(),
+                Some("geomipmap" | "chunked" | "vanek" | "stitching-strips")
+            )
+        });
     experiment["effects"]["audit"]["popping"] = serde_json::json!(true);
     experiment["outputs"] = serde_json::json!({"meshes": {"frames": [5, 0], "entries": ["wu"]}});
     let path = save(dir.path(), "exports", &experiment);
