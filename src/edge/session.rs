@@ -857,6 +857,11 @@ fn run_point<'a>(
         )?;
         let mut frames = frames;
         let mut facts = algorithm.run_facts();
+        let memory_bytes = algorithm.memory_bytes();
+        let extra_columns = algorithm.extra_columns().to_vec();
+        // Gone before a timing pass builds its own, so that the run's peak memory is one
+        // algorithm's.
+        drop(algorithm);
         let passes = timing_passes(k);
         facts.push(("timing_passes", f64::from(passes)));
         if passes > 0 {
@@ -892,10 +897,10 @@ fn run_point<'a>(
         }
         progress.entry_finished();
         Ok(AlgorithmResult {
-            memory_bytes: algorithm.memory_bytes(),
+            memory_bytes,
             preprocessing,
             frames,
-            extra_columns: algorithm.extra_columns().to_vec(),
+            extra_columns,
             facts,
             meshes,
         })
