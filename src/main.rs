@@ -354,7 +354,7 @@ fn run(path: &Path, options: RunOptions) -> Result<(), String> {
         );
         return Ok(());
     }
-    report_outcome(&outcome, started, check);
+    report_outcome(&outcome, started);
     Ok(())
 }
 
@@ -367,12 +367,13 @@ fn merge(shards: &[PathBuf], out: Option<PathBuf>) -> Result<(), String> {
     let outcome =
         merge_shards(shards, &options, &LineProgress::to_stderr()).map_err(|e| e.to_string())?;
     println!("merged {} shard folder(s)", shards.len());
-    report_outcome(&outcome, started, false);
+    report_outcome(&outcome, started);
     Ok(())
 }
 
 /// The warnings and the end-of-run printout of a finished run or merge.
-fn report_outcome(outcome: &RunOutcome, started: Instant, check: bool) {
+fn report_outcome(outcome: &RunOutcome, started: Instant) {
+    let check = outcome.check_meshes;
     if !outcome.speed_violation_frames.is_empty() {
         let frames = &outcome.speed_violation_frames;
         let shown: Vec<String> = frames.iter().take(10).map(u64::to_string).collect();

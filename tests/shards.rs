@@ -198,6 +198,27 @@ fn a_missing_duplicated_or_foreign_shard_or_a_changed_experiment_is_refused() {
             "every shard must be of the same experiment",
         ],
     );
+    // Another timing.
+    succeeds(
+        &[
+            "run",
+            "sharded.json",
+            "--shard",
+            "2/3",
+            "--out",
+            "timed",
+            "--frames",
+            "3",
+            "--repeat",
+            "2",
+        ],
+        cwd,
+    );
+    fails_with(
+        &["merge", "s1", "timed", "s3", "--out", "m"],
+        cwd,
+        &["timed", "the timing", "--repeat 2", "--repeat 1"],
+    );
     // Other --frames.
     succeeds(
         &["run", "sharded.json", "--shard", "2/3", "--out", "long"],

@@ -15,7 +15,7 @@ use crate::edge::experiment::{
     self, AlgorithmSpec, Experiment, ExperimentError, Plan, SweepChoice,
 };
 use crate::edge::output::atomic_dir::{CommitError, OutputLocationError, StagedDir};
-use crate::edge::output::columns::RunColumns;
+use crate::edge::output::columns::{RunColumns, TIMING_COLUMNS};
 use crate::edge::output::end_of_run::PointFigures;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::goal_check::{GoalCheck, check_goal};
@@ -181,6 +181,8 @@ pub struct RunOutcome {
     pub speed_violation_frames: Vec<u64>,
     pub preprocessing_seconds: f64,
     pub threads: usize,
+    /// Whether every mesh was validated (`--check`, or shards run with it).
+    pub check_meshes: bool,
     /// Every point's entries and their report figures, in order (one point without a sweep).
     pub points: Vec<PointFigures>,
 }
@@ -345,6 +347,7 @@ impl RunAssembly {
                 speed_violation_frames: Vec::new(),
                 preprocessing_seconds: 0.0,
                 threads,
+                check_meshes: record.check_meshes,
                 points: Vec::new(),
             },
             sweep_points: Vec::new(),
@@ -493,8 +496,8 @@ fn run_shard(
             content_sha256: plan.content_sha256().to_string(),
         },
         shard,
-        options.max_frames,
-        options.check_meshes,
+        (options.max_frames, options.check_meshes),
+        (options.timing.repeat, options.timing.with_effects),
         threads,
         options.command_line.clone(),
     );
@@ -507,6 +510,7 @@ fn run_shard(
         speed_violation_frames: Vec::new(),
         preprocessing_seconds: 0.0,
         threads,
+        check_meshes: options.check_meshes,
         points: Vec::new(),
     };
     for k in 0..plan.n_points() {
@@ -630,7 +634,10 @@ pub fn merge_shards(
     let settings = PointSettings {
         check_meshes: first.check_meshes,
         max_frames: first.max_frames,
-        timing: Timing::default(),
+        timing: Timing {
+            repeat: first.repeat,
+            with_effects: first.time_with_effects,
+        },
     };
     let record = RunRecord {
         threads: first.threads,
@@ -874,6 +881,7 @@ fn run_point<'a>(
                 ..inputs
             };
             let mut pass_times = Vec::new();
+            let mut pass_frames = Vec::new();
             for _ in 0..passes {
                 let mut fresh = spec
                     .config
@@ -888,12 +896,14 @@ fn run_point<'a>(
                         }
                     })?;
                 pass_times.push(same_counts_timed(&spec.label, &frames, &timed)?);
+                pass_frames.push(timed);
             }
             facts.extend(take_pass_times(
                 &mut frames,
                 &pass_times,
                 experiment.warm_up_frames,
             ));
+            take_pass_sub_timings(&mut frames, &pass_frames, &extra_columns);
         }
         progress.entry_finished();
         Ok(AlgorithmResult {
@@ -969,6 +979,41 @@ fn take_pass_times(
             ("update_p50_us_greatest_of_passes", spread.max),
         ],
         None => Vec::new(),
+    }
+}
+
+/// The algorithm's own timing columns (parts of its update, such as the stitching strips'
+/// construction or chunked's synthesis: [`TIMING_COLUMNS`]) taken from the timing passes too,
+/// each frame's median over them, so that a part is never measured with the effects on while
+/// the whole is measured without.
+fn take_pass_sub_timings(
+    frames: &mut [FrameStats],
+    pass_frames: &[Vec<FrameStats>],
+    extra_columns: &[&str],
+) {
+    let timing: Vec<usize> = extra_columns
+        .iter()
+        .enumerate()
+        .filter(|(_, name)| TIMING_COLUMNS.contains(name))
+        .map(|(k, _)| k)
+        .collect();
+    let mut at_frame: Vec<f64> = Vec::with_capacity(pass_frames.len());
+    for column in timing {
+        for (k, frame) in frames.iter_mut().enumerate() {
+            at_frame.clear();
+            at_frame.extend(
+                pass_frames
+                    .iter()
+                    .filter_map(|pass| pass[k].extra.get(column)),
+            );
+            at_frame.sort_unstable_by(|a, b| a.total_cmp(b));
+            if let (Some(slot), Some(median)) = (
+                frame.extra.get_mut(column),
+                at_frame.get(at_frame.len().div_ceil(2).saturating_sub(1)),
+            ) {
+                *slot = *median;
+            }
+        }
     }
 }
 
@@ -1142,6 +1187,24 @@ mod tests {
                 ("update_p50_us_greatest_of_passes", 3.0),
             ]
         );
+    }
+
+    #[test]
+    fn an_algorithms_own_timing_columns_come_from_the_passes_too() {
+        let with_extra = |update_ns: u64, extra: [f64; 2]| FrameStats {
+            update_ns,
+            extra: extra.to_vec(),
+            ..FrameStats::default()
+        };
+        // Column 0 is a count, column 1 a part of the update (strip_construction_ns).
+        let mut frames = vec![with_extra(100, [7.0, 90.0])];
+        let passes = [
+            vec![with_extra(40, [7.0, 30.0])],
+            vec![with_extra(50, [7.0, 10.0])],
+            vec![with_extra(60, [7.0, 20.0])],
+        ];
+        take_pass_sub_timings(&mut frames, &passes, &["m_blocks", "strip_construction_ns"]);
+        assert_eq!(frames[0].extra, [7.0, 20.0]);
     }
 
     #[test]

@@ -19,8 +19,8 @@
 //! are stored as their bit patterns.
 //!
 //! **Merging** checks before writing anything: every folder holds a shard file of this format;
-//! all are of the same experiment (name and content hash), of the same N, `--frames` and
-//! `--check`; each K from 1 to N is there exactly once; the experiment file is still there and
+//! all are of the same experiment (name and content hash), of the same N, `--frames`,
+//! `--check` and timing (`--repeat`, `--time-with-effects`); each K from 1 to N is there exactly once; the experiment file is still there and
 //! unchanged (its content hash), since merging loads each point's terrain and flight again for
 //! the writers (nothing is simulated).
 //!
@@ -85,6 +85,9 @@ pub struct ShardFile {
     pub max_frames: Option<u64>,
     /// `--check`.
     pub check_meshes: bool,
+    /// `--repeat` (timing passes) and `--time-with-effects`.
+    pub repeat: u32,
+    pub time_with_effects: bool,
     pub threads: usize,
     pub command_line: Option<Vec<String>>,
     /// The points this shard ran entries of, in order.
@@ -152,8 +155,8 @@ impl ShardFile {
     pub fn new(
         experiment: ShardExperiment,
         shard: ShardSpec,
-        max_frames: Option<u64>,
-        check_meshes: bool,
+        (max_frames, check_meshes): (Option<u64>, bool),
+        (repeat, time_with_effects): (u32, bool),
         threads: usize,
         command_line: Option<Vec<String>>,
     ) -> ShardFile {
@@ -164,6 +167,8 @@ impl ShardFile {
             shard,
             max_frames,
             check_meshes,
+            repeat,
+            time_with_effects,
             threads,
             command_line,
             points: Vec::new(),
@@ -326,6 +331,20 @@ pub fn read_complete_set(folders: &[PathBuf]) -> Result<Vec<(PathBuf, ShardFile)
                 "--check",
                 shard.check_meshes.to_string(),
                 first.check_meshes.to_string(),
+            ));
+        }
+        let timing = |s: &ShardFile| {
+            if s.time_with_effects {
+                "--time-with-effects".to_string()
+            } else {
+                format!("--repeat {}", s.repeat)
+            }
+        };
+        if timing(shard) != timing(first) {
+            return Err(mismatch(
+                "the timing (--repeat, --time-with-effects)",
+                timing(shard),
+                timing(first),
             ));
         }
     }
