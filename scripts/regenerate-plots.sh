@@ -3,7 +3,7 @@
 # (timings are only comparable from --threads 1 runs). Counts and meshes are deterministic; the
 # timing columns and the plots drawn from them depend on the machine.
 #
-#   bash scripts/regenerate-plots.sh            # all of them (8 min 41 s on 2026-12-02; scaling needs about 9 GiB)
+#   bash scripts/regenerate-plots.sh            # all of them (9 min 50 s on 2026-12-02; scaling needs about 9 GiB)
 #   bash scripts/regenerate-plots.sh quickstart compare-circle   # only these
 set -euo pipefail
 cd "$(dirname "$0")/.."
