@@ -36,7 +36,7 @@ use crate::edge::shard::{
 };
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{CheckError, Effects, RunError, RunInputs, run_algorithm_with};
-use crate::sim::stats::{FrameStats, summarise};
+use crate::sim::stats::{FrameStats, nearest_rank, summarise};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -187,6 +187,24 @@ pub struct RunOutcome {
     pub points: Vec<PointFigures>,
 }
 
+impl RunOutcome {
+    /// The outcome of a run of `plan` before any point has run.
+    fn nothing_yet(plan: &Plan, out_dir: PathBuf, threads: usize, check_meshes: bool) -> Self {
+        RunOutcome {
+            out_dir,
+            experiment_name: plan.name().to_string(),
+            frames: 0,
+            meshes: 0,
+            goal_flags: Vec::new(),
+            speed_violation_frames: Vec::new(),
+            preprocessing_seconds: 0.0,
+            threads,
+            check_meshes,
+            points: Vec::new(),
+        }
+    }
+}
+
 /// Why a run produced nothing.
 #[derive(Debug, thiserror::Error)]
 pub enum RunFailure {
@@ -293,7 +311,7 @@ pub fn run_experiment(
         let point = run_point(&experiment, &entries, settings.timing, &pool, progress)?;
         assembly.add_point((k, plan.choice(k)), &experiment, point, staging.path())?;
     }
-    assembly.finish(path, staging)
+    assembly.finish(&plan, path, staging)
 }
 
 /// What every point is loaded with: `--check` and `--frames`.
@@ -338,18 +356,7 @@ struct RunAssembly {
 impl RunAssembly {
     fn new(plan: &Plan, out_dir: PathBuf, threads: usize, record: RunRecord) -> RunAssembly {
         RunAssembly {
-            outcome: RunOutcome {
-                out_dir,
-                experiment_name: plan.name().to_string(),
-                frames: 0,
-                meshes: 0,
-                goal_flags: Vec::new(),
-                speed_violation_frames: Vec::new(),
-                preprocessing_seconds: 0.0,
-                threads,
-                check_meshes: record.check_meshes,
-                points: Vec::new(),
-            },
+            outcome: RunOutcome::nothing_yet(plan, out_dir, threads, record.check_meshes),
             sweep_points: Vec::new(),
             record,
         }
@@ -423,10 +430,12 @@ impl RunAssembly {
     }
 
     /// Writes the sweep's own files (for a sweep) and moves the folder into place.
-    fn finish(self, path: &Path, staging: StagedDir) -> Result<RunOutcome, RunFailure> {
-        // The plan is read again only for its name, description and hash, which every point
-        // shares.
-        let plan = experiment::plan(path)?;
+    fn finish(
+        self,
+        plan: &Plan,
+        path: &Path,
+        staging: StagedDir,
+    ) -> Result<RunOutcome, RunFailure> {
         if plan.is_sweep() {
             let top = staging.path();
             let sweep = SweepRun {
@@ -501,18 +510,7 @@ fn run_shard(
         threads,
         options.command_line.clone(),
     );
-    let mut outcome = RunOutcome {
-        out_dir,
-        experiment_name: plan.name().to_string(),
-        frames: 0,
-        meshes: 0,
-        goal_flags: Vec::new(),
-        speed_violation_frames: Vec::new(),
-        preprocessing_seconds: 0.0,
-        threads,
-        check_meshes: options.check_meshes,
-        points: Vec::new(),
-    };
+    let mut outcome = RunOutcome::nothing_yet(plan, out_dir, threads, options.check_meshes);
     for k in 0..plan.n_points() {
         let entries: Vec<usize> = mine
             .iter()
@@ -713,7 +711,7 @@ pub fn merge_shards(
         };
         assembly.add_point((k, plan.choice(k)), &experiment, run, staging.path())?;
     }
-    assembly.finish(&path, staging)
+    assembly.finish(&plan, &path, staging)
 }
 
 /// A folder name for a sweep point: `parameter=value` pairs joined by `_`, anything but letters,
@@ -1007,11 +1005,10 @@ fn take_pass_sub_timings(
                     .filter_map(|pass| pass[k].extra.get(column)),
             );
             at_frame.sort_unstable_by(|a, b| a.total_cmp(b));
-            if let (Some(slot), Some(median)) = (
-                frame.extra.get_mut(column),
-                at_frame.get(at_frame.len().div_ceil(2).saturating_sub(1)),
-            ) {
-                *slot = *median;
+            if let Some(slot) = frame.extra.get_mut(column)
+                && !at_frame.is_empty()
+            {
+                *slot = nearest_rank(&at_frame, 0.5);
             }
         }
     }
