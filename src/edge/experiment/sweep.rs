@@ -6,7 +6,9 @@
 //!   (expanded in `check.rs`, where the entries are checked);
 //! - the experiment's top-level `"sweep": {"terrain.synthetic.level": [10, 12]}` sets any field
 //!   of the experiment by its path (`.`-separated keys, `[k]` for an array element): each point
-//!   is a whole experiment, with its own terrain, run one after another.
+//!   is a whole experiment, with its own terrain, run one after another. Its `"together"` group
+//!   (`{"path": [...], "other.path": [...]}`, lists of one length) is one axis whose k-th point
+//!   sets every listed field to its k-th value, for settings that must change in step.
 //!
 //! This module only rewrites JSON values; it knows nothing of what the fields mean. Every point
 //! is then parsed and checked like a written experiment.
@@ -22,21 +24,36 @@ pub type SweepChoice = Vec<(String, Value)>;
 
 /// The cartesian product of the axes, the first axis varying slowest.
 pub(super) fn cartesian(axes: &[(String, Vec<Value>)]) -> Vec<SweepChoice> {
-    let points: usize = axes.iter().map(|(_, values)| values.len()).product();
+    let options: Vec<Vec<SweepChoice>> = axes
+        .iter()
+        .map(|(parameter, values)| {
+            values
+                .iter()
+                .map(|value| vec![(parameter.clone(), value.clone())])
+                .collect()
+        })
+        .collect();
+    product_of_options(&options)
+}
+
+/// The cartesian product of axes whose options each set one or more fields (a `together` group
+/// sets several), the first axis varying slowest; a point's choice lists the fields in axis order.
+fn product_of_options(axes: &[Vec<SweepChoice>]) -> Vec<SweepChoice> {
+    let points: usize = axes.iter().map(Vec::len).product();
     (0..points)
         .map(|point| {
             let mut rest = point;
-            let mut chosen: SweepChoice = axes
+            let mut picked: Vec<&SweepChoice> = axes
                 .iter()
                 .rev()
-                .map(|(parameter, values)| {
-                    let value = values[rest % values.len()].clone();
-                    rest /= values.len();
-                    (parameter.clone(), value)
+                .map(|options| {
+                    let option = &options[rest % options.len()];
+                    rest /= options.len();
+                    option
                 })
                 .collect();
-            chosen.reverse();
-            chosen
+            picked.reverse();
+            picked.into_iter().flatten().cloned().collect()
         })
         .collect()
 }
@@ -86,33 +103,28 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
                 .into(),
         ));
     };
-    let mut axes = Vec::new();
-    for (path, values) in sweep {
-        let Some(values) = values.as_array().filter(|v| !v.is_empty()) else {
-            return Err(problem(
-                format!("sweep.{path}"),
-                "expected a non-empty list of values".into(),
-            ));
-        };
-        let first = path.split(['.', '[']).next().unwrap_or_default();
-        if UNSWEEPABLE.contains(&first) {
-            return Err(problem(
-                format!("sweep.{path}"),
-                format!(
-                    "{first:?} cannot be swept: expected a path into the experiment's settings"
-                ),
-            ));
+    let mut axes: Vec<Vec<SweepChoice>> = Vec::new();
+    for (key, values) in sweep {
+        if key == TOGETHER {
+            axes.push(together_axis(values)?);
+        } else {
+            let values = sweep_values(key, values)?;
+            axes.push(
+                values
+                    .into_iter()
+                    .map(|value| vec![(key.clone(), value)])
+                    .collect(),
+            );
         }
-        axes.push((path.clone(), values.clone()));
     }
-    let points: usize = axes.iter().map(|(_, v)| v.len()).product();
+    let points: usize = axes.iter().map(Vec::len).product();
     if points > MAX_SWEEP_POINTS {
         return Err(problem(
             "sweep".into(),
             format!("{points} points: expected at most {MAX_SWEEP_POINTS}"),
         ));
     }
-    cartesian(&axes)
+    product_of_options(&axes)
         .into_iter()
         .map(|choice| {
             let mut point = document.clone();
@@ -126,6 +138,74 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
             })
         })
         .collect()
+}
+
+/// The key of a top-level sweep's group of fields that change in step.
+const TOGETHER: &str = "together";
+
+/// A swept field's non-empty list of values; the path must point into the settings.
+fn sweep_values(path: &str, values: &Value) -> Result<Vec<Value>, FieldProblem> {
+    let problem = |problem: String| FieldProblem {
+        field: format!("sweep.{path}"),
+        problem,
+    };
+    let Some(values) = values.as_array().filter(|v| !v.is_empty()) else {
+        return Err(problem("expected a non-empty list of values".into()));
+    };
+    let first = path.split(['.', '[']).next().unwrap_or_default();
+    if UNSWEEPABLE.contains(&first) {
+        return Err(problem(format!(
+            "{first:?} cannot be swept: expected a path into the experiment's settings"
+        )));
+    }
+    Ok(values.clone())
+}
+
+/// `"together": {"path": [v0, v1, …], "other.path": [w0, w1, …]}`: one axis whose k-th option
+/// sets every listed field to its k-th value (the lists must be equally long), for settings that
+/// must change in step (a flight's speed and the speed bounds that declare it).
+fn together_axis(group: &Value) -> Result<Vec<SweepChoice>, FieldProblem> {
+    let field = format!("sweep.{TOGETHER}");
+    let Some(group) = group.as_object().filter(|g| !g.is_empty()) else {
+        return Err(FieldProblem {
+            field,
+            problem: "expected a non-empty object of field paths and equally long value lists"
+                .into(),
+        });
+    };
+    let mut lists = Vec::new();
+    for (path, values) in group {
+        if path == TOGETHER {
+            return Err(FieldProblem {
+                field: format!("{field}.{path}"),
+                problem: "groups do not nest: expected a field path".into(),
+            });
+        }
+        let values = sweep_values(path, values).map_err(|p| FieldProblem {
+            field: format!("{field}.{path}"),
+            problem: p.problem,
+        })?;
+        lists.push((path.clone(), values));
+    }
+    let length = lists[0].1.len();
+    if let Some((path, values)) = lists.iter().find(|(_, v)| v.len() != length) {
+        return Err(FieldProblem {
+            field: format!("{field}.{path}"),
+            problem: format!(
+                "{} values: expected {length}, as many as {:?} has (the fields of a group change in step)",
+                values.len(),
+                lists[0].0
+            ),
+        });
+    }
+    Ok((0..length)
+        .map(|k| {
+            lists
+                .iter()
+                .map(|(path, values)| (path.clone(), values[k].clone()))
+                .collect()
+        })
+        .collect())
 }
 
 /// One step of a field path.
@@ -244,6 +324,73 @@ mod tests {
             choice_label(points[1].choice.as_ref().unwrap()),
             "algorithms[0].tau_px=4, terrain.synthetic.level=12"
         );
+    }
+
+    #[test]
+    fn a_together_group_moves_its_fields_in_step_as_one_axis() {
+        let document = json!({
+            "flight": {"frames": 10, "path": {"circle": {"frames_per_lap": 100}}},
+            "speed_bounds": {"horizontal_m_per_frame": 1},
+            "view": {"far_m": 1},
+            "sweep": {
+                "together": {
+                    "flight.path.circle.frames_per_lap": [6000, 600],
+                    "speed_bounds.horizontal_m_per_frame": [25, 250]
+                },
+                "view.far_m": [1000, 2000]
+            }
+        });
+        let points = expand_experiment(document).unwrap();
+        let labels: Vec<String> = points
+            .iter()
+            .map(|p| choice_label(p.choice.as_ref().unwrap()))
+            .collect();
+        let group = |lap: u32, speed: u32| {
+            format!(
+                "flight.path.circle.frames_per_lap={lap}, speed_bounds.horizontal_m_per_frame={speed}"
+            )
+        };
+        assert_eq!(
+            labels,
+            [
+                format!("{}, view.far_m=1000", group(6000, 25)),
+                format!("{}, view.far_m=2000", group(6000, 25)),
+                format!("{}, view.far_m=1000", group(600, 250)),
+                format!("{}, view.far_m=2000", group(600, 250)),
+            ]
+        );
+        assert_eq!(
+            points[2].document["speed_bounds"]["horizontal_m_per_frame"],
+            json!(250)
+        );
+        assert_eq!(
+            points[2].document["flight"]["path"]["circle"]["frames_per_lap"],
+            json!(600)
+        );
+    }
+
+    #[test]
+    fn a_together_group_needs_lists_of_one_length() {
+        let cases = [
+            (
+                json!({"a": 1, "b": 1, "sweep": {"together": {"a": [1, 2], "b": [1]}}}),
+                "sweep.together.b",
+            ),
+            (json!({"sweep": {"together": {}}}), "sweep.together"),
+            (json!({"sweep": {"together": [1]}}), "sweep.together"),
+            (
+                json!({"sweep": {"together": {"name": ["x"]}}}),
+                "sweep.together.name",
+            ),
+            (
+                json!({"sweep": {"together": {"together": {"a": [1]}}}}),
+                "sweep.together.together",
+            ),
+        ];
+        for (document, field) in cases {
+            let error = expand_experiment(document).err().expect("an invalid group");
+            assert_eq!(error.field, field, "{}", error.problem);
+        }
     }
 
     #[test]
