@@ -39,6 +39,24 @@ fn the_shipped_quickstart_is_valid() {
     assert_eq!(problems_of(|_| {}), Vec::<String>::new());
 }
 
+/// Every experiment the project ships parses and checks (stages 1 and 2, every sweep point; the
+/// terrains are not read, so the 16385² points cost nothing here).
+#[test]
+fn every_shipped_experiment_is_valid() {
+    let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let mut checked = 0;
+    for file in std::fs::read_dir(&folder).unwrap() {
+        let path = file.unwrap().path();
+        if path.extension().is_some_and(|e| e == "json") {
+            if let Err(error) = roamsim::edge::experiment::plan(&path) {
+                panic!("{error}");
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20, "only {checked} experiments found in {folder:?}");
+}
+
 #[test]
 fn a_future_format_version_is_refused() {
     assert_one_problem(
