@@ -5,7 +5,9 @@
 //! preprocessed terrain, in parallel on a rayon pool of `threads` threads; results are collected
 //! in the experiment's order, so the outputs do not depend on the thread count (timings do:
 //! entries running side by side share the cores; use one thread for timing comparisons).
-//! Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing).
+//! Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing). A tuned entry
+//! (`"tune"`) first runs its search over short probe runs (`tune_entry`, one progress line per
+//! probe), then its run with the value found.
 //!
 //! An experiment with a top-level sweep runs its points one after another, each into its own
 //! sub-folder, then writes the sweep's own `summary.json`, `report.md` and plots at the top; the
