@@ -597,6 +597,10 @@ impl ProgressSink for BarProgress {
         self.bar().println(format!("note: {message}"));
     }
 
+    fn tuning(&self, line: &str) {
+        self.bar().suspend(|| eprintln!("{line}"));
+    }
+
     fn finish(&self) {
         self.bar().finish_and_clear();
     }

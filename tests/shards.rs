@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::cli::{fails_with, frames_without_timing, succeeds};
+use common::cli::{fails_with, files, frames_without_timing, succeeds, summary_without_timing};
 use common::experiment::{save, short_quickstart};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -31,46 +31,6 @@ fn small_sweep(dir: &Path) -> PathBuf {
     experiment["outputs"]["meshes"] =
         serde_json::json!({ "entries": ["chunked target=6000"], "frames": [2] });
     save(dir, "sharded", &experiment)
-}
-
-/// Every file under `dir` (relative paths, sorted), the manifest left out.
-fn files(dir: &Path) -> Vec<PathBuf> {
-    fn walk(root: &Path, at: &Path, out: &mut Vec<PathBuf>) {
-        for entry in std::fs::read_dir(at).unwrap().flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                walk(root, &path, out);
-            } else if entry.file_name() != ".roamsim-output" {
-                out.push(path.strip_prefix(root).unwrap().to_path_buf());
-            }
-        }
-    }
-    let mut out = Vec::new();
-    walk(dir, dir, &mut out);
-    out.sort();
-    out
-}
-
-/// summary.json with the fields that are timings or run metadata removed.
-fn summary_without_timing(path: &Path) -> Value {
-    fn strip(value: &mut Value) {
-        match value {
-            Value::Object(map) => {
-                map.retain(|key, _| {
-                    !(key == "run"
-                        || key.contains("_ns")
-                        || key.contains("seconds")
-                        || key.contains("_us"))
-                });
-                map.values_mut().for_each(strip);
-            }
-            Value::Array(items) => items.iter_mut().for_each(strip),
-            _ => {}
-        }
-    }
-    let mut value: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    strip(&mut value);
-    value
 }
 
 #[test]

@@ -5,7 +5,9 @@
 //! preprocessed terrain, in parallel on a rayon pool of `threads` threads; results are collected
 //! in the experiment's order, so the outputs do not depend on the thread count (timings do:
 //! entries running side by side share the cores; use one thread for timing comparisons).
-//! Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing).
+//! Progress goes to a [`ProgressSink`] (the CLI's progress bar, or nothing). A tuned entry
+//! (`"tune"`) first runs its search over short probe runs (`tune_entry`, one progress line per
+//! probe), then its run with the value found.
 //!
 //! An experiment with a top-level sweep runs its points one after another, each into its own
 //! sub-folder, then writes the sweep's own `summary.json`, `report.md` and plots at the top; the
@@ -14,6 +16,7 @@
 use crate::edge::experiment::{
     self, AlgorithmSpec, Experiment, ExperimentError, Plan, SweepChoice,
 };
+use crate::edge::experiment::{Tune, TuneTarget, tuned_spec};
 use crate::edge::output::atomic_dir::{CommitError, OutputLocationError, StagedDir};
 use crate::edge::output::columns::{RunColumns, TIMING_COLUMNS};
 use crate::edge::output::end_of_run::PointFigures;
@@ -28,15 +31,21 @@ use crate::edge::output::sweep_outputs::{
     EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
     write_sweep_plots,
 };
+use crate::edge::output::tuning::{TuningRecord, mean_of_target, probe_line};
 use crate::edge::output::warm_up::summarised_runs;
 use crate::edge::shard::frame_codec::encode_frame;
 use crate::edge::shard::{
     MergeError, SHARD_FILE, ShardEntry, ShardExperiment, ShardFile, ShardPoint, ShardSpec,
-    read_complete_set,
+    ShardTuning, read_complete_set,
 };
+use crate::sim::audit::AuditSettings;
+use crate::sim::flight::{Flight, speed_violations};
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::run::{CheckError, Effects, RunError, RunInputs, run_algorithm_with};
+use crate::sim::run::{
+    CheckError, Effects, RunError, RunInputs, run_algorithm, run_algorithm_with,
+};
 use crate::sim::stats::{FrameStats, nearest_rank, summarise};
+use crate::sim::tuning::{Probe, probe_speed, probe_stride, search};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -57,6 +66,10 @@ pub trait ProgressSink: Sync {
     /// Point `index` of `count` of the experiment's top-level sweep is about to load and run.
     fn point(&self, index: usize, count: usize, choice: &str) {
         let _ = (index, count, choice);
+    }
+    /// A tuned entry's probe is done: one line (see `edge::output::tuning::probe_line`).
+    fn tuning(&self, line: &str) {
+        eprintln!("{line}");
     }
     /// Something the user should know while the run goes on (see [`large_work_notice`]).
     fn notice(&self, message: &str) {
@@ -106,6 +119,7 @@ impl ProgressSink for NoProgress {
     fn advance(&self, _: u64) {}
     fn finish(&self) {}
     fn notice(&self, _: &str) {}
+    fn tuning(&self, _: &str) {}
 }
 
 /// How to run.
@@ -551,6 +565,19 @@ fn run_shard(
                         .collect(),
                     meshes: result.meshes,
                     frames: result.frames.iter().map(encode_frame).collect(),
+                    tuning: result.tuning.map(|t| ShardTuning {
+                        value_bits: t.value.to_bits(),
+                        probe_mean_bits: t.probe_mean.to_bits(),
+                        reached: t.reached,
+                        probe_frames: t.probe_frames,
+                        probe_stride: t.probe_stride,
+                        probes: t
+                            .probes
+                            .iter()
+                            .map(|p| (p.value.to_bits(), p.mean.to_bits()))
+                            .collect(),
+                        full_run_mean_bits: t.full_run_mean.to_bits(),
+                    }),
                 })
                 .collect(),
         });
@@ -694,6 +721,29 @@ pub fn merge_shards(
                     .map(|(name, bits)| (name.as_str(), f64::from_bits(*bits)))
                     .collect(),
                 meshes: entry.meshes.clone(),
+                tuning: experiment.algorithms[e]
+                    .tune
+                    .as_ref()
+                    .zip(entry.tuning.as_ref())
+                    .map(|(tune, t)| TuningRecord {
+                        target: tune.target,
+                        parameter: tune.parameter,
+                        value: f64::from_bits(t.value_bits),
+                        probe_mean: f64::from_bits(t.probe_mean_bits),
+                        reached: t.reached,
+                        tolerance: tune.tolerance,
+                        probe_frames: t.probe_frames,
+                        probe_stride: t.probe_stride,
+                        probes: t
+                            .probes
+                            .iter()
+                            .map(|&(value, mean)| Probe {
+                                value: f64::from_bits(value),
+                                mean: f64::from_bits(mean),
+                            })
+                            .collect(),
+                        full_run_mean: f64::from_bits(t.full_run_mean_bits),
+                    }),
             });
         }
         // The point's own figures from the first shard that ran any of its entries.
@@ -803,7 +853,13 @@ fn run_point<'a>(
     progress.start(n_frames * (entries.len() as u64 + passes_in_all));
     let n_samples = experiment.field.n_samples() as f64;
     let run_one = |k: usize| -> Result<AlgorithmResult<'a>, RunError> {
-        let spec: &AlgorithmSpec = &experiment.algorithms[k];
+        let written: &AlgorithmSpec = &experiment.algorithms[k];
+        // A tuned entry runs with the value its search found (the search's probes first).
+        let tuned = match &written.tune {
+            Some(tune) => Some(tune_entry(experiment, &hierarchy, written, tune, progress)?),
+            None => None,
+        };
+        let spec: &AlgorithmSpec = tuned.as_ref().map_or(written, |(spec, _)| spec);
         let start = Instant::now();
         let mut algorithm = spec
             .config
@@ -904,6 +960,10 @@ fn run_point<'a>(
             take_pass_sub_timings(&mut frames, &pass_frames, &extra_columns);
         }
         progress.entry_finished();
+        let tuning = tuned.map(|(_, mut record)| {
+            record.full_run_mean = mean_of_target(&frames, record.target);
+            record
+        });
         Ok(AlgorithmResult {
             memory_bytes,
             preprocessing,
@@ -911,6 +971,7 @@ fn run_point<'a>(
             extra_columns,
             facts,
             meshes,
+            tuning,
         })
     };
     let results: Vec<Result<AlgorithmResult, RunError>> =
@@ -1029,6 +1090,82 @@ struct AlgorithmResult<'a> {
     facts: Vec<(&'a str, f64)>,
     /// Exported meshes: frame and PLY text.
     meshes: Vec<(u64, String)>,
+    /// A tuned entry's search (`None` for an entry without `tune`).
+    tuning: Option<TuningRecord>,
+}
+
+/// Runs a tuned entry's search (`sim::tuning`) over probe runs of the point's flight: each probe
+/// flies `tune.probe_frames` frames spread over the flight, frames 0, s, 2s, … (s from
+/// [`probe_stride`]), with the speed bounds multiplied by s, the experiment's culling, the audit
+/// (without popping) only for an error target, no mesh checks, exports nor timing passes.
+/// Returns the entry with the value found and the record of the search (its `full_run_mean` is
+/// filled after the real run).
+fn tune_entry(
+    experiment: &Experiment,
+    hierarchy: &Hierarchy,
+    spec: &AlgorithmSpec,
+    tune: &Tune,
+    progress: &dyn ProgressSink,
+) -> Result<(AlgorithmSpec, TuningRecord), RunError> {
+    let failed = |problem: String| RunError {
+        algorithm: spec.label.clone(),
+        frame: 0,
+        error: CheckError::Tuning(problem),
+    };
+    let flight = &experiment.flight;
+    let (stride, count) = probe_stride(flight.n_frames(), tune.probe_frames);
+    let poses = (0..count).map(|i| *flight.pose(i * stride)).collect();
+    let probe_flight = Flight::from_poses(poses).map_err(|e| failed(e.to_string()))?;
+    let speed = probe_speed(experiment.speed, stride);
+    let violations = speed_violations(&probe_flight, speed);
+    let audit = match tune.target {
+        TuneTarget::AuditP95Px(_) => experiment.effects.audit.map(|a| AuditSettings {
+            popping: false,
+            ..a
+        }),
+        TuneTarget::RenderedTriangles(_) => None,
+    };
+    let inputs = RunInputs {
+        hierarchy,
+        view: &experiment.view,
+        flight: &probe_flight,
+        violations: &violations,
+        effects: Effects {
+            audit,
+            culling: experiment.effects.culling,
+            check_meshes: false,
+        },
+        max_triangles: Some(experiment.max_triangles),
+        detail_truth: None,
+    };
+    let found = search(&tune.search_settings(), |k, value| {
+        let probe = tuned_spec(spec, tune, value).map_err(failed)?;
+        let mut algorithm = probe.config.build(hierarchy, &experiment.view, speed);
+        let label = format!(
+            "{} (tuning probe {k}: {}={value})",
+            spec.label, tune.parameter
+        );
+        let frames = run_algorithm(&inputs, &label, algorithm.as_mut(), &mut |_| {})?;
+        let mean = mean_of_target(&frames, tune.target);
+        progress.tuning(&probe_line(&spec.label, tune, k, value, mean));
+        Ok(mean)
+    })?;
+    let tuned = tuned_spec(spec, tune, found.value).map_err(failed)?;
+    Ok((
+        tuned,
+        TuningRecord {
+            target: tune.target,
+            parameter: tune.parameter,
+            value: found.value,
+            probe_mean: found.mean,
+            reached: found.reached,
+            tolerance: tune.tolerance,
+            probe_frames: count,
+            probe_stride: stride,
+            probes: found.probes,
+            full_run_mean: f64::NAN,
+        },
+    ))
 }
 
 /// What the writers need besides the results.
@@ -1063,11 +1200,20 @@ fn write_outputs(
     std::fs::create_dir_all(dir).map_err(io_error(dir))?;
     let csv_path = dir.join("frames.csv");
     std::fs::write(&csv_path, frames_csv(&runs, audited)).map_err(io_error(&csv_path))?;
+    // A tuned entry's parameters are listed with the value its search found.
     let parameters: Vec<_> = experiment
         .algorithms
         .iter()
-        .map(|s| s.parameters.clone())
+        .zip(results)
+        .map(|(spec, result)| {
+            spec.tune
+                .as_ref()
+                .zip(result.tuning.as_ref())
+                .and_then(|(tune, record)| tuned_spec(spec, tune, record.value).ok())
+                .map_or_else(|| spec.parameters.clone(), |tuned| tuned.parameters)
+        })
         .collect();
+    let tunings: Vec<Option<&TuningRecord>> = results.iter().map(|r| r.tuning.as_ref()).collect();
     let names: Vec<&str> = experiment
         .algorithms
         .iter()
@@ -1084,6 +1230,7 @@ fn write_outputs(
         &names,
         &facts,
         &entry_preprocessing,
+        &tunings,
     );
     let summary_path = dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";
@@ -1101,6 +1248,7 @@ fn write_outputs(
         threads: context.record.threads,
         terrain_preprocessing: preprocessing,
         entry_preprocessing: &entry_preprocessing,
+        tunings: &tunings,
     });
     let report_path = dir.join("report.md");
     std::fs::write(&report_path, report).map_err(io_error(&report_path))?;

@@ -14,5 +14,6 @@ pub mod metrics;
 pub mod run;
 pub mod stats;
 pub mod terrain;
+pub mod tuning;
 pub mod view;
 pub mod zone;

@@ -78,6 +78,8 @@ pub enum CheckError {
          deterministic"
     )]
     TimingPassDiverged { measured: u64, timed: u64 },
+    #[error("tuning: {0}")]
+    Tuning(String),
 }
 
 /// Runs `algorithm` over the whole flight; `progress` is called after every frame with the

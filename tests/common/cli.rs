@@ -1,7 +1,8 @@
 //! Running the `roamsim` binary from tests, as a user or a batch system does, and reading its
 //! outputs back.
 
-use std::path::Path;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 pub fn roamsim(args: &[&str], cwd: &Path) -> Output {
@@ -48,4 +49,44 @@ pub fn frames_without_timing(path: &Path) -> Vec<Vec<String>> {
             row
         })
         .collect()
+}
+
+/// Every file under `dir` (relative paths, sorted), the manifest left out.
+pub fn files(dir: &Path) -> Vec<PathBuf> {
+    fn walk(root: &Path, at: &Path, out: &mut Vec<PathBuf>) {
+        for entry in std::fs::read_dir(at).unwrap().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                walk(root, &path, out);
+            } else if entry.file_name() != ".roamsim-output" {
+                out.push(path.strip_prefix(root).unwrap().to_path_buf());
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(dir, dir, &mut out);
+    out.sort();
+    out
+}
+
+/// summary.json with the fields that are timings or run metadata removed.
+pub fn summary_without_timing(path: &Path) -> Value {
+    fn strip(value: &mut Value) {
+        match value {
+            Value::Object(map) => {
+                map.retain(|key, _| {
+                    !(key == "run"
+                        || key.contains("_ns")
+                        || key.contains("seconds")
+                        || key.contains("_us"))
+                });
+                map.values_mut().for_each(strip);
+            }
+            Value::Array(items) => items.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    let mut value: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    strip(&mut value);
+    value
 }

@@ -14,6 +14,7 @@ use super::format::{
 };
 use super::load::{AlgorithmSpec, MeshExports};
 use super::sweep::{MAX_SWEEP_POINTS, cartesian, choice_label};
+use super::tune::check_tune;
 use super::{ExperimentError, FieldProblem};
 use crate::sim::algorithm::{
     AlgorithmConfig, BudgetConfig, LindstromConfig, ReferenceConfig, Refinement, RoamConfig,
@@ -116,7 +117,11 @@ pub(super) fn check(path: &Path, file: &ExperimentFile) -> Result<Checked, Exper
         problems.non_negative("speed_bounds.rotation_rad_per_frame", rotation);
     }
     check_flight(&file.flight, &mut problems);
-    let algorithms = check_algorithms(&file.algorithms, &mut problems);
+    let algorithms = check_algorithms(
+        &file.algorithms,
+        file.effects.audit.is_some(),
+        &mut problems,
+    );
     if let Some(audit) = &file.effects.audit {
         problems.positive_int("effects.audit.stride", audit.stride);
         if let Some(detail_stride) = audit.detail_stride {
@@ -224,12 +229,12 @@ fn check_mesh_exports(
 }
 
 #[derive(Default)]
-struct Problems {
-    list: Vec<FieldProblem>,
+pub(super) struct Problems {
+    pub(super) list: Vec<FieldProblem>,
 }
 
 impl Problems {
-    fn add(&mut self, field: impl Into<String>, problem: impl Into<String>) {
+    pub(super) fn add(&mut self, field: impl Into<String>, problem: impl Into<String>) {
         self.list.push(FieldProblem {
             field: field.into(),
             problem: problem.into(),
@@ -558,7 +563,11 @@ fn expand_sweeps(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<Exp
     expanded
 }
 
-fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<AlgorithmSpec> {
+fn check_algorithms(
+    entries: &[AlgorithmEntry],
+    audited: bool,
+    problems: &mut Problems,
+) -> Vec<AlgorithmSpec> {
     if entries.is_empty() {
         problems.add("algorithms", "empty: expected at least one algorithm");
     }
@@ -581,84 +590,100 @@ fn check_algorithms(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<
                 ),
             );
         }
-        let parameters = Value::Object(entry.parameters.clone());
-        let k = k.as_str();
-        let config = match entry.name.as_str() {
-            "reference" => decode::<ReferenceParameters>(k, &parameters, problems).and_then(|p| {
-                check_tau(k, p.tau_px, problems)?;
-                Some(AlgorithmConfig::Reference(ReferenceConfig {
-                    nesting: nesting_rule(p.nesting, NestingRule::Max),
-                    tau_px: p.tau_px,
-                    zone: zone_variant(p.zone),
-                    threshold: SplitThreshold::LifeAtMost(0.0),
-                    refine: refinement(p.refine.unwrap_or(RefineEntry::Everywhere)),
-                    view_threshold: ViewThreshold::InView,
-                }))
-            }),
-            "wu" => decode::<WuParameters>(k, &parameters, problems)
-                .and_then(|p| check_wu(k, &p, problems)),
-            "lindstrom" => decode::<LindstromParameters>(k, &parameters, problems).and_then(|p| {
-                check_tau(k, p.tau_px, problems)?;
-                check_block_level(k, p.block_level, problems)?;
-                Some(AlgorithmConfig::Lindstrom(LindstromConfig {
-                    nesting: nesting_rule(p.nesting, NestingRule::Max),
-                    tau_px: p.tau_px,
-                    block_level: p.block_level,
-                }))
-            }),
-            name @ ("roam" | "roam-rebuild") => decode::<RoamParameters>(k, &parameters, problems)
-                .and_then(|p| {
-                    let config = roam_config(k, &p, problems)?;
-                    if name == "roam" {
-                        Some(AlgorithmConfig::Roam(config))
-                    } else if config.deferral {
-                        problems.add(
-                            format!("{k}.deferral"),
-                            "true: roam-rebuild starts from scratch every frame, expected false \
-                             or absent",
-                        );
-                        None
-                    } else {
-                        Some(AlgorithmConfig::RoamRebuild(config))
-                    }
-                }),
-            "geomipmap" => super::block_lod::geomipmap_config(k, &parameters)
-                .map_err(|list| problems.list.extend(list))
-                .ok(),
-            "chunked" => super::block_lod::chunked_config(k, &parameters)
-                .map_err(|list| problems.list.extend(list))
-                .ok(),
-            "vanek" => super::block_lod::vanek_config(k, &parameters)
-                .map_err(|list| problems.list.extend(list))
-                .ok(),
-            "stitching-strips" => super::block_lod::stitching_config(k, &parameters)
-                .map_err(|list| problems.list.extend(list))
-                .ok(),
-            "rottger" => decode::<RottgerParameters>(k, &parameters, problems)
-                .and_then(|p| check_rottger(k, &p, problems)),
-            other => {
-                problems.add(
-                    format!("{k}.name"),
-                    format!(
-                        "{other:?} is not an algorithm this build knows: expected one of {}",
-                        KNOWN_ALGORITHMS.join(", ")
-                    ),
-                );
-                None
-            }
-        };
+        let mut written = entry.parameters.clone();
+        let tune = written
+            .remove("tune")
+            .and_then(|tune| check_tune(k, &entry.name, &tune, &mut written, audited, problems));
+        let parameters = Value::Object(written);
+        let config = entry_config(k, &entry.name, &parameters, problems);
         if let Some(config) = config {
             specs.push(AlgorithmSpec {
                 label,
                 config,
                 parameters,
+                tune,
             });
         }
     }
     specs
 }
 
-fn decode<T: serde::de::DeserializeOwned>(
+/// The configuration of the entry at `origin` for algorithm `name` with `parameters` (as
+/// written, `tune` taken out), or `None` with its problems added.
+pub(super) fn entry_config(
+    k: &str,
+    name: &str,
+    parameters: &Value,
+    problems: &mut Problems,
+) -> Option<AlgorithmConfig> {
+    match name {
+        "reference" => decode::<ReferenceParameters>(k, parameters, problems).and_then(|p| {
+            check_tau(k, p.tau_px, problems)?;
+            Some(AlgorithmConfig::Reference(ReferenceConfig {
+                nesting: nesting_rule(p.nesting, NestingRule::Max),
+                tau_px: p.tau_px,
+                zone: zone_variant(p.zone),
+                threshold: SplitThreshold::LifeAtMost(0.0),
+                refine: refinement(p.refine.unwrap_or(RefineEntry::Everywhere)),
+                view_threshold: ViewThreshold::InView,
+            }))
+        }),
+        "wu" => {
+            decode::<WuParameters>(k, parameters, problems).and_then(|p| check_wu(k, &p, problems))
+        }
+        "lindstrom" => decode::<LindstromParameters>(k, parameters, problems).and_then(|p| {
+            check_tau(k, p.tau_px, problems)?;
+            check_block_level(k, p.block_level, problems)?;
+            Some(AlgorithmConfig::Lindstrom(LindstromConfig {
+                nesting: nesting_rule(p.nesting, NestingRule::Max),
+                tau_px: p.tau_px,
+                block_level: p.block_level,
+            }))
+        }),
+        name @ ("roam" | "roam-rebuild") => decode::<RoamParameters>(k, parameters, problems)
+            .and_then(|p| {
+                let config = roam_config(k, &p, problems)?;
+                if name == "roam" {
+                    Some(AlgorithmConfig::Roam(config))
+                } else if config.deferral {
+                    problems.add(
+                        format!("{k}.deferral"),
+                        "true: roam-rebuild starts from scratch every frame, expected false \
+                             or absent",
+                    );
+                    None
+                } else {
+                    Some(AlgorithmConfig::RoamRebuild(config))
+                }
+            }),
+        "geomipmap" => super::block_lod::geomipmap_config(k, parameters)
+            .map_err(|list| problems.list.extend(list))
+            .ok(),
+        "chunked" => super::block_lod::chunked_config(k, parameters)
+            .map_err(|list| problems.list.extend(list))
+            .ok(),
+        "vanek" => super::block_lod::vanek_config(k, parameters)
+            .map_err(|list| problems.list.extend(list))
+            .ok(),
+        "stitching-strips" => super::block_lod::stitching_config(k, parameters)
+            .map_err(|list| problems.list.extend(list))
+            .ok(),
+        "rottger" => decode::<RottgerParameters>(k, parameters, problems)
+            .and_then(|p| check_rottger(k, &p, problems)),
+        other => {
+            problems.add(
+                format!("{k}.name"),
+                format!(
+                    "{other:?} is not an algorithm this build knows: expected one of {}",
+                    KNOWN_ALGORITHMS.join(", ")
+                ),
+            );
+            None
+        }
+    }
+}
+
+pub(super) fn decode<T: serde::de::DeserializeOwned>(
     origin: &str,
     parameters: &Value,
     problems: &mut Problems,

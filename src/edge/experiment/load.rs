@@ -114,6 +114,8 @@ pub struct AlgorithmSpec {
     pub label: String,
     pub config: AlgorithmConfig,
     pub parameters: Value,
+    /// The entry's `tune`: its parameter is set by a search over probe runs before it runs.
+    pub tune: Option<super::tune::Tune>,
 }
 
 /// Where the terrain came from and what was done to it, for the run metadata.

@@ -13,12 +13,14 @@ mod format;
 mod load;
 mod plan;
 mod sweep;
+mod tune;
 
 pub use check::KNOWN_ALGORITHMS;
 pub use format::FORMAT_VERSION;
 pub use load::{AlgorithmSpec, Experiment, MeshExports, TerrainReport};
 pub use plan::{Plan, check_bytes, load, plan};
 pub use sweep::{SweepChoice, choice_label};
+pub use tune::{Tune, TuneTarget, tuned_spec};
 
 use std::fmt;
 use std::path::PathBuf;

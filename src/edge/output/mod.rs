@@ -13,4 +13,5 @@ pub mod report_md;
 pub mod run_plots;
 pub mod summary_json;
 pub mod sweep_outputs;
+pub mod tuning;
 pub mod warm_up;

@@ -12,6 +12,7 @@ use super::goal_check::{
     FRAME_TOLERANCE, GoalCheck, MEAN_TOLERANCE, STRAY_SHARE, STRAY_STRETCH, check_goal,
 };
 use super::summary_json::Preprocessing;
+use super::tuning::{TuningRecord, write_tuned_entries};
 use super::warm_up::{Settling, settling, summarised_runs, warm_up_paragraph};
 use crate::edge::experiment::Experiment;
 use crate::sim::stats::{pareto_front, summarise};
@@ -32,6 +33,8 @@ pub struct ReportInputs<'a> {
     pub terrain_preprocessing: &'a Preprocessing,
     /// Each entry's own preprocessing, in the order of `runs`.
     pub entry_preprocessing: &'a [Preprocessing],
+    /// Each tuned entry's search, in the order of `runs` (`None`: not tuned).
+    pub tunings: &'a [Option<&'a TuningRecord>],
 }
 
 /// One entry's figures, as its report row shows them.
@@ -176,6 +179,8 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
             labels.join(", ")
         );
     }
+    let labels: Vec<&str> = inputs.runs.iter().map(|r| r.label).collect();
+    write_tuned_entries(&mut out, &labels, inputs.tunings);
     let _ = writeln!(
         out,
         "\n**Columns.** *triangles*, *rendered*: means per frame of the whole mesh and of the \
@@ -198,7 +203,6 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
         .zip(&experiment.algorithms)
         .map(|((run, _), spec)| settling(spec.config.count_goal(), run))
         .collect();
-    let labels: Vec<&str> = inputs.runs.iter().map(|r| r.label).collect();
     let warm_up = warm_up_paragraph(
         &labels,
         &settled,

@@ -4,6 +4,7 @@
 
 use super::columns::{RunColumns, numeric_columns, value};
 use super::goal_check::check_goal;
+use super::tuning::TuningRecord;
 use super::warm_up::{SETTLED_WITHIN, settling, summarised_runs};
 use crate::edge::experiment::Experiment;
 use crate::sim::algorithm::columns::wu::BASE_B;
@@ -80,6 +81,7 @@ pub fn summary_json(
     names: &[&str],
     facts: &[Vec<(&str, f64)>],
     entry_preprocessing: &[Preprocessing],
+    tunings: &[Option<&TuningRecord>],
 ) -> Value {
     let audited = experiment.effects.audit.is_some();
     let columns = numeric_columns(runs, audited);
@@ -93,7 +95,8 @@ pub fn summary_json(
         .zip(facts)
         .zip(entry_preprocessing)
         .zip(&experiment.algorithms)
-        .map(|((((((run, summarised), parameters), name), facts), preprocessing), spec)| {
+        .enumerate()
+        .map(|(index, ((((((run, summarised), parameters), name), facts), preprocessing), spec))| {
             let goal = spec.config.count_goal().and_then(|goal| {
                 let check = check_goal(summarised, goal)?;
                 Some(json!({
@@ -131,7 +134,7 @@ pub fn summary_json(
                     json!({"mean": metres("mean"), "p50": metres("p50"), "p95": metres("p95"), "max": metres("max")}),
                 );
             }
-            json!({
+            let mut entry = json!({
                 "label": run.label,
                 "name": name,
                 "parameters": parameters,
@@ -150,7 +153,11 @@ pub fn summary_json(
                 })),
                 "goal": goal,
                 "columns": summaries,
-            })
+            });
+            if let Some(Some(record)) = tunings.get(index) {
+                entry["tuning"] = record.to_json();
+            }
+            entry
         })
         .collect();
     let terrain = &experiment.terrain;

@@ -148,6 +148,23 @@ pub struct ShardEntry {
     pub meshes: Vec<(u64, String)>,
     /// Every frame, [`frame_codec::encode_frame`].
     pub frames: Vec<Vec<u64>>,
+    /// A tuned entry's search (absent for an entry without `tune`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tuning: Option<ShardTuning>,
+}
+
+/// A tuned entry's search as a shard keeps it (f64 bits); the target, parameter and tolerance
+/// come from the experiment when merging.
+#[derive(Debug, Serialize, Deserialize)]
+pub struct ShardTuning {
+    pub value_bits: u64,
+    pub probe_mean_bits: u64,
+    pub reached: bool,
+    pub probe_frames: u64,
+    pub probe_stride: u64,
+    /// Each probe's value and mean (f64 bits).
+    pub probes: Vec<(u64, u64)>,
+    pub full_run_mean_bits: u64,
 }
 
 impl ShardFile {

@@ -1,0 +1,366 @@
+//! Tuned entries (`"tune"` in an algorithm entry): the search over probe runs sets τ, ρ, c or C,
+//! or vanek's distances so that the mean rendered triangles, or the mean audited p95 error,
+//! over the probe frames comes within the tolerance of the target; the real run uses the value
+//! found, and summary.json, report.md and shard.json record the search. Through the binary, on
+//! a small synthetic terrain; the search itself is unit-tested in `src/sim/tuning.rs`.
+
+mod common;
+
+use common::cli::{
+    fails_with, files, frames_without_timing, roamsim, succeeds, summary_without_timing,
+};
+use common::experiment::save;
+use serde_json::{Value, json};
+use std::path::Path;
+
+/// A 60-frame circle over a gentle 257² synthetic terrain, audited, culling on.
+fn experiment(algorithms: Value) -> Value {
+    json!({
+        "format_version": 1,
+        "name": "tuned",
+        "terrain": {"synthetic": {"level": 8, "seed": 3, "amplitude_m": 80, "roughness": 0.5,
+                                  "spacing_m": {"dx": 30, "dy": 30}}},
+        "view": {"width_px": 400, "height_px": 300, "fovy_deg": 60, "near_m": 1, "far_m": 50000},
+        "speed_bounds": {"horizontal_m_per_frame": 50, "vertical_m_per_frame": 10,
+                         "rotation_rad_per_frame": 0.05},
+        "flight": {"frames": 60, "look": {"along_path": {"pitch_deg": -20}},
+                   "path": {"circle": {"centre_m": [3840, 3840], "radius_m": 2000,
+                                       "altitude_m": 600, "frames_per_lap": 300}}},
+        "algorithms": algorithms,
+        "effects": {"audit": {"stride": 2}, "culling": true},
+        "outputs": {"plots": false}
+    })
+}
+
+fn summary(dir: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+fn entry<'a>(summary: &'a Value, label: &str) -> &'a Value {
+    summary["algorithms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|a| a["label"] == label)
+        .unwrap_or_else(|| panic!("no entry {label:?}"))
+}
+
+/// The record's promises: the value run is the probe closest to the target (the earlier on a
+/// tie), `reached` says whether it is within the tolerance, and the probe mean is that probe's.
+fn assert_consistent(label: &str, tuning: &Value) {
+    let target = tuning["target"]
+        .as_object()
+        .unwrap()
+        .values()
+        .next()
+        .unwrap();
+    let target = target.as_f64().unwrap();
+    let probes: Vec<(f64, f64)> = tuning["probes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["value"].as_f64().unwrap(), p["mean"].as_f64().unwrap()))
+        .collect();
+    let closest = probes.iter().fold(probes[0], |best, &p| {
+        if (p.1 - target).abs() < (best.1 - target).abs() {
+            p
+        } else {
+            best
+        }
+    });
+    assert_eq!(tuning["value"].as_f64().unwrap(), closest.0, "{label}");
+    assert_eq!(tuning["probe_mean"].as_f64().unwrap(), closest.1, "{label}");
+    let within = (closest.1 - target).abs() <= 0.02 * target;
+    assert_eq!(tuning["reached"], within, "{label}: {tuning}");
+}
+
+#[test]
+fn tuned_entries_land_within_the_tolerance_and_the_run_uses_the_value_found() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let tune = |target: Value| {
+        let mut tune = target;
+        tune["probe_frames"] = 20.into();
+        tune
+    };
+    let algorithms = json!([
+        {"name": "wu", "label": "wu @2500", "zone": "paper",
+         "tune": tune(json!({"rendered_triangles": 2500}))},
+        {"name": "wu", "label": "wu @1px", "zone": "paper",
+         "tune": tune(json!({"audit_p95_px": 1}))},
+        {"name": "rottger", "label": "rottger C @2000", "desired_resolution": 30,
+         "tune": tune(json!({"rendered_triangles": 2000, "parameter": "minimum_resolution"}))},
+        {"name": "vanek", "label": "vanek @2000", "patch_level": 4, "min_dist_m": 500,
+         "max_dist_m": 6000, "tune": tune(json!({"rendered_triangles": 2000}))},
+        {"name": "stitching-strips", "label": "strips @400", "rho_threshold_px": 1,
+         "block_level": 4, "tune": tune(json!({"rendered_triangles": 400}))},
+    ]);
+    save(cwd, "tuned", &experiment(algorithms));
+    let output = roamsim(
+        &["run", "tuned.json", "--out", "out", "--threads", "2"],
+        cwd,
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("tune 'wu @2500': probe 1: tau_px=2 -> ")
+            && stderr.contains(" rendered triangles (target 2500)"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("tune 'wu @1px': probe 1: tau_px=2 -> ")
+            && stderr.contains(" px audited p95 (target 1.000)"),
+        "{stderr}"
+    );
+    let out = cwd.join("out");
+    let summary = summary(&out);
+    for (label, column, parameter) in [
+        ("wu @2500", "triangles_rendered", "tau_px"),
+        ("wu @1px", "audit_projected_p95_px", "tau_px"),
+        (
+            "rottger C @2000",
+            "triangles_rendered",
+            "minimum_resolution",
+        ),
+        ("vanek @2000", "triangles_rendered", "distance_scale"),
+        ("strips @400", "triangles_rendered", "rho_threshold_px"),
+    ] {
+        let entry = entry(&summary, label);
+        let tuning = &entry["tuning"];
+        assert_consistent(label, tuning);
+        assert_eq!(tuning["parameter"], parameter, "{label}");
+        assert_eq!(
+            (&tuning["probe_frames"], &tuning["probe_stride"]),
+            (&json!(20), &json!(3)),
+            "{label}: 20 of 60 frames"
+        );
+        // The full run's mean over its frames is recorded (no warm-up: every frame summarised).
+        let full = tuning["full_run_mean"].as_f64().unwrap();
+        let column_mean = entry["columns"][column]["mean"].as_f64().unwrap();
+        assert!(
+            (full - column_mean).abs() <= 1e-9 * column_mean,
+            "{label}: {full} against {column_mean}"
+        );
+        // The tuned value is listed with the parameters.
+        let value = tuning["value"].as_f64().unwrap();
+        if parameter == "distance_scale" {
+            assert_eq!(entry["parameters"]["min_dist_m"], json!(500.0 * value));
+            assert_eq!(entry["parameters"]["max_dist_m"], json!(6000.0 * value));
+        } else {
+            assert_eq!(entry["parameters"][parameter], json!(value), "{label}");
+        }
+    }
+    // The monotone ones land within 2 % of their targets over the probe frames.
+    for label in ["wu @2500", "wu @1px", "rottger C @2000", "vanek @2000"] {
+        assert_eq!(entry(&summary, label)["tuning"]["reached"], true, "{label}");
+    }
+    // The search moved: wu's τ is not the start, and the run drew about the target.
+    let wu = &entry(&summary, "wu @2500")["tuning"];
+    assert_ne!(wu["value"].as_f64().unwrap(), 2.0);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("**Tuned entries**"), "{report}");
+    assert!(report.contains("| wu @2500 | tau_px = "), "{report}");
+    assert!(
+        report.contains("| vanek @2000 | distance_scale = "),
+        "{report}"
+    );
+
+    // The same entry written with the value found draws the same frames.
+    let tau = wu["value"].as_f64().unwrap();
+    let fixed = json!([{"name": "wu", "label": "wu @2500", "zone": "paper", "tau_px": tau}]);
+    save(cwd, "fixed", &experiment(fixed));
+    succeeds(&["run", "fixed.json", "--out", "fixed"], cwd);
+    let columns = |dir: &Path| {
+        let summary = summary_without_timing(&dir.join("summary.json"));
+        entry(&summary, "wu @2500")["columns"].clone()
+    };
+    assert_eq!(columns(&cwd.join("fixed")), columns(&out));
+}
+
+/// The problems of loading an experiment with these entries (and `effects`), as
+/// `field: problem` lines.
+fn problems(algorithms: Value, effects: Value) -> Vec<String> {
+    let dir = tempfile::tempdir().unwrap();
+    let mut value = experiment(algorithms);
+    value["effects"] = effects;
+    let path = save(dir.path(), "bad", &value);
+    match roamsim::edge::experiment::load(&path) {
+        Ok(_) => Vec::new(),
+        Err(error) => error
+            .problems
+            .iter()
+            .map(|p| format!("{}: {}", p.field, p.problem))
+            .collect(),
+    }
+}
+
+fn has(problems: &[String], field: &str, words: &str) {
+    assert!(
+        problems
+            .iter()
+            .any(|p| p.starts_with(&format!("{field}: ")) && p.contains(words)),
+        "{problems:?} lacks {field}: …{words}…"
+    );
+}
+
+#[test]
+fn clashing_counts_a_missing_audit_unknown_parameters_and_bad_settings_are_refused() {
+    let audited = json!({"audit": {"stride": 4}});
+    let clash = problems(
+        json!([
+            {"name": "wu", "budget_triangles": 5000, "tune": {"rendered_triangles": 5000}},
+            {"name": "rottger", "minimum_resolution": 8, "target_fan_vertices": 900,
+             "tune": {"rendered_triangles": 5000}},
+        ]),
+        audited.clone(),
+    );
+    has(&clash, "algorithms[0].tune", "tune and budget_triangles");
+    has(&clash, "algorithms[1].tune", "tune and target_fan_vertices");
+    let no_audit = problems(
+        json!([{"name": "wu", "tune": {"audit_p95_px": 2}}]),
+        json!({"culling": true}),
+    );
+    has(
+        &no_audit,
+        "algorithms[0].tune.audit_p95_px",
+        "needs the audit",
+    );
+    let unknown = problems(
+        json!([
+            {"name": "wu", "tune": {"rendered_triangles": 5000, "parameter": "rho_threshold_px"}},
+            {"name": "vanek", "patch_level": 4, "min_dist_m": 1, "max_dist_m": 9,
+             "tune": {"rendered_triangles": 5000, "parameter": "min_dist_m"}},
+        ]),
+        audited.clone(),
+    );
+    has(&unknown, "algorithms[0].tune.parameter", "expected tau_px");
+    has(
+        &unknown,
+        "algorithms[1].tune.parameter",
+        "expected distance_scale",
+    );
+    let settings = problems(
+        json!([
+            {"name": "wu", "tune": {"rendered_triangles": 5000, "audit_p95_px": 1}},
+            {"name": "wu", "label": "b", "tune": {"parameter": "tau_px"}},
+            {"name": "wu", "label": "c", "tune": {"rendered_triangles": -1, "probe_frames": 1,
+                                                   "tolerance": 0, "max_probes": 1}},
+            {"name": "wu", "label": "d", "tune": {"rendered_triangles": 5, "frames": 9}},
+        ]),
+        audited.clone(),
+    );
+    has(&settings, "algorithms[0].tune", "exactly one target");
+    has(&settings, "algorithms[1].tune", "exactly one target");
+    has(
+        &settings,
+        "algorithms[2].tune.rendered_triangles",
+        "above 0",
+    );
+    has(&settings, "algorithms[2].tune.probe_frames", "at least 2");
+    has(&settings, "algorithms[2].tune.tolerance", "above 0");
+    has(&settings, "algorithms[2].tune.max_probes", "at least 2");
+    has(
+        &settings,
+        "algorithms[3].tune.frames",
+        "unknown field `frames`",
+    );
+    // Without the tuned parameter written, the entry is checked with the start (Wu needs a τ
+    // or a budget; roam exactly one of τ and a target): no problem.
+    let fine = problems(
+        json!([
+            {"name": "wu", "tune": {"rendered_triangles": 5000}},
+            {"name": "roam", "tune": {"audit_p95_px": 2}},
+            {"name": "rottger", "minimum_resolution": 8, "tune": {"rendered_triangles": 9}},
+        ]),
+        audited,
+    );
+    assert_eq!(fine, Vec::<String>::new());
+}
+
+#[test]
+fn validate_checks_the_tune_fields_and_runs_no_probe() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let good = json!([{"name": "wu", "label": "wu @2500", "tune": {"rendered_triangles": 2500}}]);
+    save(cwd, "good", &experiment(good));
+    let output = roamsim(&["validate", "good.json"], cwd);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("tune '"), "{stderr}");
+    let bad = json!([{"name": "wu", "tune": {"rendered_triangles": 2500, "parameter": "c"}}]);
+    save(cwd, "bad", &experiment(bad));
+    fails_with(
+        &["validate", "bad.json"],
+        cwd,
+        &["algorithms[0].tune.parameter", "\"c\""],
+    );
+}
+
+/// Every file of two output folders equal, timings and run metadata left out.
+fn assert_same_outputs(a: &Path, b: &Path) {
+    let listed = files(a);
+    assert_eq!(files(b), listed);
+    for file in &listed {
+        let name = file.to_string_lossy();
+        if name.ends_with("frames.csv") {
+            assert_eq!(
+                frames_without_timing(&a.join(file)),
+                frames_without_timing(&b.join(file)),
+                "{name}"
+            );
+        } else if name.ends_with("summary.json") {
+            assert_eq!(
+                summary_without_timing(&a.join(file)),
+                summary_without_timing(&b.join(file)),
+                "{name}"
+            );
+        }
+    }
+}
+
+#[test]
+fn threads_shards_sweep_points_and_frames_give_the_same_tuned_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let algorithms = json!([
+        {"name": "wu", "label": "wu @2500", "zone": "paper",
+         "tune": {"rendered_triangles": 2500, "probe_frames": 20}},
+        {"name": "geomipmap", "label": "geomipmap", "tau_px": 2, "patch_level": 4},
+        {"name": "vanek", "label": "vanek @2000", "patch_level": 4, "min_dist_m": 500,
+         "max_dist_m": 6000, "tune": {"rendered_triangles": 2000, "probe_frames": 20}},
+    ]);
+    let mut value = experiment(algorithms);
+    value["sweep"] = json!({"view.fovy_deg": [50, 70]});
+    save(cwd, "tuned", &value);
+    let run = |extra: &[&str], out: &str| {
+        let mut args = vec!["run", "tuned.json", "--out", out, "--frames", "45"];
+        args.extend_from_slice(extra);
+        succeeds(&args, cwd);
+    };
+    run(&["--threads", "1"], "one");
+    run(&["--threads", "2"], "two");
+    for k in 1..=3 {
+        run(&["--shard", &format!("{k}/3")], &format!("shards/{k}"));
+    }
+    succeeds(
+        &[
+            "merge", "shards/2", "shards/3", "shards/1", "--out", "merged",
+        ],
+        cwd,
+    );
+    assert_same_outputs(&cwd.join("one"), &cwd.join("two"));
+    assert_same_outputs(&cwd.join("one"), &cwd.join("merged"));
+    // Each point tuned on its own view; the probes spread over the 45 frames --frames kept.
+    let mut values = Vec::new();
+    for point in ["view.fovy_deg=50", "view.fovy_deg=70"] {
+        let summary = summary(&cwd.join("one").join(point));
+        let tuning = &entry(&summary, "wu @2500")["tuning"];
+        assert_eq!(tuning["probe_stride"], 2, "{point}");
+        assert_eq!(tuning["reached"], true, "{point}: {tuning}");
+        values.push(tuning["value"].as_f64().unwrap());
+        assert!(entry(&summary, "geomipmap").get("tuning").is_none());
+        let merged = self::summary(&cwd.join("merged").join(point));
+        assert_eq!(entry(&merged, "wu @2500")["tuning"], *tuning, "{point}");
+    }
+    assert_ne!(values[0], values[1], "a wider view needs another τ");
+}
