@@ -164,13 +164,23 @@ def sweep(name, section):
         if found_section.startswith(section):
             print(f"From `plots/{name}/report.md` (`bash scripts/regenerate-plots.sh {name}`), "
                   f"{found_section[0].lower() + found_section[1:]}:\n")
-            print("| " + " | ".join(header) + " |")
+            print("| " + " | ".join(short_point(h) for h in header) + " |")
             print("|" + "---|" * len(header))
             for row in rows:
                 print("| " + " | ".join(row[h] for h in header) + " |")
             print()
             return
     raise SystemExit(f"{report}: no table under a heading starting with {section!r}")
+
+
+def short_point(cell):
+    """A sweep point's column header by its first swept value, the field by its last key:
+    `flight.path.circle.frames_per_lap=190, speed_bounds…` → `frames_per_lap=190`."""
+    first = cell.split(", ")[0]
+    if "=" not in first:
+        return cell
+    field, value = first.split("=", 1)
+    return f"{field.split('.')[-1]}={value}"
 
 
 def pareto():
