@@ -54,7 +54,10 @@ fn every_shipped_experiment_is_valid() {
             checked += 1;
         }
     }
-    assert!(checked >= 20, "only {checked} experiments found in {folder:?}");
+    assert!(
+        checked >= 20,
+        "only {checked} experiments found in {folder:?}"
+    );
 }
 
 #[test]

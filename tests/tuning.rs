@@ -264,6 +264,40 @@ fn clashing_counts_a_missing_audit_unknown_parameters_and_bad_settings_are_refus
         "algorithms[3].tune.frames",
         "unknown field `frames`",
     );
+    // A tune with its own problem adds no second one for the τ it would have set.
+    assert_eq!(
+        settings.iter().filter(|p| p.contains("tau_px")).count(),
+        0,
+        "{settings:#?}"
+    );
+    let swept = problems(
+        json!([
+            {"name": "wu", "tune": {"rendered_triangles": 5000}, "sweep": {"tau_px": [1, 2]}},
+            {"name": "wu", "label": "b", "sweep": {"tune": [{"rendered_triangles": 5000}]}},
+            {"name": "rottger", "minimum_resolution": 8, "label": "c",
+             "tune": {"rendered_triangles": 9, "parameter": "minimum_resolution"},
+             "sweep": {"minimum_resolution": [4, 8]}},
+            {"name": "rottger", "minimum_resolution": 8, "label": "d",
+             "tune": {"rendered_triangles": 9}, "sweep": {"minimum_resolution": [4, 8]}},
+        ]),
+        audited.clone(),
+    );
+    has(
+        &swept,
+        "algorithms[0].sweep.tau_px",
+        "the entry's tune sets tau_px",
+    );
+    has(&swept, "algorithms[1].sweep.tune", "tune cannot be swept");
+    has(
+        &swept,
+        "algorithms[2].sweep.minimum_resolution",
+        "the entry's tune sets minimum_resolution",
+    );
+    // Röttger's tune sets c by default: a sweep of C beside it is fine.
+    assert!(
+        !swept.iter().any(|p| p.starts_with("algorithms[3]")),
+        "{swept:#?}"
+    );
     // Without the tuned parameter written, the entry is checked with the start (Wu needs a τ
     // or a budget; roam exactly one of τ and a target): no problem.
     let fine = problems(
@@ -355,7 +389,10 @@ fn threads_shards_sweep_points_and_frames_give_the_same_tuned_runs() {
     for point in ["view.fovy_deg=50", "view.fovy_deg=70"] {
         let summary = summary(&cwd.join("one").join(point));
         let tuning = &entry(&summary, "wu @2500")["tuning"];
-        assert_eq!(tuning["probe_stride"], 2, "{point}");
+        assert_eq!(
+            tuning["probe_stride"], 3,
+            "{point}: 45 frames, at most 20 probes"
+        );
         assert_eq!(tuning["reached"], true, "{point}: {tuning}");
         values.push(tuning["value"].as_f64().unwrap());
         assert!(entry(&summary, "geomipmap").get("tuning").is_none());

@@ -417,6 +417,23 @@ impl RunAssembly {
                     .goal_flags
                     .push(format!("{point}{}: {reason}", spec.label));
             }
+            if let Some(tuning) = &result.tuning
+                && !tuning.reached
+            {
+                let point = choice_label
+                    .as_deref()
+                    .map_or(String::new(), |c| format!("({c}) "));
+                outcome.goal_flags.push(format!(
+                    "{point}{}: tune did not reach {} {} within {}: the closest probe gave {} at {} = {}",
+                    spec.label,
+                    tuning.target.value(),
+                    tuning.target.unit(),
+                    tuning.tolerance,
+                    tuning.probe_mean,
+                    tuning.parameter,
+                    tuning.value,
+                ));
+            }
         }
         outcome.preprocessing_seconds += point.preprocessing.seconds;
         if k == 0 {
@@ -1145,7 +1162,13 @@ fn tune_entry(
             "{} (tuning probe {k}: {}={value})",
             spec.label, tune.parameter
         );
-        let frames = run_algorithm(&inputs, &label, algorithm.as_mut(), &mut |_| {})?;
+        let frames = run_algorithm(&inputs, &label, algorithm.as_mut(), &mut |_| {}).map_err(
+            // The probe's frame k is the flight's frame k·s.
+            |error| RunError {
+                frame: error.frame * stride,
+                ..error
+            },
+        )?;
         let mean = mean_of_target(&frames, tune.target);
         progress.tuning(&probe_line(&spec.label, tune, k, value, mean));
         Ok(mean)

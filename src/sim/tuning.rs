@@ -176,11 +176,13 @@ fn closest(probes: &[Probe], target: f64) -> Probe {
     best
 }
 
-/// The probe flight's stride s = max(1, ⌊frames / probe_frames⌋) and frame count
-/// min(probe_frames, frames): frames 0, s, 2s, ….
+/// The probe flight's stride s = max(1, ⌈frames / probe_frames⌉) and frame count ⌈frames / s⌉
+/// (at most `probe_frames`): frames 0, s, 2s, … up to the flight's end, so the probes cover the
+/// whole flight, never more than s frames apart.
 pub fn probe_stride(n_frames: u64, probe_frames: u64) -> (u64, u64) {
     let probe_frames = probe_frames.max(1);
-    ((n_frames / probe_frames).max(1), probe_frames.min(n_frames))
+    let stride = n_frames.div_ceil(probe_frames).max(1);
+    (stride, n_frames.div_ceil(stride))
 }
 
 /// The speed bounds for frames `stride` apart: the distances multiplied by the stride (a
@@ -328,7 +330,21 @@ mod tests {
     fn probe_frames_are_spread_over_the_flight_with_scaled_bounds() {
         assert_eq!(probe_stride(6000, 200), (30, 200));
         assert_eq!(probe_stride(150, 200), (1, 150));
-        assert_eq!(probe_stride(399, 200), (1, 200));
+        // 399 frames: every other frame, up to frame 398 (not frames 0 to 199).
+        assert_eq!(probe_stride(399, 200), (2, 200));
+        // 720 frames: every 4th, up to frame 716, 180 probe frames.
+        assert_eq!(probe_stride(720, 200), (4, 180));
+        for (frames, probes) in [(6001, 200), (45, 7), (1, 200), (1000, 3)] {
+            let (stride, count) = probe_stride(frames, probes);
+            assert!(
+                count <= probes && (count - 1) * stride < frames,
+                "{frames} {probes}"
+            );
+            assert!(
+                count * stride >= frames,
+                "the last probe frame is within s of the end"
+            );
+        }
         let bound = SpeedBound {
             horizontal: 2.0,
             vertical: 0.5,

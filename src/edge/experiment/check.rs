@@ -526,8 +526,26 @@ fn expand_sweeps(entries: &[AlgorithmEntry], problems: &mut Problems) -> Vec<Exp
             );
             continue;
         };
+        let tuned = parameters
+            .get("tune")
+            .and_then(|tune| super::tune::tuned_parameter(&entry.name, tune));
         let mut axes: Vec<(String, Vec<Value>)> = Vec::new();
         for (parameter, values) in sweep {
+            if parameter == "tune" || Some(parameter.as_str()) == tuned {
+                problems.add(
+                    format!("algorithms[{k}].sweep.{parameter}"),
+                    if parameter == "tune" {
+                        "tune cannot be swept: expected one entry per target".to_string()
+                    } else {
+                        format!(
+                            "the entry's tune sets {parameter}, so a sweep of it would run the \
+                             value found, not the value in the label: expected it swept without \
+                             tune, or tune without the sweep"
+                        )
+                    },
+                );
+                continue;
+            }
             match values.as_array().filter(|v| !v.is_empty()) {
                 Some(values) if !["name", "label", "sweep"].contains(&parameter.as_str()) => {
                     axes.push((parameter.clone(), values.clone()))

@@ -117,6 +117,14 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
             );
         }
     }
+    if let Some(together) = sweep.get(TOGETHER).and_then(Value::as_object)
+        && let Some(repeated) = together.keys().find(|path| sweep.contains_key(*path))
+    {
+        return Err(problem(
+            format!("sweep.{TOGETHER}.{repeated}"),
+            "also swept on its own: expected each field in one axis".into(),
+        ));
+    }
     let points: usize = axes.iter().map(Vec::len).product();
     if points > MAX_SWEEP_POINTS {
         return Err(problem(
@@ -385,6 +393,10 @@ mod tests {
             (
                 json!({"sweep": {"together": {"together": {"a": [1]}}}}),
                 "sweep.together.together",
+            ),
+            (
+                json!({"a": 1, "sweep": {"a": [1, 2], "together": {"a": [3, 4]}}}),
+                "sweep.together.a",
             ),
         ];
         for (document, field) in cases {

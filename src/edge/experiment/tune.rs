@@ -160,6 +160,17 @@ fn tunables(name: &str) -> &'static [Tunable] {
     }
 }
 
+/// The parameter an entry's (unchecked) `tune` sets: its `parameter`, else the algorithm's
+/// default; `None` when neither names one `tune` can set.
+pub(super) fn tuned_parameter(name: &str, tune: &Value) -> Option<&'static str> {
+    let options = tunables(name);
+    match tune.get("parameter").and_then(Value::as_str) {
+        Some(wanted) => options.iter().find(|t| t.parameter == wanted),
+        None => options.first(),
+    }
+    .map(|t| t.parameter)
+}
+
 /// Parameters that set an entry's triangle count themselves: none may be given with `tune`.
 const COUNT_TARGETS: [&str; 3] = [
     "budget_triangles",
@@ -179,6 +190,15 @@ pub(super) fn check_tune(
     problems: &mut Problems,
 ) -> Option<Tune> {
     let at = |field: &str| format!("{origin}.tune.{field}");
+    // The start goes in first, so that a `tune` with its own problems adds no second one (an
+    // entry without its τ).
+    if let Some(tunable) =
+        tuned_parameter(name, tune).and_then(|p| tunables(name).iter().find(|t| t.parameter == p))
+        && tunable.parameter != "distance_scale"
+        && !parameters.contains_key(tunable.parameter)
+    {
+        parameters.insert(tunable.parameter.to_string(), Value::from(tunable.start));
+    }
     let entry: TuneEntry = super::check::decode(&format!("{origin}.tune"), tune, problems)?;
     let n_problems = problems.list.len();
     let clashing: Vec<&str> = COUNT_TARGETS

@@ -123,7 +123,8 @@ pub fn write_tuned_entries(out: &mut String, labels: &[&str], records: &[Option<
         let Some(r) = record else { continue };
         let _ = writeln!(
             out,
-            "| {label} | {} = {} | {} / {} {} | {} | {} × {} frames (stride {}) | {} |",
+            "| {} | {} = {} | {} / {} {} | {} | {} × {} frames (stride {}) | {} |",
+            label.replace('|', "\\|"),
             r.parameter,
             significant(r.value),
             mean_text(r.target, r.probe_mean),
