@@ -100,12 +100,11 @@ pub(super) fn choose_levels(
     let k = grid.patch_level();
     let mut tests = 0;
     out.own.clear();
-    for patch in 0..grid.n_patches() {
-        let d = out.distance[patch];
+    for (errors, &d) in grid.errors_by_patch().zip(&out.distance) {
         let mut level = k;
         loop {
             tests += 1;
-            if level == 0 || !threshold.refines(grid.error(patch, level), d) {
+            if level == 0 || !threshold.refines(errors[level as usize], d) {
                 break;
             }
             level -= 1;
