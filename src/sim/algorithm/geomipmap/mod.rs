@@ -299,7 +299,7 @@ impl LodAlgorithm for Geomipmap<'_> {
         for patch in 0..self.grid.n_patches() {
             let (px, py) = (patch as u32 % per_side, patch as u32 / per_side);
             let level = self.levels.level[patch];
-            let sides = [0, 1, 2, 3].map(|side| self.levels.side(&self.grid, patch, side));
+            let sides = self.levels.sides(&self.grid, patch);
             stitched_sides += sides.iter().filter(|s| s.0 > level).count() as u64;
             let draw = PatchDraw {
                 origin: self.grid.origin(px, py),
