@@ -193,8 +193,7 @@ impl DrawnRange {
 /// Whether two vertex lists are the same, heights compared bit for bit.
 fn same_vertices(a: &[SurfacePoint], b: &[SurfacePoint]) -> bool {
     a.len() == b.len()
-        && a
-            .iter()
+        && a.iter()
             .zip(b)
             .all(|(a, b)| a.position == b.position && a.z.to_bits() == b.z.to_bits())
 }
