@@ -123,6 +123,11 @@ impl Camera {
             && c.y.abs() <= c.z * self.tan_half_fovy
     }
 
+    /// tan(fovx/2) and tan(fovy/2), as [`Camera::sees`] uses them (computed once per camera).
+    pub fn tan_half_fov(&self) -> (f64, f64) {
+        (self.tan_half_fovx, self.tan_half_fovy)
+    }
+
     /// Whether every point of the axis-aligned box `[low, high]` surely fails [`Camera::sees`]:
     /// all eight corners lie outside one plane of the view volume by more than a margin that
     /// covers the rounding of `sees` (so no point of the box, evaluated as `sees` evaluates it,

@@ -25,7 +25,9 @@ use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::ViewSettings;
-use crate::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, signed_life, split_zone};
+use crate::sim::zone::{
+    NodeErrors, SpeedBound, ZoneVariant, radius_per_error, signed_life, split_zone_scaled,
+};
 
 pub(super) const NAME: &str = "reference";
 
@@ -153,16 +155,18 @@ impl LodAlgorithm for Reference<'_> {
         let cone = (self.config.refine == Refinement::InView).then(|| Cone::new(input.camera));
         let mut splits = 0;
         let mut evaluations = 0;
+        // r/δ once per frame, not a sine per node.
+        let radius_per_error = radius_per_error(self.theta);
         self.stack.clear();
         self.stack.push((lattice.root(), lattice.cells() / 2));
         while let Some((node, half)) = self.stack.pop() {
             evaluations += 1;
-            let zone = split_zone(
+            let zone = split_zone_scaled(
                 hierarchy,
                 &self.errors,
                 node,
                 half,
-                self.theta,
+                radius_per_error,
                 self.config.zone,
             );
             if zone.is_none() {

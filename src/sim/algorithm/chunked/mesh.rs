@@ -79,32 +79,37 @@ pub(super) fn add_chunk<S: ChunkSource>(
             }
         }
     }
-    // The border, counter-clockwise from the south-west corner, one skirt bottom per vertex.
-    let ring: Vec<(u32, u32)> = (0..cells)
-        .map(|a| (a, 0))
-        .chain((0..cells).map(|b| (cells, b)))
-        .chain((0..cells).map(|a| (cells - a, cells)))
-        .chain((0..cells).map(|b| (0, cells - b)))
-        .collect();
+    // The border, counter-clockwise from the south-west corner, one skirt bottom per vertex
+    // (the bottoms' indices appended to `indices` after the grid's: no allocation per chunk).
+    let ring = |k: u32| -> (u32, u32) {
+        let (edge, t) = (k / cells, k % cells);
+        match edge {
+            0 => (t, 0),
+            1 => (cells, t),
+            2 => (cells - t, cells),
+            _ => (0, cells - t),
+        }
+    };
+    let n_ring = 4 * cells;
     let depth = f64::from(record.skirt_depth);
-    let tops: Vec<u32> = ring.iter().map(|&(a, b)| indices[at(a, b)]).collect();
-    let bottoms: Vec<u32> = tops
-        .iter()
-        .map(|&top| {
-            let vertex = list.vertices()[top as usize];
-            list.add_vertex(vertex.position, (f64::from(vertex.z) - depth) as f32)
-        })
-        .collect();
-    for k in 0..tops.len() {
-        let next = (k + 1) % tops.len();
-        list.add_triangle(
-            [tops[k], tops[next], bottoms[next]],
-            info(TriangleRole::Skirt),
-        );
-        list.add_triangle(
-            [tops[k], bottoms[next], bottoms[k]],
-            info(TriangleRole::Skirt),
-        );
+    let bottoms_from = indices.len();
+    for k in 0..n_ring {
+        let (a, b) = ring(k);
+        let vertex = list.vertices()[indices[at(a, b)] as usize];
+        let bottom = list.add_vertex(vertex.position, (f64::from(vertex.z) - depth) as f32);
+        indices.push(bottom);
+    }
+    let (grid, bottoms) = indices.split_at(bottoms_from);
+    let top = |k: u32| {
+        let (a, b) = ring(k);
+        grid[at(a, b)]
+    };
+    for k in 0..n_ring {
+        let next = (k + 1) % n_ring;
+        let (top_k, top_next) = (top(k), top(next));
+        let (bottom_k, bottom_next) = (bottoms[k as usize], bottoms[next as usize]);
+        list.add_triangle([top_k, top_next, bottom_next], info(TriangleRole::Skirt));
+        list.add_triangle([top_k, bottom_next, bottom_k], info(TriangleRole::Skirt));
     }
 }
 

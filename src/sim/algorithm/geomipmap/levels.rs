@@ -57,21 +57,23 @@ impl PatchLevels {
             + (self.own.capacity() + self.level.capacity()) * std::mem::size_of::<u32>()
     }
 
-    /// The level and factor patch `patch`'s side `side` (WEST, EAST, SOUTH, NORTH) is drawn at.
-    pub(super) fn side(&self, grid: &PatchGrid, patch: usize, side: usize) -> (u32, f64) {
+    /// The level and factor each side (WEST, EAST, SOUTH, NORTH) of patch `patch` is drawn at:
+    /// its own, or its neighbour's where that looks coarser. Written out, without an array
+    /// map's closure calls (the update asks it of every patch every frame).
+    pub(super) fn sides(&self, grid: &PatchGrid, patch: usize) -> [(u32, f64); 4] {
         let per_side = grid.per_side() as usize;
         let (px, py) = (patch % per_side, patch / per_side);
-        let neighbour = match side {
-            WEST => (px > 0).then(|| patch - 1),
-            EAST => (px + 1 < per_side).then(|| patch + 1),
-            SOUTH => (py > 0).then(|| patch - per_side),
-            _ => (py + 1 < per_side).then(|| patch + per_side),
-        };
         let own = (self.level[patch], self.morph[patch]);
-        match neighbour {
+        let with = |neighbour: Option<usize>| match neighbour {
             None => own,
             Some(q) => coarser(own, (self.level[q], self.morph[q])),
-        }
+        };
+        [
+            with((px > 0).then(|| patch - 1)),
+            with((px + 1 < per_side).then(|| patch + 1)),
+            with((py > 0).then(|| patch - per_side)),
+            with((py + 1 < per_side).then(|| patch + per_side)),
+        ]
     }
 }
 
@@ -100,12 +102,11 @@ pub(super) fn choose_levels(
     let k = grid.patch_level();
     let mut tests = 0;
     out.own.clear();
-    for patch in 0..grid.n_patches() {
-        let d = out.distance[patch];
+    for (errors, &d) in grid.errors_by_patch().zip(&out.distance) {
         let mut level = k;
         loop {
             tests += 1;
-            if level == 0 || !threshold.refines(grid.error(patch, level), d) {
+            if level == 0 || !threshold.refines(errors[level as usize], d) {
                 break;
             }
             level -= 1;

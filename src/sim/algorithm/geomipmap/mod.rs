@@ -63,7 +63,7 @@ use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
 use levels::{PatchLevels, choose_levels, measure, set_morph_factors};
 use patches::PatchGrid;
-use stitch::{PatchDraw, PatchScratch, add_patch, patch_triangles};
+use stitch::{PatchDraw, PatchScratch, add_patch};
 
 pub(super) const NAME: &str = "geomipmap";
 
@@ -208,14 +208,42 @@ impl<'h> Geomipmap<'h> {
         })
     }
 
-    /// Triangles the current levels draw (without building them).
+    /// Triangles the current levels draw (without building them): per patch of n cells a side,
+    /// 2n² less, per side stitched at step 2^Δ, the n − n/2^Δ triangles its zipped strip saves
+    /// (the sum of [`stitch::patch_triangles`] over the patches, in closed form: the target search
+    /// runs this about ten times a frame). O(patches), no allocation.
     fn count_triangles(grid: &PatchGrid, levels: &PatchLevels) -> u64 {
-        (0..grid.n_patches())
-            .map(|patch| {
-                let level = levels.level[patch];
-                patch_triangles(grid.cells() >> level, stitch_steps(grid, levels, patch))
-            })
-            .sum()
+        let per_side = grid.per_side() as usize;
+        let cells = u64::from(grid.cells());
+        let level = &levels.level;
+        let mut total = 0;
+        for (py, row) in level.chunks_exact(per_side).enumerate() {
+            for (px, &own) in row.iter().enumerate() {
+                let n = cells >> own;
+                let saved = |neighbour: u32| {
+                    if neighbour > own {
+                        n - (n >> (neighbour - own))
+                    } else {
+                        0
+                    }
+                };
+                let mut triangles = 2 * n * n;
+                if px > 0 {
+                    triangles -= saved(row[px - 1]);
+                }
+                if px + 1 < per_side {
+                    triangles -= saved(row[px + 1]);
+                }
+                if py > 0 {
+                    triangles -= saved(level[(py - 1) * per_side + px]);
+                }
+                if py + 1 < per_side {
+                    triangles -= saved(level[(py + 1) * per_side + px]);
+                }
+                total += triangles;
+            }
+        }
+        total
     }
 
     /// This frame's τ; returns the level tests made choosing it.
@@ -271,7 +299,7 @@ impl LodAlgorithm for Geomipmap<'_> {
         for patch in 0..self.grid.n_patches() {
             let (px, py) = (patch as u32 % per_side, patch as u32 / per_side);
             let level = self.levels.level[patch];
-            let sides = [0, 1, 2, 3].map(|side| self.levels.side(&self.grid, patch, side));
+            let sides = self.levels.sides(&self.grid, patch);
             stitched_sides += sides.iter().filter(|s| s.0 > level).count() as u64;
             let draw = PatchDraw {
                 origin: self.grid.origin(px, py),
@@ -358,5 +386,45 @@ impl LodAlgorithm for Geomipmap<'_> {
             ("patches", self.grid.n_patches() as f64),
             ("patch_level", f64::from(self.grid.patch_level())),
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::stitch::patch_triangles;
+    use super::*;
+    use crate::sim::terrain::{Heightfield, Spacing};
+
+    #[test]
+    fn the_closed_form_count_is_the_sum_of_every_patchs_triangles() {
+        let side = 65;
+        let heights = (0..side * side).map(|k| (k % 7) as f32).collect();
+        let hierarchy =
+            Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 1.0, dy: 1.0 }).unwrap());
+        let grid = PatchGrid::new(&hierarchy, 3);
+        let mut state = 12345u64;
+        for _ in 0..50 {
+            let level = (0..grid.n_patches())
+                .map(|_| {
+                    state = state
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    ((state >> 33) % 4) as u32
+                })
+                .collect();
+            let levels = PatchLevels {
+                level,
+                ..PatchLevels::default()
+            };
+            let summed: u64 = (0..grid.n_patches())
+                .map(|patch| {
+                    patch_triangles(
+                        grid.cells() >> levels.level[patch],
+                        stitch_steps(&grid, &levels, patch),
+                    )
+                })
+                .sum();
+            assert_eq!(Geomipmap::count_triangles(&grid, &levels), summed);
+        }
     }
 }

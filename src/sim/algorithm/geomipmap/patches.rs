@@ -103,6 +103,11 @@ impl PatchGrid {
         self.errors[patch * (self.patch_level as usize + 1) + level as usize]
     }
 
+    /// Every patch's nested errors D_0 .. D_k, patch by patch (row by row).
+    pub(super) fn errors_by_patch(&self) -> std::slice::ChunksExact<'_, f32> {
+        self.errors.chunks_exact(self.patch_level as usize + 1)
+    }
+
     /// The patch's box: its square times its samples' height range.
     pub(super) fn block_box(&self, patch: usize) -> BlockBox {
         let (px, py) = (patch as u32 % self.per_side, patch as u32 / self.per_side);

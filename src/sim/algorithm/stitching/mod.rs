@@ -95,7 +95,8 @@ use super::columns::stitching as columns;
 use super::{FrameInput, LodAlgorithm};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{
-    CrackPolicy, MeshOutput, SUBGRID_UNITS_PER_CELL, TriangleInfo, TriangleList, TriangleRole,
+    CrackPolicy, MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleInfo, TriangleList,
+    TriangleRole,
 };
 use crate::sim::stats::FrameStats;
 use crate::sim::view::Camera;
@@ -166,9 +167,35 @@ pub struct Stitching<'h> {
     strip_scratch: strips::StripScratch,
     frame: FrameCounts,
     /// Per node, what it drew last frame and this frame (its block, or its cross of strips and
-    /// P-block): a signature of its vertices (positions and heights) and how many there are.
-    drawn_before: Vec<(u64, u64)>,
-    drawn_now: Vec<(u64, u64)>,
+    /// P-block): which of the two, and the range of its vertices in that frame's list; `None`:
+    /// nothing. A node's vertices are compared exactly with last frame's (kept in
+    /// `vertices_before`), not through a hash of them (hashing was a third of the update).
+    drawn_before: Vec<Option<DrawnRange>>,
+    drawn_now: Vec<Option<DrawnRange>>,
+    vertices_before: Vec<SurfacePoint>,
+}
+
+/// What a node drew in one frame: `tag` (0: its block, 1: its strips and P-block) and its
+/// vertices, `len` of them from index `first` of that frame's list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct DrawnRange {
+    tag: u8,
+    first: u32,
+    len: u32,
+}
+
+impl DrawnRange {
+    fn vertices(self, list: &[SurfacePoint]) -> &[SurfacePoint] {
+        &list[self.first as usize..(self.first + self.len) as usize]
+    }
+}
+
+/// Whether two vertex lists are the same, heights compared bit for bit.
+fn same_vertices(a: &[SurfacePoint], b: &[SurfacePoint]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(a, b)| a.position == b.position && a.z.to_bits() == b.z.to_bits())
 }
 
 /// What a frame drew, for the statistics and the validator.
@@ -234,22 +261,20 @@ impl<'h> Stitching<'h> {
             patch_scratch: PatchScratch::default(),
             strip_scratch: strips::StripScratch::default(),
             frame: FrameCounts::default(),
-            drawn_before: vec![(0, 0); n],
-            drawn_now: vec![(0, 0); n],
+            drawn_before: vec![None; n],
+            drawn_now: vec![None; n],
+            vertices_before: Vec::new(),
         }
     }
 
     /// Records that node `index` drew the list's vertices from `first` on.
     fn record_drawn(&mut self, index: usize, first: usize, tag: u8) {
-        use std::hash::{Hash, Hasher};
-        let vertices = &self.list.vertices()[first..];
-        let mut hasher = std::collections::hash_map::DefaultHasher::new();
-        tag.hash(&mut hasher);
-        for v in vertices {
-            v.position.hash(&mut hasher);
-            v.z.to_bits().hash(&mut hasher);
-        }
-        self.drawn_now[index] = (hasher.finish(), vertices.len() as u64);
+        let len = self.list.vertices().len() - first;
+        self.drawn_now[index] = Some(DrawnRange {
+            tag,
+            first: u32::try_from(first).expect("fewer than 2^32 vertices"),
+            len: u32::try_from(len).expect("fewer than 2^32 vertices"),
+        });
     }
 
     /// This frame's M-blocks (quadtree leaves) in traversal order, with their factors.
@@ -486,7 +511,7 @@ impl<'h> Stitching<'h> {
         self.frame.strips_culled = 0;
         self.frame.cpu_vertices = 0;
         self.frame.strip_ns = 0;
-        self.drawn_now.fill((0, 0));
+        self.drawn_now.fill(None);
         self.draw_node(NodeId::ROOT, camera);
     }
 
@@ -668,13 +693,27 @@ impl LodAlgorithm for Stitching<'_> {
         stats.splits = splits;
         stats.merges = merges;
         let (mut inserted, mut deleted) = (0, 0);
+        let vertices_now = self.list.vertices();
         for (now, before) in self.drawn_now.iter().zip(&self.drawn_before) {
-            if now != before {
-                inserted += now.1;
-                deleted += before.1;
+            let same = match (now, before) {
+                (None, None) => true,
+                (Some(now), Some(before)) => {
+                    now.tag == before.tag
+                        && same_vertices(
+                            now.vertices(vertices_now),
+                            before.vertices(&self.vertices_before),
+                        )
+                }
+                _ => false,
+            };
+            if !same {
+                inserted += now.map_or(0, |r| u64::from(r.len));
+                deleted += before.map_or(0, |r| u64::from(r.len));
             }
         }
         std::mem::swap(&mut self.drawn_now, &mut self.drawn_before);
+        self.vertices_before.clear();
+        self.vertices_before.extend_from_slice(vertices_now);
         stats.vertices_inserted = inserted;
         stats.vertices_deleted = deleted;
         stats.vertices_changed = Some(self.frame.cpu_vertices);
@@ -712,7 +751,9 @@ impl LodAlgorithm for Stitching<'_> {
             + self.strip_scratch.memory_bytes()
             + self.frame.drawn_leaves.capacity() * std::mem::size_of::<NodeId>()
             + self.frame.drawn_strips.capacity() * std::mem::size_of::<(NodeId, strips::Arm)>()
-            + (self.drawn_before.capacity() + self.drawn_now.capacity()) * 16
+            + (self.drawn_before.capacity() + self.drawn_now.capacity())
+                * std::mem::size_of::<Option<DrawnRange>>()
+            + self.vertices_before.capacity() * std::mem::size_of::<SurfacePoint>()
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
