@@ -9,9 +9,15 @@ Python 3 standard library only.
     python3 scripts/study-tables.py            # every table, in the order of docs/study.md
     python3 scripts/study-tables.py circle     # one: circle low-rough turning error-targets
                                                #      nominal speed scaling pareto
+    python3 scripts/study-tables.py --fill docs/study.md
+        # rewrites, in that file, what stands between `<!-- study-tables NAME -->` and
+        # `<!-- /study-tables -->` with table NAME (how docs/study.md's tables were made)
 """
 
+import contextlib
+import io
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -191,30 +197,52 @@ def pareto():
                 print(f"`plots/{name}/report.md`: {line}\n")
 
 
+def render(which):
+    """Table `which` as text (what `print_table` prints)."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        print_table(which)
+    return out.getvalue()
+
+
+def fill(path):
+    text = Path(path).read_text(encoding="utf-8")
+    block = re.compile(r"(<!-- study-tables ([a-z-]+) -->\n)(.*?)(<!-- /study-tables -->)", re.S)
+    filled = block.sub(lambda m: m.group(1) + render(m.group(2)) + m.group(4), text)
+    Path(path).write_text(filled, encoding="utf-8")
+
+
 def main():
+    if sys.argv[1:2] == ["--fill"]:
+        for path in sys.argv[2:]:
+            fill(path)
+        return
     chosen = sys.argv[1:] or [
         "circle", "low-rough", "turning", "error-targets", "nominal", "speed", "scaling", "pareto",
     ]
     for which in chosen:
         print(f"### {which}\n")
-        if which in ("circle", "low-rough", "turning"):
-            equal_triangles(f"study-{which}")
-        elif which == "error-targets":
-            error_targets()
-        elif which == "nominal":
-            nominal()
-        elif which == "speed":
-            sweep("study-speed", "Median update time")
-            sweep("study-speed", "Mean triangles")
-        elif which == "scaling":
-            sweep("study-scaling", "Median update time")
-            sweep("study-scaling", "Memory")
-        elif which == "pareto":
-            pareto()
-        else:
-            raise SystemExit(f"unknown table {which!r}: expected one of circle low-rough turning "
-                             "error-targets nominal speed scaling pareto")
+        print_table(which)
 
+
+def print_table(which):
+    if which in ("circle", "low-rough", "turning"):
+        equal_triangles(f"study-{which}")
+    elif which == "error-targets":
+        error_targets()
+    elif which == "nominal":
+        nominal()
+    elif which == "speed":
+        sweep("study-speed", "Median update time")
+        sweep("study-speed", "Mean triangles")
+    elif which == "scaling":
+        sweep("study-scaling", "Median update time")
+        sweep("study-scaling", "Memory")
+    elif which == "pareto":
+        pareto()
+    else:
+        raise SystemExit(f"unknown table {which!r}: expected one of circle low-rough turning "
+                         "error-targets nominal speed scaling pareto")
 
 if __name__ == "__main__":
     main()
