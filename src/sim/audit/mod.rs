@@ -281,8 +281,8 @@ impl Auditor {
                 let (right_y, up_y, forward_y) = (dy * right.y, dy * up.y, dy * forward.y);
                 let height_row = &heights[j * field_side..];
                 let mesh_row = &self.mesh_height[lj * lattice_side..][..lattice_side];
-                for (tx, _) in tile_row.iter().enumerate().filter(|(_, in_view)| **in_view) {
-                    for li in tx * TILE..((tx + 1) * TILE).min(self.lattice_columns) {
+                for columns in columns_in_view(tile_row, self.lattice_columns) {
+                    for li in columns {
                         let i = li * stride;
                         let (x, z) = (i as f64 * spacing.dx, f64::from(height_row[i]));
                         let (dx, dz) = (x - eye.x, z - eye.z);
@@ -341,8 +341,8 @@ impl Auditor {
                 let (right_y, up_y, forward_y) = (dy * right.y, dy * up.y, dy * forward.y);
                 let height_row = &heights[if truth.is_none() { j * field_side } else { 0 }..];
                 let mesh_row = &self.mesh_height[lj * lattice_side..][..lattice_side];
-                for (tx, _) in tile_row.iter().enumerate().filter(|(_, in_view)| **in_view) {
-                    for li in tx * TILE..((tx + 1) * TILE).min(self.lattice_columns) {
+                for columns in columns_in_view(tile_row, self.lattice_columns) {
+                    for li in columns {
                         let i = li * stride;
                         // The truth: the field's sample, or the synthesised surface's.
                         let (x, z) = match truth {
@@ -548,6 +548,25 @@ impl Auditor {
         self.crack = Some(crack);
         self.mesh_height = mesh_height;
     }
+}
+
+/// The audited columns of one row of tiles that may be in view (`tile_row`: per tile), as
+/// runs of consecutive tiles, west to east.
+fn columns_in_view(
+    tile_row: &[bool],
+    lattice_columns: usize,
+) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    let mut tx = 0;
+    std::iter::from_fn(move || {
+        while tx < tile_row.len() && !tile_row[tx] {
+            tx += 1;
+        }
+        let start = tx;
+        while tx < tile_row.len() && tile_row[tx] {
+            tx += 1;
+        }
+        (start < tx).then(|| start * TILE..(tx * TILE).min(lattice_columns))
+    })
 }
 
 /// The tiles of audited samples that may be in view this frame, as a triangle filter.
@@ -794,7 +813,7 @@ struct Figures {
     sum: f64,
     max: f64,
     /// Values per bucket (`total_order_key >> 48`).
-    histogram: Vec<u32>,
+    histogram: Box<[u32; BUCKETS]>,
 }
 
 impl Default for Figures {
@@ -803,7 +822,7 @@ impl Default for Figures {
             values: Vec::new(),
             sum: -0.0,
             max: f64::NEG_INFINITY,
-            histogram: vec![0; BUCKETS],
+            histogram: Box::new([0; BUCKETS]),
         }
     }
 }

@@ -83,19 +83,20 @@ pub fn rasterise_lattice_triangle(
             }
         }
         if low <= high {
-            let mut w = [0i64; 3];
-            for k in 0..3 {
-                w[k] = row_start[k] + low * step_i[k];
-            }
+            // The signed edge functions at the span's n-th sample, `(sign · w_k) as f64`, as
+            // `first_k + n · step_k` in f64: integers far below 2^53, so every product and sum
+            // is exact and the value is the integer's, bit for bit; with an `i32` count the
+            // loop runs as vector instructions.
+            let first = [0, 1, 2].map(|k| (sign * (row_start[k] + low * step_i[k])) as f64);
+            let step = step_i.map(|s| (sign * s) as f64);
+            let denominator = sign as f64 * area;
             let span = row_index + low as usize..=row_index + high as usize;
-            for height in &mut heights[span] {
-                let sum = (sign * w[0]) as f64 * z[0]
-                    + (sign * w[1]) as f64 * z[1]
-                    + (sign * w[2]) as f64 * z[2];
-                *height = (sum / (sign as f64 * area)) as f32;
-                for k in 0..3 {
-                    w[k] += step_i[k];
-                }
+            for (n, height) in (0i32..).zip(&mut heights[span]) {
+                let n = f64::from(n);
+                let sum = (first[0] + n * step[0]) * z[0]
+                    + (first[1] + n * step[1]) * z[1]
+                    + (first[2] + n * step[2]) * z[2];
+                *height = (sum / denominator) as f32;
             }
         }
         for k in 0..3 {
