@@ -303,15 +303,11 @@ impl Auditor {
                         let base_z = z.min(mesh_z);
                         let length = (z - mesh_z).abs();
                         let base_dz = base_z - eye.z;
-                        let base_in_camera = if base_z.to_bits() == z.to_bits() {
-                            in_camera
-                        } else {
-                            DVec3::new(
-                                right_xy + base_dz * right.z,
-                                up_xy + base_dz * up.z,
-                                forward_xy + base_dz * forward.z,
-                            )
-                        };
+                        let base_in_camera = DVec3::new(
+                            right_xy + base_dz * right.z,
+                            up_xy + base_dz * up.z,
+                            forward_xy + base_dz * forward.z,
+                        );
                         put_segment(
                             segments,
                             n,
@@ -403,20 +399,17 @@ impl Auditor {
                             popping.add(camera, sample, f64::from(previous[index]), mesh_z);
                         }
                         // The segment from the lower of the sample and the surface, `length`
-                        // long; its base in camera coordinates is the sample's when it starts
-                        // there, else only its z term differs.
+                        // long; its base in camera coordinates differs from the sample's in the
+                        // z terms only (and is the sample's, bit for bit, when it starts there:
+                        // no branch).
                         let base_z = z.min(mesh_z);
                         let length = (z - mesh_z).abs();
                         let base_dz = base_z - eye.z;
-                        let base_in_camera = if base_z.to_bits() == z.to_bits() {
-                            in_camera
-                        } else {
-                            DVec3::new(
-                                right_xy + base_dz * right.z,
-                                up_xy + base_dz * up.z,
-                                forward_xy + base_dz * forward.z,
-                            )
-                        };
+                        let base_in_camera = DVec3::new(
+                            right_xy + base_dz * right.z,
+                            up_xy + base_dz * up.z,
+                            forward_xy + base_dz * forward.z,
+                        );
                         put_segment(
                             segments,
                             n,
