@@ -66,6 +66,12 @@ pub fn rasterise_lattice_triangle(
     let step_j = edges.map(|(a, b)| sign * (b.0 - a.0) * stride);
     let mut row_start = edges.map(|(a, b)| sign * edge(a, b, (i0, j0)));
     let area = (sign * area2) as f64;
+    let denominator = sign as f64 * area;
+    // Dividing by a power of two is multiplying by its reciprocal, exactly (both round the
+    // same real number once): every 4-8 triangle's doubled area is one, and a product is
+    // cheaper than a quotient.
+    let reciprocal = (area2.unsigned_abs().is_power_of_two() && (1.0 / denominator).is_normal())
+        .then(|| 1.0 / denominator);
     let n_columns = (i_max - i0) / stride; // the last step along a row
     let mut j = j0;
     let mut row_index = (j0 / stride) as usize * lattice_side + (i0 / stride) as usize;
@@ -89,14 +95,21 @@ pub fn rasterise_lattice_triangle(
             // loop runs as vector instructions.
             let first = [0, 1, 2].map(|k| (sign * (row_start[k] + low * step_i[k])) as f64);
             let step = step_i.map(|s| (sign * s) as f64);
-            let denominator = sign as f64 * area;
-            let span = row_index + low as usize..=row_index + high as usize;
-            for (n, height) in (0i32..).zip(&mut heights[span]) {
+            let span = &mut heights[row_index + low as usize..=row_index + high as usize];
+            let height_at = |n: i32| {
                 let n = f64::from(n);
-                let sum = (first[0] + n * step[0]) * z[0]
+                (first[0] + n * step[0]) * z[0]
                     + (first[1] + n * step[1]) * z[1]
-                    + (first[2] + n * step[2]) * z[2];
-                *height = (sum / denominator) as f32;
+                    + (first[2] + n * step[2]) * z[2]
+            };
+            if let Some(reciprocal) = reciprocal {
+                for (n, height) in (0i32..).zip(span) {
+                    *height = (height_at(n) * reciprocal) as f32;
+                }
+            } else {
+                for (n, height) in (0i32..).zip(span) {
+                    *height = (height_at(n) / denominator) as f32;
+                }
             }
         }
         for k in 0..3 {
