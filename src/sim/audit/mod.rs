@@ -45,7 +45,7 @@ pub mod reference;
 
 use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle};
+use crate::sim::mesh::raster::{SampleRaster, floor_div, rasterise_lattice_triangle};
 use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleRole};
 use crate::sim::metrics::{projected_error_px, projected_error_px_at};
 use crate::sim::stats::{AuditFrame, ErrorSummary, PoppingFrame, SurfaceCoverage};
@@ -591,8 +591,8 @@ impl TileFilter<'_> {
             raw.iter().map(|p| p.1).max().unwrap_or(0),
         );
         let sample_range = |low: i64, high: i64, count: usize| {
-            let first = low.div_euclid(self.units_per_sample).max(0) as usize;
-            let last = (high.div_euclid(self.units_per_sample) + 1).max(0) as usize;
+            let first = floor_div(low, self.units_per_sample).max(0) as usize;
+            let last = (floor_div(high, self.units_per_sample) + 1).max(0) as usize;
             (first.min(count - 1), last.min(count - 1))
         };
         let (i0, i1) = sample_range(x_min, x_max, self.lattice_columns);

@@ -125,9 +125,14 @@ fn ceil_div(a: i64, b: i64) -> i64 {
     -floor_div(-a, b)
 }
 
-/// ⌊a / b⌋ for b > 0.
-fn floor_div(a: i64, b: i64) -> i64 {
-    a.div_euclid(b)
+/// ⌊a / b⌋ for b > 0: a shift when b is a power of two (a 4-8 triangle's edge steps are), a
+/// division otherwise.
+pub(crate) fn floor_div(a: i64, b: i64) -> i64 {
+    if b & (b - 1) == 0 {
+        a >> b.trailing_zeros()
+    } else {
+        a.div_euclid(b)
+    }
 }
 
 /// [`rasterise_lattice_triangle`] as it was first written: every sample of the bounding box
