@@ -453,15 +453,11 @@ impl Auditor {
         // Taken out for the frame, so that the tile filter can borrow the rest.
         let mut mesh_height = std::mem::take(&mut self.mesh_height);
         let tiles = self.tiles_in_view();
-        mesh.for_each_triangle(hierarchy, |triangle| {
-            if tiles.may_touch(&triangle.corners) {
-                rasterise_lattice_triangle(
-                    &triangle.corners,
-                    stride,
-                    lattice_side,
-                    &mut mesh_height,
-                );
-            }
+        // A triangle that touches no tile in view holds none that does: its subtree is
+        // skipped, and every triangle visited (a leaf of the bintree too) passed the test.
+        let within = |corners: &[SurfacePoint; 3]| tiles.may_touch(corners);
+        mesh.for_each_triangle_within(hierarchy, within, |triangle| {
+            rasterise_lattice_triangle(&triangle.corners, stride, lattice_side, &mut mesh_height);
         });
         self.mesh_height = mesh_height;
     }
