@@ -880,8 +880,56 @@ mod tests {
     use crate::sim::mesh::{
         CrackPolicy, SubgridPoint, TriangleInfo, TriangleList, TriangleRole, VertexSet,
     };
+    use crate::sim::metrics::view_angle_error_px;
     use crate::sim::terrain::{Heightfield, Spacing};
     use crate::sim::view::{Pose, ViewSettings};
+
+    #[test]
+    fn the_histogram_summary_equals_the_selection_over_all_values_bit_for_bit() {
+        // Values spread over many buckets, crowded into one, repeated, zero, and counts where
+        // the p95's rank falls on a bucket's first or last value.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut sets: Vec<Vec<f64>> = vec![vec![0.0], vec![3.5; 7], vec![0.0, 1.0]];
+        for n in [1, 2, 19, 20, 21, 100, 1000, 4001] {
+            sets.push((0..n).map(|_| (next() % 1_000_000) as f64 * 1e-4).collect());
+            sets.push(
+                (0..n)
+                    .map(|_| 1.0 + (next() % 1000) as f64 * 1e-12)
+                    .collect(),
+            );
+            sets.push((0..n).map(|_| (next() % 4) as f64).collect());
+            sets.push(
+                (0..n)
+                    .map(|_| f64::from_bits(next() >> 2) % 1e6)
+                    .map(f64::abs)
+                    .collect(),
+            );
+        }
+        let mut figures = Figures::default();
+        let mut scratch = Vec::new();
+        for values in sets {
+            figures.clear();
+            for &value in &values {
+                figures.push(value);
+            }
+            let ours = figures.summary(&mut scratch);
+            let theirs = reference::summarise_in_place(&mut values.clone());
+            assert_eq!(
+                format!("{ours:?}"),
+                format!("{theirs:?}"),
+                "{} values",
+                values.len()
+            );
+        }
+        figures.clear();
+        assert_eq!(figures.summary(&mut scratch), None);
+    }
 
     fn settings(stride: u32, popping: bool) -> AuditSettings {
         AuditSettings {

@@ -212,7 +212,7 @@ impl ReferenceAuditor {
 
 /// Max, mean and nearest-rank p95 (the same rule as [`crate::sim::stats::nearest_rank`]),
 /// in O(n) by selection instead of sorting.
-fn summarise_in_place(values: &mut [f64]) -> Option<ErrorSummary> {
+pub(super) fn summarise_in_place(values: &mut [f64]) -> Option<ErrorSummary> {
     if values.is_empty() {
         return None;
     }

@@ -445,6 +445,58 @@ mod tests {
     use super::*;
     use crate::sim::mesh::position::SubgridPoint;
 
+    #[test]
+    fn floor_division_shifts_by_powers_of_two_and_divides_otherwise_with_the_same_results() {
+        for a in -40i64..=40 {
+            for b in 1i64..=17 {
+                assert_eq!(floor_div(a, b), a.div_euclid(b), "{a} / {b}");
+                assert_eq!(ceil_div(a, b), -(-a).div_euclid(b), "⌈{a} / {b}⌉");
+            }
+        }
+    }
+
+    #[test]
+    fn the_span_rasteriser_writes_what_the_bounding_box_rasteriser_writes_bit_for_bit() {
+        // Triangles on a 33² grid of any shape (areas that are not powers of two included:
+        // the span's quotient, not its product by a reciprocal), both orientations, at
+        // strides that divide the grid and one that does not.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u32| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % u64::from(n)) as u32
+        };
+        let mut reciprocal_areas = 0;
+        for stride in [1usize, 2, 3] {
+            let side = 32 / stride + 1;
+            for _ in 0..300 {
+                let corners: [SurfacePoint; 3] = std::array::from_fn(|_| SurfacePoint {
+                    position: SubgridPoint::grid(next(33), next(33)),
+                    z: next(2000) as f32 * 0.37 - 100.0,
+                });
+                let raw = corners.map(|c| c.position.raw());
+                let area2 = (raw[1].0 - raw[0].0) * (raw[2].1 - raw[0].1)
+                    - (raw[2].0 - raw[0].0) * (raw[1].1 - raw[0].1);
+                if (area2 >> 32).unsigned_abs().is_power_of_two() {
+                    reciprocal_areas += 1;
+                }
+                let mut by_span = vec![f32::NAN; side * side];
+                let mut by_box = by_span.clone();
+                rasterise_lattice_triangle(&corners, stride as i64, side, &mut by_span);
+                rasterise_lattice_triangle_by_box(&corners, stride as i64, side, &mut by_box);
+                let bits =
+                    |heights: &[f32]| heights.iter().map(|h| h.to_bits()).collect::<Vec<_>>();
+                assert_eq!(
+                    bits(&by_span),
+                    bits(&by_box),
+                    "{corners:?} at stride {stride}"
+                );
+            }
+        }
+        assert!(reciprocal_areas > 0, "no power-of-two area was drawn");
+    }
+
     fn corner(x: f64, y: f64, z: f32) -> SurfacePoint {
         SurfacePoint {
             position: SubgridPoint::from_grid_units(x, y).unwrap(),
