@@ -803,6 +803,9 @@ struct Figures {
     max: f64,
     /// Values per bucket (`total_order_key >> 48`).
     histogram: Box<[u32; BUCKETS]>,
+    /// The lowest and highest bucket holding a value (empty: `BUCKETS`, 0): the summary
+    /// scans and the next frame clears only these.
+    buckets: (usize, usize),
 }
 
 impl Default for Figures {
@@ -812,15 +815,18 @@ impl Default for Figures {
             sum: -0.0,
             max: f64::NEG_INFINITY,
             histogram: Box::new([0; BUCKETS]),
+            buckets: (BUCKETS, 0),
         }
     }
 }
 
 impl Figures {
     fn clear(&mut self) {
-        if !self.values.is_empty() {
-            self.histogram.fill(0);
+        let (low, high) = self.buckets;
+        if low <= high {
+            self.histogram[low..=high].fill(0);
         }
+        self.buckets = (BUCKETS, 0);
         self.values.clear();
         // The sum and the maximum start where `Iterator::sum` and the reference's fold do.
         self.sum = -0.0;
@@ -831,7 +837,9 @@ impl Figures {
         self.values.push(value);
         self.sum += value;
         self.max = self.max.max(value);
-        self.histogram[(total_order_key(value) >> 48) as usize] += 1;
+        let bucket = (total_order_key(value) >> 48) as usize;
+        self.histogram[bucket] += 1;
+        self.buckets = (self.buckets.0.min(bucket), self.buckets.1.max(bucket));
     }
 
     fn len(&self) -> usize {
@@ -849,10 +857,11 @@ impl Figures {
         }
         let rank = ((0.95 * n as f64).ceil() as usize).clamp(1, n);
         let mut below = 0;
-        let mut bucket = 0;
-        for (k, &count) in self.histogram.iter().enumerate() {
+        let (low, high) = self.buckets;
+        let mut bucket = low as u64;
+        for (k, &count) in self.histogram[low..=high].iter().enumerate() {
             if below + count as usize >= rank {
-                bucket = k as u64;
+                bucket = (low + k) as u64;
                 break;
             }
             below += count as usize;
