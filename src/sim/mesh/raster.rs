@@ -52,7 +52,15 @@ pub fn rasterise_lattice_triangle(
     let i_max = xy[0].0.max(xy[1].0).max(xy[2].0);
     let j_min = xy[0].1.min(xy[1].1).min(xy[2].1);
     let j_max = xy[0].1.max(xy[1].1).max(xy[2].1);
-    let first = |low: i64| (low + stride - 1) / stride * stride;
+    // `a / stride` (truncating), a shift for a power-of-two stride and a ≥ 0.
+    let over_stride = |a: i64| {
+        if a >= 0 {
+            floor_div(a, stride)
+        } else {
+            a / stride
+        }
+    };
+    let first = |low: i64| over_stride(low + stride - 1) * stride;
     let (i0, j0) = (first(i_min), first(j_min));
     if i0 > i_max || j0 > j_max {
         return;
@@ -72,9 +80,9 @@ pub fn rasterise_lattice_triangle(
     // cheaper than a quotient.
     let reciprocal = (area2.unsigned_abs().is_power_of_two() && (1.0 / denominator).is_normal())
         .then(|| 1.0 / denominator);
-    let n_columns = (i_max - i0) / stride; // the last step along a row
+    let n_columns = over_stride(i_max - i0); // the last step along a row
     let mut j = j0;
-    let mut row_index = (j0 / stride) as usize * lattice_side + (i0 / stride) as usize;
+    let mut row_index = over_stride(j0) as usize * lattice_side + over_stride(i0) as usize;
     while j <= j_max {
         // Steps n in 0..=n_columns with row_start[k] + n·step_i[k] ≥ 0 for every edge k.
         let (mut low, mut high) = (0i64, n_columns);
