@@ -46,7 +46,9 @@ pub mod reference;
 use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::raster::{SampleRaster, floor_div, rasterise_lattice_triangle};
-use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleRole};
+use crate::sim::mesh::{
+    DrawnTriangle, MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleRole,
+};
 use crate::sim::metrics::{projected_error_px, projected_error_px_at};
 use crate::sim::stats::{AuditFrame, ErrorSummary, PoppingFrame, SurfaceCoverage};
 use crate::sim::view::Camera;
@@ -453,12 +455,17 @@ impl Auditor {
         // Taken out for the frame, so that the tile filter can borrow the rest.
         let mut mesh_height = std::mem::take(&mut self.mesh_height);
         let tiles = self.tiles_in_view();
-        // A triangle that touches no tile in view holds none that does: its subtree is
-        // skipped, and every triangle visited (a leaf of the bintree too) passed the test.
-        let within = |corners: &[SurfacePoint; 3]| tiles.may_touch(corners);
-        mesh.for_each_triangle_within(hierarchy, within, |triangle| {
+        let rasterise = |triangle: &DrawnTriangle| {
             rasterise_lattice_triangle(&triangle.corners, stride, lattice_side, &mut mesh_height);
-        });
+        };
+        if tiles.in_view.is_some() {
+            // A triangle that touches no tile in view holds none that does: its subtree is
+            // skipped, and every triangle visited (a leaf of the bintree too) passed the test.
+            let within = |corners: &[SurfacePoint; 3]| tiles.may_touch(corners);
+            mesh.for_each_triangle_within(hierarchy, within, rasterise);
+        } else {
+            mesh.for_each_triangle(hierarchy, rasterise);
+        }
         self.mesh_height = mesh_height;
     }
 

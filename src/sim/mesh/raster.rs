@@ -65,6 +65,12 @@ pub fn rasterise_lattice_triangle(
     if i0 > i_max || j0 > j_max {
         return;
     }
+    if over_stride(i_max - i0) + over_stride(j_max - j0) <= 2 {
+        // At most four samples in the box (a small triangle at a coarse stride): testing
+        // them costs less than solving the rows' spans, with the same result.
+        rasterise_lattice_triangle_by_box(corners, stride, lattice_side, heights);
+        return;
+    }
     // The edge functions, negated for a clockwise triangle so that inside is "all ≥ 0"; the
     // height's sum and quotient are then negated in both terms, which IEEE rounding leaves
     // bit-identical.
