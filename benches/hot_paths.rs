@@ -92,10 +92,17 @@ fn audit(c: &mut Criterion) {
             b.iter(|| first_written.audit(&hierarchy, reference.mesh(), &camera))
         });
     }
-    let mut auditor = Auditor::new(&hierarchy, settings(4, true));
-    group.bench_function(BenchmarkId::new("stride_popping", 4), |b| {
-        b.iter(|| auditor.audit(&hierarchy, reference.mesh(), &camera))
-    });
+    for stride in [1, 4] {
+        let mut auditor = Auditor::new(&hierarchy, settings(stride, true));
+        group.bench_function(BenchmarkId::new("stride_popping", stride), |b| {
+            b.iter(|| auditor.audit(&hierarchy, reference.mesh(), &camera))
+        });
+        let mut first_written = ReferenceAuditor::new(&hierarchy, settings(stride, true));
+        group.bench_function(
+            BenchmarkId::new("first_written_stride_popping", stride),
+            |b| b.iter(|| first_written.audit(&hierarchy, reference.mesh(), &camera)),
+        );
+    }
     // The same triangles as a triangle list: the general rasteriser with its tie rule, holes
     // and crack gaps.
     let mut list = TriangleList::new(hierarchy.lattice(), CrackPolicy::Closed);

@@ -110,12 +110,18 @@ impl Camera {
         (c.z >= self.settings.near).then(|| DVec2::new(c.x / c.z, c.y / c.z) * self.pixels_per_unit)
     }
 
+    /// [`ViewSettings::pixels_per_unit`], as [`Camera::project_camera`] uses it.
+    pub fn pixels_per_unit(&self) -> f64 {
+        self.pixels_per_unit
+    }
+
     /// Whether a world point lies inside the view volume (frustum between near and far).
     pub fn sees(&self, world: DVec3) -> bool {
         self.sees_camera(self.to_camera(world))
     }
 
     /// [`Camera::sees`] for a point already in camera coordinates ([`Camera::to_camera`]).
+    #[inline]
     pub fn sees_camera(&self, c: DVec3) -> bool {
         c.z >= self.settings.near
             && c.z <= self.settings.far

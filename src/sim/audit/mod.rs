@@ -39,15 +39,20 @@
 //! source; `audit_detail_*`: against the detail-extended surface).
 //!
 //! Cost: O(audited samples + triangles) per frame; buffers are reused across frames, and those
-//! of the general path and of popping are allocated only when first needed.
+//! of the general path and of popping are allocated only when first needed. Every shortcut is
+//! exact (the figures equal [`reference::ReferenceAuditor`]'s bit for bit): tiles and bintree
+//! subtrees out of view skipped, the error arithmetic batched into columns with the same
+//! operations in the same order, the p95 selected inside the histogram bucket of its rank.
 
 pub mod reference;
 
 use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle};
-use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleRole};
-use crate::sim::metrics::{projected_error_px, projected_error_px_at, view_angle_error_px};
+use crate::sim::mesh::raster::{SampleRaster, floor_div, rasterise_lattice_triangle};
+use crate::sim::mesh::{
+    DrawnTriangle, MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleRole,
+};
+use crate::sim::metrics::{projected_error_px, projected_error_px_at};
 use crate::sim::stats::{AuditFrame, ErrorSummary, PoppingFrame, SurfaceCoverage};
 use crate::sim::view::Camera;
 use glam::DVec3;
@@ -92,8 +97,13 @@ pub struct Auditor {
     /// The previous frame's `mesh_height`, when popping is measured (`None` before frame 0).
     previous_height: Option<Vec<f32>>,
     popping: bool,
-    projected: Vec<f64>,
-    view_angle: Vec<f64>,
+    /// The samples in view whose error segments are still to be measured.
+    batch: ErrorBatch,
+    /// This frame's errors of the samples in view, in the order they were found.
+    projected: Figures,
+    view_angle: Figures,
+    /// The candidates for a p95, reused.
+    scratch: Vec<f64>,
 }
 
 /// The lowest and highest height any surface triangle draws at each audited sample, and the
@@ -186,8 +196,10 @@ impl Auditor {
             crack: None,
             previous_height: None,
             popping: settings.popping,
-            projected: Vec::new(),
-            view_angle: Vec::new(),
+            batch: ErrorBatch::default(),
+            projected: Figures::default(),
+            view_angle: Figures::default(),
+            scratch: Vec::new(),
         }
     }
 
@@ -231,7 +243,7 @@ impl Auditor {
         }
         let field = hierarchy.field();
         let (stride, lattice_side) = (self.stride, self.lattice_side);
-        let pixel_angle = camera.settings.pixel_angle();
+        let geometry = ErrorGeometry::new(camera);
         self.projected.clear();
         self.view_angle.clear();
         let mut coverage = general.then_some(SurfaceCoverage {
@@ -251,78 +263,175 @@ impl Auditor {
         let tiles_x = self.tiles_x;
         let spacing = field.spacing();
         let fine = 1.0 / f64::from(1u32 << self.refine);
-        for lj in 0..self.lattice_rows {
-            let j = lj * stride;
-            let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
-            for (tx, _) in tile_row.iter().enumerate().filter(|(_, in_view)| **in_view) {
-                for li in tx * TILE..((tx + 1) * TILE).min(self.lattice_columns) {
-                    let i = li * stride;
-                    // The truth: the field's sample, or the synthesised surface's.
-                    let sample = match truth {
-                        None => field.position(i, j),
-                        Some(truth) => DVec3::new(
-                            i as f64 * spacing.dx * fine,
-                            j as f64 * spacing.dy * fine,
-                            f64::from(truth.height(i as u32, j as u32)),
-                        ),
-                    };
-                    let in_camera = camera.to_camera(sample);
-                    if !camera.sees_camera(in_camera) {
-                        continue;
-                    }
-                    let index = lj * lattice_side + li;
-                    let drawn = self.mesh_height[index];
-                    if let (Some(coverage), Some(crack)) = (coverage.as_mut(), self.crack.as_ref())
-                    {
-                        let (low, high) = (crack.low[index], crack.high[index]);
-                        if low < high {
-                            let gap = f64::from(high) - f64::from(low);
-                            coverage.crack_samples += 1;
-                            coverage.crack_gap_max_m = coverage.crack_gap_max_m.max(gap);
-                            let base = DVec3::new(sample.x, sample.y, f64::from(low));
-                            if let Some(px) = projected_error_px(camera, base, gap) {
-                                coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
-                            }
-                            let open = crack.uncovered(index);
-                            if open > 0.0 {
-                                coverage.cracks_uncovered += 1;
-                                coverage.crack_uncovered_max_m =
-                                    coverage.crack_uncovered_max_m.max(open);
-                                if let Some(px) = projected_error_px(camera, base, open) {
-                                    coverage.crack_uncovered_max_px =
-                                        coverage.crack_uncovered_max_px.max(px);
-                                }
-                            }
-                        }
-                        if drawn.is_nan() {
-                            coverage.holes += 1;
+        let (heights, field_side) = (field.heights(), field.side());
+        let eye = camera.eye;
+        let (right, up, forward) = (camera.right, camera.up, camera.forward);
+        // The samples in view go to the batch in order, `n` of them waiting.
+        let ErrorBatch { segments, results } = &mut self.batch;
+        let mut n = 0;
+        let (projected, view_angle) = (&mut self.projected, &mut self.view_angle);
+        let mut measure = |segments: &[[f64; BATCH]; 7], n: usize| {
+            ErrorBatch::measure(
+                segments, results, n, &geometry, camera, projected, view_angle,
+            );
+        };
+        if !general && previous.is_none() {
+            // The common case, a 4-8 mesh against the source's samples with no previous frame:
+            // the loop below without holes, cracks, popping or synthesised detail.
+            for lj in 0..self.lattice_rows {
+                let j = lj * stride;
+                let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
+                let y = j as f64 * spacing.dy;
+                let dy = y - eye.y;
+                let (right_y, up_y, forward_y) = (dy * right.y, dy * up.y, dy * forward.y);
+                let height_row = &heights[j * field_side..];
+                let mesh_row = &self.mesh_height[lj * lattice_side..][..lattice_side];
+                for columns in columns_in_view(tile_row, self.lattice_columns) {
+                    for li in columns {
+                        let i = li * stride;
+                        let (x, z) = (i as f64 * spacing.dx, f64::from(height_row[i]));
+                        let (dx, dz) = (x - eye.x, z - eye.z);
+                        let (right_xy, up_xy, forward_xy) = (
+                            dx * right.x + right_y,
+                            dx * up.x + up_y,
+                            dx * forward.x + forward_y,
+                        );
+                        let in_camera = DVec3::new(
+                            right_xy + dz * right.z,
+                            up_xy + dz * up.z,
+                            forward_xy + dz * forward.z,
+                        );
+                        if !camera.sees_camera(in_camera) {
                             continue;
                         }
+                        let mesh_z = f64::from(mesh_row[li]);
+                        let base_z = z.min(mesh_z);
+                        let length = (z - mesh_z).abs();
+                        let base_dz = base_z - eye.z;
+                        let base_in_camera = DVec3::new(
+                            right_xy + base_dz * right.z,
+                            up_xy + base_dz * up.z,
+                            forward_xy + base_dz * forward.z,
+                        );
+                        put_segment(
+                            segments,
+                            n,
+                            base_in_camera,
+                            DVec3::new(dx, dy, base_dz),
+                            length,
+                        );
+                        n += 1;
+                        if n == BATCH {
+                            measure(segments, n);
+                            n = 0;
+                        }
                     }
-                    let mesh_z = f64::from(drawn);
-                    if let Some(previous) = previous {
-                        popping.add(camera, sample, f64::from(previous[index]), mesh_z);
+                }
+            }
+        } else {
+            for lj in 0..self.lattice_rows {
+                let j = lj * stride;
+                let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
+                // The sample's y, as `Heightfield::position` (or the synthesised surface) has
+                // it, and the products of `Camera::to_camera` that depend on the row only.
+                let y = match truth {
+                    None => j as f64 * spacing.dy,
+                    Some(_) => j as f64 * spacing.dy * fine,
+                };
+                let dy = y - eye.y;
+                let (right_y, up_y, forward_y) = (dy * right.y, dy * up.y, dy * forward.y);
+                let height_row = &heights[if truth.is_none() { j * field_side } else { 0 }..];
+                let mesh_row = &self.mesh_height[lj * lattice_side..][..lattice_side];
+                for columns in columns_in_view(tile_row, self.lattice_columns) {
+                    for li in columns {
+                        let i = li * stride;
+                        // The truth: the field's sample, or the synthesised surface's.
+                        let (x, z) = match truth {
+                            None => (i as f64 * spacing.dx, f64::from(height_row[i])),
+                            Some(truth) => (
+                                i as f64 * spacing.dx * fine,
+                                f64::from(truth.height(i as u32, j as u32)),
+                            ),
+                        };
+                        let sample = DVec3::new(x, y, z);
+                        // `Camera::to_camera`, its sums in the same order.
+                        let (dx, dz) = (x - eye.x, z - eye.z);
+                        let (right_xy, up_xy, forward_xy) = (
+                            dx * right.x + right_y,
+                            dx * up.x + up_y,
+                            dx * forward.x + forward_y,
+                        );
+                        let in_camera = DVec3::new(
+                            right_xy + dz * right.z,
+                            up_xy + dz * up.z,
+                            forward_xy + dz * forward.z,
+                        );
+                        if !camera.sees_camera(in_camera) {
+                            continue;
+                        }
+                        let index = lj * lattice_side + li;
+                        let drawn = mesh_row[li];
+                        if let (Some(coverage), Some(crack)) =
+                            (coverage.as_mut(), self.crack.as_ref())
+                        {
+                            let (low, high) = (crack.low[index], crack.high[index]);
+                            if low < high {
+                                let gap = f64::from(high) - f64::from(low);
+                                coverage.crack_samples += 1;
+                                coverage.crack_gap_max_m = coverage.crack_gap_max_m.max(gap);
+                                let base = DVec3::new(sample.x, sample.y, f64::from(low));
+                                if let Some(px) = projected_error_px(camera, base, gap) {
+                                    coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
+                                }
+                                let open = crack.uncovered(index);
+                                if open > 0.0 {
+                                    coverage.cracks_uncovered += 1;
+                                    coverage.crack_uncovered_max_m =
+                                        coverage.crack_uncovered_max_m.max(open);
+                                    if let Some(px) = projected_error_px(camera, base, open) {
+                                        coverage.crack_uncovered_max_px =
+                                            coverage.crack_uncovered_max_px.max(px);
+                                    }
+                                }
+                            }
+                            if drawn.is_nan() {
+                                coverage.holes += 1;
+                                continue;
+                            }
+                        }
+                        let mesh_z = f64::from(drawn);
+                        if let Some(previous) = previous {
+                            popping.add(camera, sample, f64::from(previous[index]), mesh_z);
+                        }
+                        // The segment from the lower of the sample and the surface, `length`
+                        // long; its base in camera coordinates differs from the sample's in the
+                        // z terms only (and is the sample's, bit for bit, when it starts there:
+                        // no branch).
+                        let base_z = z.min(mesh_z);
+                        let length = (z - mesh_z).abs();
+                        let base_dz = base_z - eye.z;
+                        let base_in_camera = DVec3::new(
+                            right_xy + base_dz * right.z,
+                            up_xy + base_dz * up.z,
+                            forward_xy + base_dz * forward.z,
+                        );
+                        put_segment(
+                            segments,
+                            n,
+                            base_in_camera,
+                            DVec3::new(dx, dy, base_dz),
+                            length,
+                        );
+                        n += 1;
+                        if n == BATCH {
+                            measure(segments, n);
+                            n = 0;
+                        }
                     }
-                    let base = DVec3::new(sample.x, sample.y, sample.z.min(mesh_z));
-                    let length = (sample.z - mesh_z).abs();
-                    // The sample's camera coordinates serve when the base is the sample itself.
-                    let base_in_camera = if base.z.to_bits() == sample.z.to_bits() {
-                        in_camera
-                    } else {
-                        camera.to_camera(base)
-                    };
-                    if let Some(px) = projected_error_px_at(camera, base_in_camera, length) {
-                        self.projected.push(px);
-                    }
-                    self.view_angle.push(view_angle_error_px(
-                        camera.eye,
-                        base,
-                        length,
-                        pixel_angle,
-                    ));
                 }
             }
         }
+        measure(segments, n);
         let popping = popping.summary(previous.is_some());
         if self.popping {
             // Keep this frame's heights for the next; the old buffer becomes next frame's
@@ -334,8 +443,8 @@ impl Auditor {
         }
         AuditFrame {
             samples_in_view: self.view_angle.len() as u64,
-            projected: summarise_in_place(&mut self.projected),
-            view_angle: summarise_in_place(&mut self.view_angle),
+            projected: self.projected.summary(&mut self.scratch),
+            view_angle: self.view_angle.summary(&mut self.scratch),
             coverage,
             popping,
         }
@@ -349,16 +458,17 @@ impl Auditor {
         // Taken out for the frame, so that the tile filter can borrow the rest.
         let mut mesh_height = std::mem::take(&mut self.mesh_height);
         let tiles = self.tiles_in_view();
-        mesh.for_each_triangle(hierarchy, |triangle| {
-            if tiles.may_touch(&triangle.corners) {
-                rasterise_lattice_triangle(
-                    &triangle.corners,
-                    stride,
-                    lattice_side,
-                    &mut mesh_height,
-                );
-            }
-        });
+        let rasterise = |triangle: &DrawnTriangle| {
+            rasterise_lattice_triangle(&triangle.corners, stride, lattice_side, &mut mesh_height);
+        };
+        if tiles.in_view.is_some() {
+            // A triangle that touches no tile in view holds none that does: its subtree is
+            // skipped, and every triangle visited (a leaf of the bintree too) passed the test.
+            let within = |corners: &[SurfacePoint; 3]| tiles.may_touch(corners);
+            mesh.for_each_triangle_within(hierarchy, within, rasterise);
+        } else {
+            mesh.for_each_triangle(hierarchy, rasterise);
+        }
         self.mesh_height = mesh_height;
     }
 
@@ -439,6 +549,25 @@ impl Auditor {
     }
 }
 
+/// The audited columns of one row of tiles that may be in view (`tile_row`: per tile), as
+/// runs of consecutive tiles, west to east.
+fn columns_in_view(
+    tile_row: &[bool],
+    lattice_columns: usize,
+) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    let mut tx = 0;
+    std::iter::from_fn(move || {
+        while tx < tile_row.len() && !tile_row[tx] {
+            tx += 1;
+        }
+        let start = tx;
+        while tx < tile_row.len() && tile_row[tx] {
+            tx += 1;
+        }
+        (start < tx).then(|| start * TILE..(tx * TILE).min(lattice_columns))
+    })
+}
+
 /// The tiles of audited samples that may be in view this frame, as a triangle filter.
 struct TileFilter<'a> {
     /// Per tile, whether it may be in view; `None`: every tile counts (popping keeps every
@@ -468,8 +597,8 @@ impl TileFilter<'_> {
             raw.iter().map(|p| p.1).max().unwrap_or(0),
         );
         let sample_range = |low: i64, high: i64, count: usize| {
-            let first = low.div_euclid(self.units_per_sample).max(0) as usize;
-            let last = (high.div_euclid(self.units_per_sample) + 1).max(0) as usize;
+            let first = floor_div(low, self.units_per_sample).max(0) as usize;
+            let last = (floor_div(high, self.units_per_sample) + 1).max(0) as usize;
             (first.min(count - 1), last.min(count - 1))
         };
         let (i0, i1) = sample_range(x_min, x_max, self.lattice_columns);
@@ -520,21 +649,247 @@ impl PoppingSums {
     }
 }
 
-/// Max, mean and nearest-rank p95 (the same rule as [`crate::sim::stats::nearest_rank`]),
-/// in O(n) by selection instead of sorting.
-fn summarise_in_place(values: &mut [f64]) -> Option<ErrorSummary> {
-    if values.is_empty() {
-        return None;
+/// The camera's constants of one frame's error segments.
+struct ErrorGeometry {
+    /// `Camera::direction_to_camera((0, 0, δ))` is `zero + δ · axis.z` per camera axis: the
+    /// sums of its two zero products, which depend on the camera only (their sign of zero).
+    zero: DVec3,
+    right_z: f64,
+    up_z: f64,
+    forward_z: f64,
+    near: f64,
+    pixels_per_unit: f64,
+    pixel_angle: f64,
+}
+
+impl ErrorGeometry {
+    fn new(camera: &Camera) -> ErrorGeometry {
+        let zero_products = |axis: DVec3| 0.0 * axis.x + 0.0 * axis.y;
+        ErrorGeometry {
+            zero: DVec3::new(
+                zero_products(camera.right),
+                zero_products(camera.up),
+                zero_products(camera.forward),
+            ),
+            right_z: camera.right.z,
+            up_z: camera.up.z,
+            forward_z: camera.forward.z,
+            near: camera.settings.near,
+            pixels_per_unit: camera.pixels_per_unit(),
+            pixel_angle: camera.settings.pixel_angle(),
+        }
     }
-    let mean = values.iter().sum::<f64>() / values.len() as f64;
-    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let rank = ((0.95 * values.len() as f64).ceil() as usize).clamp(1, values.len());
-    let (_, p95, _) = values.select_nth_unstable_by(rank - 1, f64::total_cmp);
-    Some(ErrorSummary {
-        max,
-        mean,
-        p95: *p95,
-    })
+}
+
+/// Segments measured at once: their columns stay in the first-level cache.
+const BATCH: usize = 256;
+
+/// Error segments of samples in view waiting to be measured, as columns (a structure of
+/// arrays), so that their divisions and square roots run as vector instructions. Every value
+/// is computed with exactly the operations of [`projected_error_px_at`] and
+/// [`view_angle_error_px`](crate::sim::metrics::view_angle_error_px) in the same order, so
+/// each is bit-identical to theirs.
+struct ErrorBatch {
+    /// Per segment: its base in camera coordinates (x, y, z), its base minus the eye on the
+    /// world axes (x, y, z), and its length in metres.
+    segments: Box<[[f64; BATCH]; 7]>,
+    /// Per segment: its projected length in pixels when both ends are in front of the near
+    /// plane, and the two arguments of the view angle's `atan2`.
+    results: Box<[[f64; BATCH]; 3]>,
+}
+
+impl Default for ErrorBatch {
+    fn default() -> ErrorBatch {
+        ErrorBatch {
+            segments: Box::new([[0.0; BATCH]; 7]),
+            results: Box::new([[0.0; BATCH]; 3]),
+        }
+    }
+}
+
+/// Writes segment `n` of a batch.
+#[inline(always)]
+fn put_segment(
+    segments: &mut [[f64; BATCH]; 7],
+    n: usize,
+    base_in_camera: DVec3,
+    to_base: DVec3,
+    length: f64,
+) {
+    let n = n % BATCH;
+    segments[0][n] = base_in_camera.x;
+    segments[1][n] = base_in_camera.y;
+    segments[2][n] = base_in_camera.z;
+    segments[3][n] = to_base.x;
+    segments[4][n] = to_base.y;
+    segments[5][n] = to_base.z;
+    segments[6][n] = length;
+}
+
+impl ErrorBatch {
+    /// Measures the first `n` segments in order and adds their projected and view-angle
+    /// errors to `projected` and `view_angle`.
+    fn measure(
+        segments: &[[f64; BATCH]; 7],
+        results: &mut [[f64; BATCH]; 3],
+        n: usize,
+        geometry: &ErrorGeometry,
+        camera: &Camera,
+        projected: &mut Figures,
+        view_angle: &mut Figures,
+    ) {
+        let n = n.min(BATCH);
+        let g = geometry;
+        let [
+            base_x,
+            base_y,
+            base_z,
+            to_base_x,
+            to_base_y,
+            to_base_z,
+            length,
+        ] = segments.each_ref().map(|column| &column[..n]);
+        let [out_projected, out_sine, out_cosine] =
+            results.each_mut().map(|column| &mut column[..n]);
+        // No branch: the compiler makes vector instructions of it.
+        for k in 0..n {
+            let (ax, ay, az, delta) = (base_x[k], base_y[k], base_z[k], length[k]);
+            // projected_error_px_at: b = a + direction_to_camera((0, 0, δ)), both projected.
+            let bx = ax + (g.zero.x + delta * g.right_z);
+            let by = ay + (g.zero.y + delta * g.up_z);
+            let bz = az + (g.zero.z + delta * g.forward_z);
+            let (pax, pay) = (ax / az * g.pixels_per_unit, ay / az * g.pixels_per_unit);
+            let (pbx, pby) = (bx / bz * g.pixels_per_unit, by / bz * g.pixels_per_unit);
+            let (dx, dy) = (pax - pbx, pay - pby);
+            out_projected[k] = (dx * dx + dy * dy).sqrt();
+            // view_angle_error_px: |to_base × to_top| and to_base · to_top.
+            let (tx, ty, tz) = (to_base_x[k], to_base_y[k], to_base_z[k]);
+            let (sx, sy, sz) = (tx + 0.0, ty + 0.0, tz + delta);
+            let cx = ty * sz - sy * tz;
+            let cy = tz * sx - sz * tx;
+            let cz = tx * sy - sx * ty;
+            out_sine[k] = (cx * cx + cy * cy + cz * cz).sqrt();
+            out_cosine[k] = tx * sx + ty * sy + tz * sz;
+        }
+        for k in 0..n {
+            let (a, delta) = (DVec3::new(base_x[k], base_y[k], base_z[k]), length[k]);
+            let b_z = a.z + (g.zero.z + delta * g.forward_z);
+            if a.z >= g.near && b_z >= g.near {
+                projected.push(out_projected[k]);
+            } else if let Some(px) = projected_error_px_at(camera, a, delta) {
+                // A segment cut by the near plane, or behind it.
+                projected.push(px);
+            }
+            let (tx, ty, tz) = (to_base_x[k], to_base_y[k], to_base_z[k]);
+            let angle = if delta == 0.0 {
+                0.0
+            } else if (tx == 0.0 && ty == 0.0 && tz == 0.0)
+                || (tx + 0.0 == 0.0 && ty + 0.0 == 0.0 && tz + delta == 0.0)
+            {
+                std::f64::consts::PI / g.pixel_angle
+            } else {
+                out_sine[k].atan2(out_cosine[k]) / g.pixel_angle
+            };
+            view_angle.push(angle);
+        }
+    }
+}
+
+/// Buckets of the histogram of a figure's values: by their top 16 bits in total order.
+const BUCKETS: usize = 1 << 16;
+
+/// A key that orders `f64`s as [`f64::total_cmp`] does, as an unsigned integer.
+fn total_order_key(value: f64) -> u64 {
+    let bits = value.to_bits();
+    bits ^ ((((bits as i64) >> 63) as u64) >> 1) ^ (1 << 63)
+}
+
+/// One error measure's values over a frame's samples in view, in the order they were found,
+/// with their running sum, maximum and a histogram of their top bits: the summary then reads
+/// only the values of the p95's bucket again.
+struct Figures {
+    values: Vec<f64>,
+    sum: f64,
+    max: f64,
+    /// Values per bucket (`total_order_key >> 48`).
+    histogram: Box<[u32; BUCKETS]>,
+    /// The lowest and highest bucket holding a value (empty: `BUCKETS`, 0): the summary
+    /// scans and the next frame clears only these.
+    buckets: (usize, usize),
+}
+
+impl Default for Figures {
+    fn default() -> Figures {
+        Figures {
+            values: Vec::new(),
+            sum: -0.0,
+            max: f64::NEG_INFINITY,
+            histogram: Box::new([0; BUCKETS]),
+            buckets: (BUCKETS, 0),
+        }
+    }
+}
+
+impl Figures {
+    fn clear(&mut self) {
+        let (low, high) = self.buckets;
+        if low <= high {
+            self.histogram[low..=high].fill(0);
+        }
+        self.buckets = (BUCKETS, 0);
+        self.values.clear();
+        // The sum and the maximum start where `Iterator::sum` and the reference's fold do.
+        self.sum = -0.0;
+        self.max = f64::NEG_INFINITY;
+    }
+
+    fn push(&mut self, value: f64) {
+        self.values.push(value);
+        self.sum += value;
+        self.max = self.max.max(value);
+        let bucket = (total_order_key(value) >> 48) as usize;
+        self.histogram[bucket] += 1;
+        self.buckets = (self.buckets.0.min(bucket), self.buckets.1.max(bucket));
+    }
+
+    fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Max, mean and nearest-rank p95 (the rule of [`crate::sim::stats::nearest_rank`]): the
+    /// p95 is found in the histogram's bucket that holds its rank, by selection among that
+    /// bucket's values only. `f64::total_cmp` orders bit patterns, so the value found is the
+    /// one a selection over all values finds, to the bit.
+    fn summary(&self, scratch: &mut Vec<f64>) -> Option<ErrorSummary> {
+        let n = self.len();
+        if n == 0 {
+            return None;
+        }
+        let rank = ((0.95 * n as f64).ceil() as usize).clamp(1, n);
+        let mut below = 0;
+        let (low, high) = self.buckets;
+        let mut bucket = low as u64;
+        for (k, &count) in self.histogram[low..=high].iter().enumerate() {
+            if below + count as usize >= rank {
+                bucket = (low + k) as u64;
+                break;
+            }
+            below += count as usize;
+        }
+        scratch.clear();
+        scratch.extend(
+            self.values
+                .iter()
+                .copied()
+                .filter(|&value| total_order_key(value) >> 48 == bucket),
+        );
+        let (_, p95, _) = scratch.select_nth_unstable_by(rank - 1 - below, f64::total_cmp);
+        Some(ErrorSummary {
+            max: self.max,
+            mean: self.sum / n as f64,
+            p95: *p95,
+        })
+    }
 }
 
 #[cfg(test)]
@@ -544,8 +899,56 @@ mod tests {
     use crate::sim::mesh::{
         CrackPolicy, SubgridPoint, TriangleInfo, TriangleList, TriangleRole, VertexSet,
     };
+    use crate::sim::metrics::view_angle_error_px;
     use crate::sim::terrain::{Heightfield, Spacing};
     use crate::sim::view::{Pose, ViewSettings};
+
+    #[test]
+    fn the_histogram_summary_equals_the_selection_over_all_values_bit_for_bit() {
+        // Values spread over many buckets, crowded into one, repeated, zero, and counts where
+        // the p95's rank falls on a bucket's first or last value.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut sets: Vec<Vec<f64>> = vec![vec![0.0], vec![3.5; 7], vec![0.0, 1.0]];
+        for n in [1, 2, 19, 20, 21, 100, 1000, 4001] {
+            sets.push((0..n).map(|_| (next() % 1_000_000) as f64 * 1e-4).collect());
+            sets.push(
+                (0..n)
+                    .map(|_| 1.0 + (next() % 1000) as f64 * 1e-12)
+                    .collect(),
+            );
+            sets.push((0..n).map(|_| (next() % 4) as f64).collect());
+            sets.push(
+                (0..n)
+                    .map(|_| f64::from_bits(next() >> 2) % 1e6)
+                    .map(f64::abs)
+                    .collect(),
+            );
+        }
+        let mut figures = Figures::default();
+        let mut scratch = Vec::new();
+        for values in sets {
+            figures.clear();
+            for &value in &values {
+                figures.push(value);
+            }
+            let ours = figures.summary(&mut scratch);
+            let theirs = reference::summarise_in_place(&mut values.clone());
+            assert_eq!(
+                format!("{ours:?}"),
+                format!("{theirs:?}"),
+                "{} values",
+                values.len()
+            );
+        }
+        figures.clear();
+        assert_eq!(figures.summary(&mut scratch), None);
+    }
 
     fn settings(stride: u32, popping: bool) -> AuditSettings {
         AuditSettings {

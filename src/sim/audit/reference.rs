@@ -4,12 +4,12 @@
 //! (`tests/audit_reference.rs`), and `benches/hot_paths.rs` times both in one run. Not used by
 //! the runner.
 
-use super::{AuditSettings, CrackHeights, PoppingSums, summarise_in_place};
+use super::{AuditSettings, CrackHeights, PoppingSums};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle_by_box};
 use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, TriangleRole};
 use crate::sim::metrics::{projected_error_px, view_angle_error_px};
-use crate::sim::stats::{AuditFrame, SurfaceCoverage};
+use crate::sim::stats::{AuditFrame, ErrorSummary, SurfaceCoverage};
 use crate::sim::view::Camera;
 use glam::DVec3;
 
@@ -208,4 +208,21 @@ impl ReferenceAuditor {
             });
         }
     }
+}
+
+/// Max, mean and nearest-rank p95 (the same rule as [`crate::sim::stats::nearest_rank`]),
+/// in O(n) by selection instead of sorting.
+pub(super) fn summarise_in_place(values: &mut [f64]) -> Option<ErrorSummary> {
+    if values.is_empty() {
+        return None;
+    }
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let rank = ((0.95 * values.len() as f64).ceil() as usize).clamp(1, values.len());
+    let (_, p95, _) = values.select_nth_unstable_by(rank - 1, f64::total_cmp);
+    Some(ErrorSummary {
+        max,
+        mean,
+        p95: *p95,
+    })
 }

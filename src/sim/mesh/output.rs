@@ -83,7 +83,20 @@ impl<'a> MeshOutput<'a> {
 
     /// Calls `visit` on every drawn triangle, skirts and degenerate triangles included, in a
     /// deterministic order. O(T); allocates only the lattice descent's small stack.
-    pub fn for_each_triangle(self, hierarchy: &Hierarchy, mut visit: impl FnMut(&DrawnTriangle)) {
+    pub fn for_each_triangle(self, hierarchy: &Hierarchy, visit: impl FnMut(&DrawnTriangle)) {
+        self.for_each_triangle_within(hierarchy, |_| true, visit);
+    }
+
+    /// [`MeshOutput::for_each_triangle`], skipping (for a 4-8 mesh) the bintree's subtrees
+    /// whose triangle's plane corners (heights not looked up: 0) `within` rejects; `within`
+    /// must then reject every triangle inside such a triangle (a test of overlap with a
+    /// region does). A triangle list's triangles are all visited.
+    pub fn for_each_triangle_within(
+        self,
+        hierarchy: &Hierarchy,
+        mut within: impl FnMut(&[SurfacePoint; 3]) -> bool,
+        mut visit: impl FnMut(&DrawnTriangle),
+    ) {
         match self {
             MeshOutput::Lattice(mesh) => {
                 let lattice = hierarchy.lattice();
@@ -96,7 +109,14 @@ impl<'a> MeshOutput<'a> {
                             .unwrap_or_else(|| hierarchy.height(p)),
                     },
                 };
-                triangles::for_each_triangle(lattice, mesh.vertices, |t| {
+                let plane = |p| SurfacePoint {
+                    position: SubgridPoint::from(p),
+                    z: 0.0,
+                };
+                let within = |t: &triangles::Triangle| {
+                    within(&[plane(t.apex), plane(t.left), plane(t.right)])
+                };
+                triangles::for_each_triangle_within(lattice, mesh.vertices, within, |t| {
                     visit(&DrawnTriangle {
                         corners: [corner(t.apex), corner(t.left), corner(t.right)],
                         info: TriangleInfo {

@@ -67,9 +67,24 @@ pub fn base_triangles(lattice: &Lattice) -> [Triangle; 2] {
 }
 
 /// Calls `visit` on every triangle of the mesh, in a deterministic order.
-pub fn for_each_triangle(lattice: &Lattice, set: &VertexSet, mut visit: impl FnMut(&Triangle)) {
+pub fn for_each_triangle(lattice: &Lattice, set: &VertexSet, visit: impl FnMut(&Triangle)) {
+    for_each_triangle_within(lattice, set, |_| true, visit);
+}
+
+/// [`for_each_triangle`] without the subtrees of the bintree whose triangle `within` rejects:
+/// the triangles of the mesh inside accepted ancestors, in the same order. A triangle holds
+/// its descendants, so a test of a region (a box) that rejects a triangle rejects them all.
+pub fn for_each_triangle_within(
+    lattice: &Lattice,
+    set: &VertexSet,
+    mut within: impl FnMut(&Triangle) -> bool,
+    mut visit: impl FnMut(&Triangle),
+) {
     let mut stack: Vec<Triangle> = base_triangles(lattice).into_iter().rev().collect();
     while let Some(triangle) = stack.pop() {
+        if !within(&triangle) {
+            continue;
+        }
         match triangle.split_vertex() {
             Some(mid) if set.contains_point(lattice, mid) => {
                 let [first, second] = triangle.children(mid);
