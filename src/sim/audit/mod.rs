@@ -90,6 +90,8 @@ pub struct Auditor {
     tiles_x: usize,
     /// Per tile this frame: whether it may be in view.
     tile_in_view: Vec<bool>,
+    /// Per audited column of the source's samples: its x, as `Heightfield::position` has it.
+    column_x: Vec<f64>,
     /// The drawn height at every audited sample (NaN: a hole, triangle lists only).
     mesh_height: Vec<f32>,
     /// The general path's crack bookkeeping, allocated at the first triangle list.
@@ -99,6 +101,8 @@ pub struct Auditor {
     popping: bool,
     /// The samples in view whose error segments are still to be measured.
     batch: ErrorBatch,
+    /// The columns of one run of samples, in view or not (the common case's).
+    run: Box<RunColumns>,
     /// This frame's errors of the samples in view, in the order they were found.
     projected: Figures,
     view_angle: Figures,
@@ -190,6 +194,9 @@ impl Auditor {
             lattice_columns,
             lattice_rows,
             tile_in_view: vec![false; tile_boxes.len()],
+            column_x: (0..lattice_side)
+                .map(|li| (li * stride) as f64 * field.spacing().dx)
+                .collect(),
             tile_boxes,
             tiles_x,
             mesh_height: vec![0.0; lattice_side * lattice_side],
@@ -197,6 +204,7 @@ impl Auditor {
             previous_height: None,
             popping: settings.popping,
             batch: ErrorBatch::default(),
+            run: Box::default(),
             projected: Figures::default(),
             view_angle: Figures::default(),
             scratch: Vec::new(),
@@ -266,69 +274,38 @@ impl Auditor {
         let (heights, field_side) = (field.heights(), field.side());
         let eye = camera.eye;
         let (right, up, forward) = (camera.right, camera.up, camera.forward);
-        // The samples in view go to the batch in order, `n` of them waiting.
-        let ErrorBatch { segments, results } = &mut self.batch;
-        let mut n = 0;
+        let (batch, run) = (&mut self.batch, &mut *self.run);
         let (projected, view_angle) = (&mut self.projected, &mut self.view_angle);
-        let mut measure = |segments: &[[f64; BATCH]; 7], n: usize| {
-            ErrorBatch::measure(
-                segments, results, n, &geometry, camera, projected, view_angle,
-            );
-        };
         if !general && previous.is_none() {
             // The common case, a 4-8 mesh against the source's samples with no previous frame:
-            // the loop below without holes, cracks, popping or synthesised detail.
+            // each run of samples in tiles that may be in view measured whole.
             for lj in 0..self.lattice_rows {
                 let j = lj * stride;
                 let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
-                let y = j as f64 * spacing.dy;
-                let dy = y - eye.y;
-                let (right_y, up_y, forward_y) = (dy * right.y, dy * up.y, dy * forward.y);
-                let height_row = &heights[j * field_side..];
-                let mesh_row = &self.mesh_height[lj * lattice_side..][..lattice_side];
+                let dy = j as f64 * spacing.dy - eye.y;
+                let row = Row {
+                    heights: &heights[j * field_side..][..field_side],
+                    drawn: &self.mesh_height[lj * lattice_side..][..lattice_side],
+                    stride,
+                    x: &self.column_x,
+                    dy,
+                    right_y: dy * right.y,
+                    up_y: dy * up.y,
+                    forward_y: dy * forward.y,
+                };
                 for columns in columns_in_view(tile_row, self.lattice_columns) {
-                    for li in columns {
-                        let i = li * stride;
-                        let (x, z) = (i as f64 * spacing.dx, f64::from(height_row[i]));
-                        let (dx, dz) = (x - eye.x, z - eye.z);
-                        let (right_xy, up_xy, forward_xy) = (
-                            dx * right.x + right_y,
-                            dx * up.x + up_y,
-                            dx * forward.x + forward_y,
-                        );
-                        let in_camera = DVec3::new(
-                            right_xy + dz * right.z,
-                            up_xy + dz * up.z,
-                            forward_xy + dz * forward.z,
-                        );
-                        if !camera.sees_camera(in_camera) {
-                            continue;
-                        }
-                        let mesh_z = f64::from(mesh_row[li]);
-                        let base_z = z.min(mesh_z);
-                        let length = (z - mesh_z).abs();
-                        let base_dz = base_z - eye.z;
-                        let base_in_camera = DVec3::new(
-                            right_xy + base_dz * right.z,
-                            up_xy + base_dz * up.z,
-                            forward_xy + base_dz * forward.z,
-                        );
-                        put_segment(
-                            segments,
-                            n,
-                            base_in_camera,
-                            DVec3::new(dx, dy, base_dz),
-                            length,
-                        );
-                        n += 1;
-                        if n == BATCH {
-                            measure(segments, n);
-                            n = 0;
-                        }
-                    }
+                    let figures = (&mut *projected, &mut *view_angle);
+                    batch.measure_row(run, &row, columns, &geometry, camera, figures);
                 }
             }
+            batch.finish(&geometry, camera, (projected, view_angle));
         } else {
+            // The samples in view go to the batch in order, `n` of them waiting.
+            let mut n = 0;
+            let mut measure = |batch: &mut ErrorBatch, n: usize| {
+                let figures = (&mut *projected, &mut *view_angle);
+                batch.measure(n, &geometry, camera, figures);
+            };
             for lj in 0..self.lattice_rows {
                 let j = lj * stride;
                 let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
@@ -416,7 +393,7 @@ impl Auditor {
                             forward_xy + base_dz * forward.z,
                         );
                         put_segment(
-                            segments,
+                            &mut batch.segments,
                             n,
                             base_in_camera,
                             DVec3::new(dx, dy, base_dz),
@@ -424,14 +401,14 @@ impl Auditor {
                         );
                         n += 1;
                         if n == BATCH {
-                            measure(segments, n);
+                            measure(batch, n);
                             n = 0;
                         }
                     }
                 }
             }
+            measure(batch, n);
         }
-        measure(segments, n);
         let popping = popping.summary(previous.is_some());
         if self.popping {
             // Keep this frame's heights for the next; the old buffer becomes next frame's
@@ -441,10 +418,12 @@ impl Auditor {
                 .get_or_insert_with(|| vec![0.0; self.mesh_height.len()]);
             std::mem::swap(previous, &mut self.mesh_height);
         }
+        let projected_s = self.projected.summary(&mut self.scratch);
+        let view_angle_s = self.view_angle.summary(&mut self.scratch);
         AuditFrame {
             samples_in_view: self.view_angle.len() as u64,
-            projected: self.projected.summary(&mut self.scratch),
-            view_angle: self.view_angle.summary(&mut self.scratch),
+            projected: projected_s,
+            view_angle: view_angle_s,
             coverage,
             popping,
         }
@@ -660,6 +639,8 @@ struct ErrorGeometry {
     near: f64,
     pixels_per_unit: f64,
     pixel_angle: f64,
+    /// The view angle of a segment with the eye at an end, in pixels.
+    eye_on_segment: f64,
 }
 
 impl ErrorGeometry {
@@ -677,32 +658,63 @@ impl ErrorGeometry {
             near: camera.settings.near,
             pixels_per_unit: camera.pixels_per_unit(),
             pixel_angle: camera.settings.pixel_angle(),
+            eye_on_segment: std::f64::consts::PI / camera.settings.pixel_angle(),
         }
     }
 }
 
 /// Segments measured at once: their columns stay in the first-level cache.
-const BATCH: usize = 256;
+const BATCH: usize = 128;
 
 /// Error segments of samples in view waiting to be measured, as columns (a structure of
 /// arrays), so that their divisions and square roots run as vector instructions. Every value
 /// is computed with exactly the operations of [`projected_error_px_at`] and
 /// [`view_angle_error_px`](crate::sim::metrics::view_angle_error_px) in the same order, so
 /// each is bit-identical to theirs.
+///
+/// Two ways in: [`put_segment`] and [`ErrorBatch::measure`] (the general path: one segment at
+/// a time, those of samples in view only), and [`ErrorBatch::measure_row`] (a 4-8 mesh
+/// against the source's samples with no previous frame: a run of one row's samples measured
+/// whole, with no branch, those out of view dropped after).
 struct ErrorBatch {
     /// Per segment: its base in camera coordinates (x, y, z), its base minus the eye on the
-    /// world axes (x, y, z), and its length in metres.
+    /// world axes (x, y, z), and its length in metres. [`ErrorBatch::measure_row`] keeps only
+    /// the base and the length, for the segments the near plane cuts.
     segments: Box<[[f64; BATCH]; 7]>,
-    /// Per segment: its projected length in pixels when both ends are in front of the near
-    /// plane, and the two arguments of the view angle's `atan2`.
-    results: Box<[[f64; BATCH]; 3]>,
+    /// Per segment waiting: [`SegmentFigures`]' projected length, sine, cosine and special
+    /// angle.
+    results: Box<[[f64; BATCH]; 4]>,
+    /// Per segment waiting: whether both its ends are in front of the near plane.
+    in_front: Box<[bool; BATCH]>,
+    /// Segments waiting in `results`.
+    waiting: usize,
+}
+
+/// One run of a row's samples (at most [`BATCH`]) as [`ErrorBatch::measure_row`] reads them:
+/// the truth and drawn heights, and whether each is in view.
+struct RunColumns {
+    truth: [f64; BATCH],
+    drawn: [f64; BATCH],
+    seen: [bool; BATCH],
 }
 
 impl Default for ErrorBatch {
     fn default() -> ErrorBatch {
         ErrorBatch {
             segments: Box::new([[0.0; BATCH]; 7]),
-            results: Box::new([[0.0; BATCH]; 3]),
+            results: Box::new([[0.0; BATCH]; 4]),
+            in_front: Box::new([false; BATCH]),
+            waiting: 0,
+        }
+    }
+}
+
+impl Default for RunColumns {
+    fn default() -> RunColumns {
+        RunColumns {
+            truth: [0.0; BATCH],
+            drawn: [0.0; BATCH],
+            seen: [false; BATCH],
         }
     }
 }
@@ -726,20 +738,181 @@ fn put_segment(
     segments[6][n] = length;
 }
 
+/// What one segment's figures need before the view angle's `atan2`.
+struct SegmentFigures {
+    /// Its projected length in pixels, when both ends are in front of the near plane.
+    projected: f64,
+    in_front: bool,
+    /// The two arguments of the view angle's `atan2`.
+    sine: f64,
+    cosine: f64,
+    /// The view angle in pixels of a segment of no length (0) or with the eye at an end
+    /// (π / pixel angle); −1: none, the angle is `atan2(sine, cosine)` / pixel angle.
+    special: f64,
+}
+
+/// The figures of the vertical segment `delta` long whose base is `a` in camera coordinates
+/// and `to_base` from the eye: [`projected_error_px_at`]'s and `view_angle_error_px`'s
+/// operations in their order, with no branch (the compiler makes vector instructions of a
+/// loop of it).
+#[inline(always)]
+fn segment_figures(g: &ErrorGeometry, a: DVec3, to_base: DVec3, delta: f64) -> SegmentFigures {
+    let (ax, ay, az) = (a.x, a.y, a.z);
+    // projected_error_px_at: b = a + direction_to_camera((0, 0, δ)), both projected.
+    let bx = ax + (g.zero.x + delta * g.right_z);
+    let by = ay + (g.zero.y + delta * g.up_z);
+    let bz = az + (g.zero.z + delta * g.forward_z);
+    let (pax, pay) = (ax / az * g.pixels_per_unit, ay / az * g.pixels_per_unit);
+    let (pbx, pby) = (bx / bz * g.pixels_per_unit, by / bz * g.pixels_per_unit);
+    let (dx, dy) = (pax - pbx, pay - pby);
+    // view_angle_error_px: |to_base × to_top| and to_base · to_top.
+    let (tx, ty, tz) = (to_base.x, to_base.y, to_base.z);
+    let (sx, sy, sz) = (tx + 0.0, ty + 0.0, tz + delta);
+    let cx = ty * sz - sy * tz;
+    let cy = tz * sx - sz * tx;
+    let cz = tx * sy - sx * ty;
+    // Its special cases (`x + 0.0 == 0.0` is `x == 0.0`).
+    let eye_at_end = (tx == 0.0) & (ty == 0.0) & ((tz == 0.0) | (sz == 0.0));
+    let special = if eye_at_end { g.eye_on_segment } else { -1.0 };
+    SegmentFigures {
+        projected: (dx * dx + dy * dy).sqrt(),
+        in_front: (az >= g.near) & (bz >= g.near),
+        sine: (cx * cx + cy * cy + cz * cz).sqrt(),
+        cosine: tx * sx + ty * sy + tz * sz,
+        special: if delta == 0.0 { 0.0 } else { special },
+    }
+}
+
+/// One row of the lattice as [`ErrorBatch::measure_row`] reads it.
+struct Row<'a> {
+    /// The source's heights of the row (every `stride`-th is audited) and the drawn heights of
+    /// its audited samples.
+    heights: &'a [f32],
+    drawn: &'a [f32],
+    stride: usize,
+    /// Per audited column: its x, as `Heightfield::position` has it.
+    x: &'a [f64],
+    /// The row's y minus the eye's, and its products with the camera's axes.
+    dy: f64,
+    right_y: f64,
+    up_y: f64,
+    forward_y: f64,
+}
+
 impl ErrorBatch {
-    /// Measures the first `n` segments in order and adds their projected and view-angle
-    /// errors to `projected` and `view_angle`.
+    /// Measures the samples of `row` in `columns` that the camera sees, in order: the samples
+    /// of the run measured at once (with no branch) into the batch's free places, then those
+    /// out of view dropped (packing the rest, when there are any).
+    fn measure_row(
+        &mut self,
+        run: &mut RunColumns,
+        row: &Row,
+        columns: std::ops::Range<usize>,
+        geometry: &ErrorGeometry,
+        camera: &Camera,
+        figures: (&mut Figures, &mut Figures),
+    ) {
+        let g = geometry;
+        let (eye, right, up, forward) = (camera.eye, camera.right, camera.up, camera.forward);
+        let (tan_x, tan_y) = camera.tan_half_fov();
+        let far = camera.settings.far;
+        let (projected, view_angle) = figures;
+        let mut start = columns.start;
+        while start < columns.end {
+            let free = self.waiting..BATCH;
+            let m = (columns.end - start).min(free.len());
+            let x = &row.x[start..][..m];
+            let heights = row.heights[start * row.stride..].iter().step_by(row.stride);
+            for (truth, &height) in run.truth[..m].iter_mut().zip(heights) {
+                *truth = f64::from(height);
+            }
+            for (drawn, &height) in run.drawn[..m].iter_mut().zip(&row.drawn[start..][..m]) {
+                *drawn = f64::from(height);
+            }
+            let [base_x, base_y, base_z, .., length] = self
+                .segments
+                .each_mut()
+                .map(|column| &mut column[free.start..][..m]);
+            let [out_projected, sine, cosine, special] = self
+                .results
+                .each_mut()
+                .map(|column| &mut column[free.start..][..m]);
+            let in_front = &mut self.in_front[free.start..][..m];
+            let mut seen = 0;
+            for k in 0..m {
+                // `Camera::to_camera` of the sample, its sums in the same order, and
+                // `Camera::sees_camera`.
+                let (z, mesh_z) = (run.truth[k], run.drawn[k]);
+                let (dx, dz) = (x[k] - eye.x, z - eye.z);
+                let (right_xy, up_xy, forward_xy) = (
+                    dx * right.x + row.right_y,
+                    dx * up.x + row.up_y,
+                    dx * forward.x + row.forward_y,
+                );
+                let (cx, cy, cz) = (
+                    right_xy + dz * right.z,
+                    up_xy + dz * up.z,
+                    forward_xy + dz * forward.z,
+                );
+                run.seen[k] = (cz >= g.near)
+                    & (cz <= far)
+                    & (cx.abs() <= cz * tan_x)
+                    & (cy.abs() <= cz * tan_y);
+                seen += usize::from(run.seen[k]);
+                // The segment from the lower of the sample and the surface, `length` long;
+                // its base in camera coordinates differs from the sample's in the z terms
+                // only.
+                let base_dz = z.min(mesh_z) - eye.z;
+                let a = DVec3::new(
+                    right_xy + base_dz * right.z,
+                    up_xy + base_dz * up.z,
+                    forward_xy + base_dz * forward.z,
+                );
+                let delta = (z - mesh_z).abs();
+                let f = segment_figures(g, a, DVec3::new(dx, row.dy, base_dz), delta);
+                (base_x[k], base_y[k], base_z[k], length[k]) = (a.x, a.y, a.z, delta);
+                (out_projected[k], sine[k], cosine[k], special[k]) =
+                    (f.projected, f.sine, f.cosine, f.special);
+                in_front[k] = f.in_front;
+            }
+            if seen < m {
+                // Those in view packed, in order (`kept <= k`: no value is overwritten before
+                // it is read).
+                let mut kept = 0;
+                for k in 0..m {
+                    if run.seen[k] {
+                        (base_x[kept], base_y[kept], base_z[kept]) =
+                            (base_x[k], base_y[k], base_z[k]);
+                        (length[kept], out_projected[kept]) = (length[k], out_projected[k]);
+                        (sine[kept], cosine[kept], special[kept]) =
+                            (sine[k], cosine[k], special[k]);
+                        in_front[kept] = in_front[k];
+                        kept += 1;
+                    }
+                }
+            }
+            self.waiting += seen;
+            if self.waiting == BATCH {
+                self.finish(g, camera, (projected, view_angle));
+            }
+            start += m;
+        }
+    }
+
+    /// Measures the first `n` segments (general path) and adds their figures, with those
+    /// still waiting, to `projected` and `view_angle`.
     fn measure(
-        segments: &[[f64; BATCH]; 7],
-        results: &mut [[f64; BATCH]; 3],
+        &mut self,
         n: usize,
         geometry: &ErrorGeometry,
         camera: &Camera,
-        projected: &mut Figures,
-        view_angle: &mut Figures,
+        figures: (&mut Figures, &mut Figures),
     ) {
+        debug_assert_eq!(
+            self.waiting, 0,
+            "the general path measures its own segments"
+        );
         let n = n.min(BATCH);
-        let g = geometry;
         let [
             base_x,
             base_y,
@@ -748,55 +921,80 @@ impl ErrorBatch {
             to_base_y,
             to_base_z,
             length,
-        ] = segments.each_ref().map(|column| &column[..n]);
-        let [out_projected, out_sine, out_cosine] =
-            results.each_mut().map(|column| &mut column[..n]);
+        ] = self.segments.each_ref().map(|column| &column[..n]);
+        let [out_projected, out_sine, out_cosine, out_special] =
+            self.results.each_mut().map(|column| &mut column[..n]);
+        let in_front = &mut self.in_front[..n];
         // No branch: the compiler makes vector instructions of it.
         for k in 0..n {
-            let (ax, ay, az, delta) = (base_x[k], base_y[k], base_z[k], length[k]);
-            // projected_error_px_at: b = a + direction_to_camera((0, 0, δ)), both projected.
-            let bx = ax + (g.zero.x + delta * g.right_z);
-            let by = ay + (g.zero.y + delta * g.up_z);
-            let bz = az + (g.zero.z + delta * g.forward_z);
-            let (pax, pay) = (ax / az * g.pixels_per_unit, ay / az * g.pixels_per_unit);
-            let (pbx, pby) = (bx / bz * g.pixels_per_unit, by / bz * g.pixels_per_unit);
-            let (dx, dy) = (pax - pbx, pay - pby);
-            out_projected[k] = (dx * dx + dy * dy).sqrt();
-            // view_angle_error_px: |to_base × to_top| and to_base · to_top.
-            let (tx, ty, tz) = (to_base_x[k], to_base_y[k], to_base_z[k]);
-            let (sx, sy, sz) = (tx + 0.0, ty + 0.0, tz + delta);
-            let cx = ty * sz - sy * tz;
-            let cy = tz * sx - sz * tx;
-            let cz = tx * sy - sx * ty;
-            out_sine[k] = (cx * cx + cy * cy + cz * cz).sqrt();
-            out_cosine[k] = tx * sx + ty * sy + tz * sz;
+            let a = DVec3::new(base_x[k], base_y[k], base_z[k]);
+            let to_base = DVec3::new(to_base_x[k], to_base_y[k], to_base_z[k]);
+            let f = segment_figures(geometry, a, to_base, length[k]);
+            (out_projected[k], out_sine[k], out_cosine[k], out_special[k]) =
+                (f.projected, f.sine, f.cosine, f.special);
+            in_front[k] = f.in_front;
         }
-        for k in 0..n {
-            let (a, delta) = (DVec3::new(base_x[k], base_y[k], base_z[k]), length[k]);
-            let b_z = a.z + (g.zero.z + delta * g.forward_z);
-            if a.z >= g.near && b_z >= g.near {
-                projected.push(out_projected[k]);
-            } else if let Some(px) = projected_error_px_at(camera, a, delta) {
-                // A segment cut by the near plane, or behind it.
-                projected.push(px);
+        self.waiting = n;
+        self.finish(geometry, camera, figures);
+    }
+
+    /// Adds the figures of the segments waiting to `projected` and `view_angle`, in order,
+    /// and empties the batch.
+    fn finish(
+        &mut self,
+        g: &ErrorGeometry,
+        camera: &Camera,
+        (projected, view_angle): (&mut Figures, &mut Figures),
+    ) {
+        let n = std::mem::take(&mut self.waiting);
+        let [out_projected, out_sine, out_cosine, out_special] =
+            self.results.each_mut().map(|column| &mut column[..n]);
+        // The view angles: the calls of `atan2` alone in their loop (nothing else lives across
+        // them), then those of the special segments put in, with no branch.
+        for (sine, &cosine) in out_sine.iter_mut().zip(&*out_cosine) {
+            *sine = sine.atan2(cosine);
+        }
+        for (angle, &special) in out_sine.iter_mut().zip(&*out_special) {
+            let measured = *angle / g.pixel_angle;
+            *angle = if special >= 0.0 { special } else { measured };
+        }
+        // The projected errors: as measured when both ends are in front of the near plane;
+        // otherwise (rare) packed, a segment cut by the near plane measured again, one behind
+        // it left out.
+        let kept = if self.in_front[..n].iter().all(|&in_front| in_front) {
+            n
+        } else {
+            let mut kept = 0;
+            for k in 0..n {
+                let projected_px = if self.in_front[k] {
+                    Some(out_projected[k])
+                } else {
+                    let a = DVec3::new(
+                        self.segments[0][k],
+                        self.segments[1][k],
+                        self.segments[2][k],
+                    );
+                    projected_error_px_at(camera, a, self.segments[6][k])
+                };
+                // `kept <= k`: the packed value never overwrites one still to be read.
+                out_projected[kept] = projected_px.unwrap_or(0.0);
+                kept += usize::from(projected_px.is_some());
             }
-            let (tx, ty, tz) = (to_base_x[k], to_base_y[k], to_base_z[k]);
-            let angle = if delta == 0.0 {
-                0.0
-            } else if (tx == 0.0 && ty == 0.0 && tz == 0.0)
-                || (tx + 0.0 == 0.0 && ty + 0.0 == 0.0 && tz + delta == 0.0)
-            {
-                std::f64::consts::PI / g.pixel_angle
-            } else {
-                out_sine[k].atan2(out_cosine[k]) / g.pixel_angle
-            };
-            view_angle.push(angle);
-        }
+            kept
+        };
+        Figures::extend_both(
+            (projected, &out_projected[..kept]),
+            (view_angle, &out_sine[..n]),
+        );
     }
 }
 
 /// Buckets of the histogram of a figure's values: by their top 16 bits in total order.
 const BUCKETS: usize = 1 << 16;
+
+/// Values a figure takes in at once: its maximum and its histogram are kept per lane, so
+/// that neither waits on the value before (runs of values in one bucket are the rule).
+const LANES: usize = 4;
 
 /// A key that orders `f64`s as [`f64::total_cmp`] does, as an unsigned integer.
 fn total_order_key(value: f64) -> u64 {
@@ -811,8 +1009,9 @@ struct Figures {
     values: Vec<f64>,
     sum: f64,
     max: f64,
-    /// Values per bucket (`total_order_key >> 48`).
-    histogram: Box<[u32; BUCKETS]>,
+    /// Values per bucket (`total_order_key >> 48`) and lane: bucket `b`'s count is the sum
+    /// of `histogram[b * LANES..][..LANES]`.
+    histogram: Box<[u32]>,
     /// The lowest and highest bucket holding a value (empty: `BUCKETS`, 0): the summary
     /// scans and the next frame clears only these.
     buckets: (usize, usize),
@@ -824,7 +1023,7 @@ impl Default for Figures {
             values: Vec::new(),
             sum: -0.0,
             max: f64::NEG_INFINITY,
-            histogram: Box::new([0; BUCKETS]),
+            histogram: vec![0; BUCKETS * LANES].into_boxed_slice(),
             buckets: (BUCKETS, 0),
         }
     }
@@ -834,7 +1033,7 @@ impl Figures {
     fn clear(&mut self) {
         let (low, high) = self.buckets;
         if low <= high {
-            self.histogram[low..=high].fill(0);
+            self.histogram[low * LANES..(high + 1) * LANES].fill(0);
         }
         self.buckets = (BUCKETS, 0);
         self.values.clear();
@@ -843,13 +1042,31 @@ impl Figures {
         self.max = f64::NEG_INFINITY;
     }
 
-    fn push(&mut self, value: f64) {
-        self.values.push(value);
-        self.sum += value;
-        self.max = self.max.max(value);
-        let bucket = (total_order_key(value) >> 48) as usize;
-        self.histogram[bucket] += 1;
-        self.buckets = (self.buckets.0.min(bucket), self.buckets.1.max(bucket));
+    /// Adds `first` to one figure and `second` to another, each in order: one loop, so that
+    /// the two sums (chains of additions, each waiting on the one before) run side by side.
+    fn extend_both(first: (&mut Figures, &[f64]), second: (&mut Figures, &[f64])) {
+        let ((a, first), (b, second)) = (first, second);
+        a.values.extend_from_slice(first);
+        b.values.extend_from_slice(second);
+        let (mut a_sums, mut b_sums) = (Sums::new(a), Sums::new(b));
+        let (first_chunks, second_chunks) = (first.chunks_exact(LANES), second.chunks_exact(LANES));
+        let common = first_chunks.len().min(second_chunks.len());
+        for (x, y) in first_chunks.zip(second_chunks) {
+            for lane in 0..LANES {
+                a_sums.add(lane, x[lane]);
+                b_sums.add(lane, y[lane]);
+            }
+        }
+        for (sums, values) in [(&mut a_sums, first), (&mut b_sums, second)] {
+            for chunk in values[common * LANES..].chunks(LANES) {
+                for (lane, &value) in chunk.iter().enumerate() {
+                    sums.add(lane, value);
+                }
+            }
+        }
+        let (a_figures, b_figures) = (a_sums.finish(), b_sums.finish());
+        (a.sum, a.max, a.buckets) = a_figures;
+        (b.sum, b.max, b.buckets) = b_figures;
     }
 
     fn len(&self) -> usize {
@@ -869,7 +1086,8 @@ impl Figures {
         let mut below = 0;
         let (low, high) = self.buckets;
         let mut bucket = low as u64;
-        for (k, &count) in self.histogram[low..=high].iter().enumerate() {
+        let counts = self.histogram[low * LANES..(high + 1) * LANES].chunks_exact(LANES);
+        for (k, count) in counts.map(|lanes| lanes.iter().sum::<u32>()).enumerate() {
             if below + count as usize >= rank {
                 bucket = (low + k) as u64;
                 break;
@@ -877,18 +1095,68 @@ impl Figures {
             below += count as usize;
         }
         scratch.clear();
-        scratch.extend(
-            self.values
+        // Eight values at a time (a vector comparison), most of them holding none of the
+        // bucket's.
+        let in_bucket = |value: f64| total_order_key(value) >> 48 == bucket;
+        let chunks = self.values.chunks_exact(8);
+        let rest = chunks.remainder();
+        for chunk in chunks {
+            if chunk
                 .iter()
-                .copied()
-                .filter(|&value| total_order_key(value) >> 48 == bucket),
-        );
+                .fold(false, |any, &value| any | in_bucket(value))
+            {
+                scratch.extend(chunk.iter().copied().filter(|&value| in_bucket(value)));
+            }
+        }
+        scratch.extend(rest.iter().copied().filter(|&value| in_bucket(value)));
         let (_, p95, _) = scratch.select_nth_unstable_by(rank - 1 - below, f64::total_cmp);
         Some(ErrorSummary {
             max: self.max,
             mean: self.sum / n as f64,
             p95: *p95,
         })
+    }
+}
+
+/// A figure's running sum, maximum, histogram and bucket range while values are added: the
+/// maximum and the bucket range per lane, so that neither waits on the value before (runs of
+/// values in one bucket are the rule); the sum in order (its rounding must be that of a sum
+/// in order).
+struct Sums<'a> {
+    sum: f64,
+    max: [f64; LANES],
+    low: [usize; LANES],
+    high: [usize; LANES],
+    histogram: &'a mut [u32],
+}
+
+impl Sums<'_> {
+    fn new(figures: &mut Figures) -> Sums<'_> {
+        Sums {
+            sum: figures.sum,
+            max: [figures.max; LANES],
+            low: [figures.buckets.0; LANES],
+            high: [figures.buckets.1; LANES],
+            histogram: &mut figures.histogram,
+        }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, lane: usize, value: f64) {
+        self.sum += value;
+        self.max[lane] = self.max[lane].max(value);
+        let bucket = (total_order_key(value) >> 48) as usize;
+        self.histogram[bucket * LANES + lane] += 1;
+        self.low[lane] = self.low[lane].min(bucket);
+        self.high[lane] = self.high[lane].max(bucket);
+    }
+
+    /// The figure's sum, maximum and bucket range.
+    fn finish(self) -> (f64, f64, (usize, usize)) {
+        let max = self.max.into_iter().fold(f64::NEG_INFINITY, f64::max);
+        let low = self.low.into_iter().min().unwrap_or(BUCKETS);
+        let high = self.high.into_iter().max().unwrap_or(0);
+        (self.sum, max, (low, high))
     }
 }
 
@@ -930,21 +1198,33 @@ mod tests {
                     .collect(),
             );
         }
-        let mut figures = Figures::default();
+        let (mut figures, mut other) = (Figures::default(), Figures::default());
         let mut scratch = Vec::new();
         for values in sets {
+            // Added in pieces of every length (lanes and the tail of a piece), beside another
+            // figure taking every third value.
             figures.clear();
-            for &value in &values {
-                figures.push(value);
+            other.clear();
+            let thirds: Vec<f64> = values.iter().copied().step_by(3).collect();
+            let (mut at, mut piece) = (0, 1);
+            while at < values.len() {
+                let end = (at + piece).min(values.len());
+                let other_piece = &thirds[(at / 3).min(thirds.len())..(end / 3).min(thirds.len())];
+                Figures::extend_both((&mut figures, &values[at..end]), (&mut other, other_piece));
+                (at, piece) = (end, piece % 9 + 1);
             }
-            let ours = figures.summary(&mut scratch);
-            let theirs = reference::summarise_in_place(&mut values.clone());
-            assert_eq!(
-                format!("{ours:?}"),
-                format!("{theirs:?}"),
-                "{} values",
-                values.len()
-            );
+            let rest = &thirds[(values.len() / 3).min(thirds.len())..];
+            Figures::extend_both((&mut figures, &[]), (&mut other, rest));
+            for (figures, values) in [(&figures, &values), (&other, &thirds)] {
+                let ours = figures.summary(&mut scratch);
+                let theirs = reference::summarise_in_place(&mut values.clone());
+                assert_eq!(
+                    format!("{ours:?}"),
+                    format!("{theirs:?}"),
+                    "{} values",
+                    values.len()
+                );
+            }
         }
         figures.clear();
         assert_eq!(figures.summary(&mut scratch), None);
