@@ -275,10 +275,14 @@ impl Auditor {
         let eye = camera.eye;
         let (right, up, forward) = (camera.right, camera.up, camera.forward);
         let (batch, run) = (&mut self.batch, &mut *self.run);
-        let (projected, view_angle) = (&mut self.projected, &mut self.view_angle);
-        if !general && previous.is_none() {
-            // The common case, a 4-8 mesh against the source's samples with no previous frame:
-            // each run of samples in tiles that may be in view measured whole.
+        let mut sinks = Sinks {
+            projected: &mut self.projected,
+            view_angle: &mut self.view_angle,
+            popping: previous.is_some().then_some(&mut popping),
+        };
+        if !general {
+            // A 4-8 mesh against the source's samples: each run of samples in tiles that may be
+            // in view measured whole.
             for lj in 0..self.lattice_rows {
                 let j = lj * stride;
                 let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
@@ -288,23 +292,23 @@ impl Auditor {
                     drawn: &self.mesh_height[lj * lattice_side..][..lattice_side],
                     stride,
                     x: &self.column_x,
+                    previous: previous
+                        .map(|previous| &previous[lj * lattice_side..][..lattice_side]),
                     dy,
                     right_y: dy * right.y,
                     up_y: dy * up.y,
                     forward_y: dy * forward.y,
                 };
                 for columns in columns_in_view(tile_row, self.lattice_columns) {
-                    let figures = (&mut *projected, &mut *view_angle);
-                    batch.measure_row(run, &row, columns, &geometry, camera, figures);
+                    batch.measure_row(run, &row, columns, &geometry, camera, &mut sinks);
                 }
             }
-            batch.finish(&geometry, camera, (projected, view_angle));
+            batch.finish(&geometry, camera, &mut sinks);
         } else {
             // The samples in view go to the batch in order, `n` of them waiting.
             let mut n = 0;
             let mut measure = |batch: &mut ErrorBatch, n: usize| {
-                let figures = (&mut *projected, &mut *view_angle);
-                batch.measure(n, &geometry, camera, figures);
+                batch.measure(n, &geometry, camera, &mut sinks);
             };
             for lj in 0..self.lattice_rows {
                 let j = lj * stride;
@@ -377,8 +381,22 @@ impl Auditor {
                             }
                         }
                         let mesh_z = f64::from(drawn);
+                        // `Camera::to_camera` of a point above or below the sample.
+                        let in_camera_at = |z: f64| {
+                            let dz = z - eye.z;
+                            DVec3::new(
+                                right_xy + dz * right.z,
+                                up_xy + dz * up.z,
+                                forward_xy + dz * forward.z,
+                            )
+                        };
                         if let Some(previous) = previous {
-                            popping.add(camera, sample, f64::from(previous[index]), mesh_z);
+                            // The change since the previous frame (none at a hole), its
+                            // segment from the lower of the two heights.
+                            let before = f64::from(previous[index]);
+                            let counts = !before.is_nan() && !mesh_z.is_nan();
+                            let base = in_camera_at(before.min(mesh_z));
+                            put_popping(batch, n, counts, (mesh_z - before).abs(), base);
                         }
                         // The segment from the lower of the sample and the surface, `length`
                         // long; its base in camera coordinates differs from the sample's in the
@@ -600,17 +618,23 @@ struct PoppingSums {
 
 impl PoppingSums {
     /// Adds the change at one sample in view from `before` to `now` (either NaN: a hole, left
-    /// out).
+    /// out). The reference's way; the batch measures the same with [`PoppingSums::add_measured`].
     fn add(&mut self, camera: &Camera, sample: DVec3, before: f64, now: f64) {
         if before.is_nan() || now.is_nan() {
             return;
         }
         let change = (now - before).abs();
+        let base = DVec3::new(sample.x, sample.y, before.min(now));
+        self.add_measured(change, projected_error_px(camera, base, change));
+    }
+
+    /// Adds a change of `change` metres, `px` pixels when its segment is not behind the near
+    /// plane.
+    fn add_measured(&mut self, change: f64, px: Option<f64>) {
         self.samples += 1;
         self.squares_m += change * change;
         self.max_m = self.max_m.max(change);
-        let base = DVec3::new(sample.x, sample.y, before.min(now));
-        if let Some(px) = projected_error_px(camera, base, change) {
+        if let Some(px) = px {
             self.px_samples += 1;
             self.squares_px += px * px;
             self.max_px = self.max_px.max(px);
@@ -686,6 +710,15 @@ struct ErrorBatch {
     results: Box<[[f64; BATCH]; 4]>,
     /// Per segment waiting: whether both its ends are in front of the near plane.
     in_front: Box<[bool; BATCH]>,
+    /// Per segment waiting, with popping measured: the change of the drawn height since the
+    /// previous frame (metres), the base of its segment (from the lower of the two heights) in
+    /// camera coordinates (x, y, z), and its projected length when both ends are in front of
+    /// the near plane.
+    popping: Box<[[f64; BATCH]; 5]>,
+    /// Per segment waiting, with popping measured: whether the change counts (neither height a
+    /// hole) and whether both ends of its segment are in front of the near plane.
+    popping_counts: Box<[bool; BATCH]>,
+    popping_in_front: Box<[bool; BATCH]>,
     /// Segments waiting in `results`.
     waiting: usize,
 }
@@ -695,6 +728,8 @@ struct ErrorBatch {
 struct RunColumns {
     truth: [f64; BATCH],
     drawn: [f64; BATCH],
+    /// The drawn heights of the previous frame, with popping measured.
+    before: [f64; BATCH],
     seen: [bool; BATCH],
 }
 
@@ -704,6 +739,9 @@ impl Default for ErrorBatch {
             segments: Box::new([[0.0; BATCH]; 7]),
             results: Box::new([[0.0; BATCH]; 4]),
             in_front: Box::new([false; BATCH]),
+            popping: Box::new([[0.0; BATCH]; 5]),
+            popping_counts: Box::new([false; BATCH]),
+            popping_in_front: Box::new([false; BATCH]),
             waiting: 0,
         }
     }
@@ -714,6 +752,7 @@ impl Default for RunColumns {
         RunColumns {
             truth: [0.0; BATCH],
             drawn: [0.0; BATCH],
+            before: [0.0; BATCH],
             seen: [false; BATCH],
         }
     }
@@ -738,6 +777,18 @@ fn put_segment(
     segments[6][n] = length;
 }
 
+/// Writes the popping of segment `n` of a batch: whether it counts, the change, and the base
+/// of its segment in camera coordinates.
+#[inline(always)]
+fn put_popping(batch: &mut ErrorBatch, n: usize, counts: bool, change: f64, base: DVec3) {
+    let n = n % BATCH;
+    batch.popping_counts[n] = counts;
+    batch.popping[0][n] = change;
+    batch.popping[1][n] = base.x;
+    batch.popping[2][n] = base.y;
+    batch.popping[3][n] = base.z;
+}
+
 /// What one segment's figures need before the view angle's `atan2`.
 struct SegmentFigures {
     /// Its projected length in pixels, when both ends are in front of the near plane.
@@ -757,14 +808,7 @@ struct SegmentFigures {
 /// loop of it).
 #[inline(always)]
 fn segment_figures(g: &ErrorGeometry, a: DVec3, to_base: DVec3, delta: f64) -> SegmentFigures {
-    let (ax, ay, az) = (a.x, a.y, a.z);
-    // projected_error_px_at: b = a + direction_to_camera((0, 0, δ)), both projected.
-    let bx = ax + (g.zero.x + delta * g.right_z);
-    let by = ay + (g.zero.y + delta * g.up_z);
-    let bz = az + (g.zero.z + delta * g.forward_z);
-    let (pax, pay) = (ax / az * g.pixels_per_unit, ay / az * g.pixels_per_unit);
-    let (pbx, pby) = (bx / bz * g.pixels_per_unit, by / bz * g.pixels_per_unit);
-    let (dx, dy) = (pax - pbx, pay - pby);
+    let (projected, in_front) = projected_segment(g, a, delta);
     // view_angle_error_px: |to_base × to_top| and to_base · to_top.
     let (tx, ty, tz) = (to_base.x, to_base.y, to_base.z);
     let (sx, sy, sz) = (tx + 0.0, ty + 0.0, tz + delta);
@@ -775,12 +819,28 @@ fn segment_figures(g: &ErrorGeometry, a: DVec3, to_base: DVec3, delta: f64) -> S
     let eye_at_end = (tx == 0.0) & (ty == 0.0) & ((tz == 0.0) | (sz == 0.0));
     let special = if eye_at_end { g.eye_on_segment } else { -1.0 };
     SegmentFigures {
-        projected: (dx * dx + dy * dy).sqrt(),
-        in_front: (az >= g.near) & (bz >= g.near),
+        projected,
+        in_front,
         sine: (cx * cx + cy * cy + cz * cz).sqrt(),
         cosine: tx * sx + ty * sy + tz * sz,
         special: if delta == 0.0 { 0.0 } else { special },
     }
+}
+
+/// [`projected_error_px_at`] of the vertical segment `delta` long whose base is `a` in camera
+/// coordinates, with no branch: its length in pixels and whether both its ends are in front of
+/// the near plane (otherwise the length is not the segment's).
+#[inline(always)]
+fn projected_segment(g: &ErrorGeometry, a: DVec3, delta: f64) -> (f64, bool) {
+    let (ax, ay, az) = (a.x, a.y, a.z);
+    // b = a + direction_to_camera((0, 0, δ)), both projected.
+    let bx = ax + (g.zero.x + delta * g.right_z);
+    let by = ay + (g.zero.y + delta * g.up_z);
+    let bz = az + (g.zero.z + delta * g.forward_z);
+    let (pax, pay) = (ax / az * g.pixels_per_unit, ay / az * g.pixels_per_unit);
+    let (pbx, pby) = (bx / bz * g.pixels_per_unit, by / bz * g.pixels_per_unit);
+    let (dx, dy) = (pax - pbx, pay - pby);
+    ((dx * dx + dy * dy).sqrt(), (az >= g.near) & (bz >= g.near))
 }
 
 /// One row of the lattice as [`ErrorBatch::measure_row`] reads it.
@@ -792,6 +852,8 @@ struct Row<'a> {
     stride: usize,
     /// Per audited column: its x, as `Heightfield::position` has it.
     x: &'a [f64],
+    /// The drawn heights of the previous frame, with popping measured.
+    previous: Option<&'a [f32]>,
     /// The row's y minus the eye's, and its products with the camera's axes.
     dy: f64,
     right_y: f64,
@@ -802,7 +864,8 @@ struct Row<'a> {
 impl ErrorBatch {
     /// Measures the samples of `row` in `columns` that the camera sees, in order: the samples
     /// of the run measured at once (with no branch) into the batch's free places, then those
-    /// out of view dropped (packing the rest, when there are any).
+    /// out of view dropped (packing the rest, when there are any). With `popping`, the change
+    /// since the previous frame too (`row.previous` must then be there).
     fn measure_row(
         &mut self,
         run: &mut RunColumns,
@@ -810,13 +873,33 @@ impl ErrorBatch {
         columns: std::ops::Range<usize>,
         geometry: &ErrorGeometry,
         camera: &Camera,
-        figures: (&mut Figures, &mut Figures),
+        sinks: &mut Sinks,
+    ) {
+        match (row.previous, sinks.popping.is_some()) {
+            (Some(_), true) => {
+                self.measure_row_as::<true>(run, row, columns, geometry, camera, sinks)
+            }
+            (None, false) => {
+                self.measure_row_as::<false>(run, row, columns, geometry, camera, sinks)
+            }
+            _ => unreachable!("popping is measured exactly when there is a previous frame"),
+        }
+    }
+
+    #[inline(always)]
+    fn measure_row_as<const POPPING: bool>(
+        &mut self,
+        run: &mut RunColumns,
+        row: &Row,
+        columns: std::ops::Range<usize>,
+        geometry: &ErrorGeometry,
+        camera: &Camera,
+        sinks: &mut Sinks,
     ) {
         let g = geometry;
         let (eye, right, up, forward) = (camera.eye, camera.right, camera.up, camera.forward);
         let (tan_x, tan_y) = camera.tan_half_fov();
         let far = camera.settings.far;
-        let (projected, view_angle) = figures;
         let mut start = columns.start;
         while start < columns.end {
             let free = self.waiting..BATCH;
@@ -829,6 +912,11 @@ impl ErrorBatch {
             for (drawn, &height) in run.drawn[..m].iter_mut().zip(&row.drawn[start..][..m]) {
                 *drawn = f64::from(height);
             }
+            if let (true, Some(previous)) = (POPPING, row.previous) {
+                for (before, &height) in run.before[..m].iter_mut().zip(&previous[start..][..m]) {
+                    *before = f64::from(height);
+                }
+            }
             let [base_x, base_y, base_z, .., length] = self
                 .segments
                 .each_mut()
@@ -838,6 +926,12 @@ impl ErrorBatch {
                 .each_mut()
                 .map(|column| &mut column[free.start..][..m]);
             let in_front = &mut self.in_front[free.start..][..m];
+            let [change, pop_x, pop_y, pop_z, pop_projected] = self
+                .popping
+                .each_mut()
+                .map(|column| &mut column[free.start..][..m]);
+            let pop_counts = &mut self.popping_counts[free.start..][..m];
+            let pop_in_front = &mut self.popping_in_front[free.start..][..m];
             let mut seen = 0;
             for k in 0..m {
                 // `Camera::to_camera` of the sample, its sums in the same order, and
@@ -862,18 +956,41 @@ impl ErrorBatch {
                 // The segment from the lower of the sample and the surface, `length` long;
                 // its base in camera coordinates differs from the sample's in the z terms
                 // only.
-                let base_dz = z.min(mesh_z) - eye.z;
-                let a = DVec3::new(
-                    right_xy + base_dz * right.z,
-                    up_xy + base_dz * up.z,
-                    forward_xy + base_dz * forward.z,
-                );
+                let in_camera_at = |z: f64| {
+                    let dz = z - eye.z;
+                    DVec3::new(
+                        right_xy + dz * right.z,
+                        up_xy + dz * up.z,
+                        forward_xy + dz * forward.z,
+                    )
+                };
+                let a = in_camera_at(z.min(mesh_z));
                 let delta = (z - mesh_z).abs();
-                let f = segment_figures(g, a, DVec3::new(dx, row.dy, base_dz), delta);
+                let to_base = DVec3::new(dx, row.dy, z.min(mesh_z) - eye.z);
+                let f = segment_figures(g, a, to_base, delta);
                 (base_x[k], base_y[k], base_z[k], length[k]) = (a.x, a.y, a.z, delta);
                 (out_projected[k], sine[k], cosine[k], special[k]) =
                     (f.projected, f.sine, f.cosine, f.special);
                 in_front[k] = f.in_front;
+            }
+            if POPPING {
+                // `PoppingSums::add`: the change since the previous frame, its segment from the
+                // lower of the two heights (a loop of its own, so that it too runs as vector
+                // instructions).
+                for k in 0..m {
+                    let (before, now) = (run.before[k], run.drawn[k]);
+                    let dx = x[k] - eye.x;
+                    let dz = before.min(now) - eye.z;
+                    let p = DVec3::new(
+                        (dx * right.x + row.right_y) + dz * right.z,
+                        (dx * up.x + row.up_y) + dz * up.z,
+                        (dx * forward.x + row.forward_y) + dz * forward.z,
+                    );
+                    let moved = (now - before).abs();
+                    (change[k], pop_x[k], pop_y[k], pop_z[k]) = (moved, p.x, p.y, p.z);
+                    (pop_projected[k], pop_in_front[k]) = projected_segment(g, p, moved);
+                    pop_counts[k] = !before.is_nan() & !now.is_nan();
+                }
             }
             if seen < m {
                 // Those in view packed, in order (`kept <= k`: no value is overwritten before
@@ -887,27 +1004,27 @@ impl ErrorBatch {
                         (sine[kept], cosine[kept], special[kept]) =
                             (sine[k], cosine[k], special[k]);
                         in_front[kept] = in_front[k];
+                        if POPPING {
+                            (change[kept], pop_projected[kept]) = (change[k], pop_projected[k]);
+                            (pop_x[kept], pop_y[kept], pop_z[kept]) =
+                                (pop_x[k], pop_y[k], pop_z[k]);
+                            (pop_counts[kept], pop_in_front[kept]) =
+                                (pop_counts[k], pop_in_front[k]);
+                        }
                         kept += 1;
                     }
                 }
             }
             self.waiting += seen;
             if self.waiting == BATCH {
-                self.finish(g, camera, (projected, view_angle));
+                self.finish(g, camera, sinks);
             }
             start += m;
         }
     }
 
-    /// Measures the first `n` segments (general path) and adds their figures, with those
-    /// still waiting, to `projected` and `view_angle`.
-    fn measure(
-        &mut self,
-        n: usize,
-        geometry: &ErrorGeometry,
-        camera: &Camera,
-        figures: (&mut Figures, &mut Figures),
-    ) {
+    /// Measures the first `n` segments (general path) and adds their figures to `sinks`.
+    fn measure(&mut self, n: usize, geometry: &ErrorGeometry, camera: &Camera, sinks: &mut Sinks) {
         debug_assert_eq!(
             self.waiting, 0,
             "the general path measures its own segments"
@@ -934,18 +1051,21 @@ impl ErrorBatch {
                 (f.projected, f.sine, f.cosine, f.special);
             in_front[k] = f.in_front;
         }
+        if sinks.popping.is_some() {
+            let [change, pop_x, pop_y, pop_z, pop_projected] =
+                self.popping.each_mut().map(|column| &mut column[..n]);
+            for k in 0..n {
+                let p = DVec3::new(pop_x[k], pop_y[k], pop_z[k]);
+                (pop_projected[k], self.popping_in_front[k]) =
+                    projected_segment(geometry, p, change[k]);
+            }
+        }
         self.waiting = n;
-        self.finish(geometry, camera, figures);
+        self.finish(geometry, camera, sinks);
     }
 
-    /// Adds the figures of the segments waiting to `projected` and `view_angle`, in order,
-    /// and empties the batch.
-    fn finish(
-        &mut self,
-        g: &ErrorGeometry,
-        camera: &Camera,
-        (projected, view_angle): (&mut Figures, &mut Figures),
-    ) {
+    /// Adds the figures of the segments waiting to `sinks`, in order, and empties the batch.
+    fn finish(&mut self, g: &ErrorGeometry, camera: &Camera, sinks: &mut Sinks) {
         let n = std::mem::take(&mut self.waiting);
         let [out_projected, out_sine, out_cosine, out_special] =
             self.results.each_mut().map(|column| &mut column[..n]);
@@ -983,10 +1103,31 @@ impl ErrorBatch {
             kept
         };
         Figures::extend_both(
-            (projected, &out_projected[..kept]),
-            (view_angle, &out_sine[..n]),
+            (sinks.projected, &out_projected[..kept]),
+            (sinks.view_angle, &out_sine[..n]),
         );
+        // Popping's sums, in order (a segment the near plane cuts measured again).
+        if let Some(popping) = sinks.popping.as_deref_mut() {
+            let [change, pop_x, pop_y, pop_z, pop_projected] = &*self.popping;
+            for k in (0..n).filter(|&k| self.popping_counts[k]) {
+                let px = if self.popping_in_front[k] {
+                    Some(pop_projected[k])
+                } else {
+                    let p = DVec3::new(pop_x[k], pop_y[k], pop_z[k]);
+                    projected_error_px_at(camera, p, change[k])
+                };
+                popping.add_measured(change[k], px);
+            }
+        }
     }
+}
+
+/// Where a batch's figures go: the values of the two error figures and, with popping
+/// measured, popping's sums.
+struct Sinks<'a> {
+    projected: &'a mut Figures,
+    view_angle: &'a mut Figures,
+    popping: Option<&'a mut PoppingSums>,
 }
 
 /// Buckets of the histogram of a figure's values: by their top 16 bits in total order.
