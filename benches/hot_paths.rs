@@ -1,8 +1,8 @@
 //! The hot paths of every run, on the quickstart's terrain and flight
 //! (`experiments/quickstart.json`): each algorithm's per-frame update after a warm-up, the
 //! preprocessing pass, and the audit of one mesh (a 4-8 mesh on its fast path, every sample and
-//! every 4th; with popping on; the same triangles handed as a triangle list, on the general
-//! path).
+//! every 4th; with popping on, also as a run audits it, told the next camera; the same
+//! triangles handed as a triangle list, on the general path).
 //!
 //! Run with `cargo bench --bench hot_paths`. Compare ratios measured in one run, not absolute
 //! times across machines; operation counts are in the run outputs.
@@ -102,6 +102,12 @@ fn audit(c: &mut Criterion) {
             BenchmarkId::new("first_written_stride_popping", stride),
             |b| b.iter(|| first_written.audit(&hierarchy, reference.mesh(), &camera)),
         );
+        // As a run audits: told the next frame's camera (here the same pose), popping keeps
+        // heights only where the next frame may read them.
+        let mut auditor = Auditor::new(&hierarchy, settings(stride, true));
+        group.bench_function(BenchmarkId::new("stride_popping_told_next", stride), |b| {
+            b.iter(|| auditor.audit_followed_by(&hierarchy, reference.mesh(), &camera, &camera))
+        });
     }
     // The same triangles as a triangle list: the general rasteriser with its tie rule, holes
     // and crack gaps.

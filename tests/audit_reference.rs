@@ -84,18 +84,31 @@ fn compare(hierarchy: &Hierarchy, config: AlgorithmConfig, extent: f64) {
                 detail_stride: None,
             };
             let mut optimised = Auditor::new(hierarchy, settings);
+            // Told each frame the next frame's camera, as a run is.
+            let mut told_next = Auditor::new(hierarchy, settings);
             let mut reference = ReferenceAuditor::new(hierarchy, settings);
             let mut algorithm: Box<dyn LodAlgorithm + '_> =
                 config.build(hierarchy, &common::view_600(), SPEED);
-            for (frame, view) in views(extent).into_iter().enumerate() {
-                let camera = camera(view, if frame % 2 == 0 { 600 } else { 900 });
-                step(algorithm.as_mut(), frame as u64, &camera, true);
-                let a = optimised.audit(hierarchy, algorithm.mesh(), &camera);
-                let b = reference.audit(hierarchy, algorithm.mesh(), &camera);
+            let cameras: Vec<Camera> = (views(extent).into_iter().enumerate())
+                .map(|(frame, view)| camera(view, if frame % 2 == 0 { 600 } else { 900 }))
+                .collect();
+            for (frame, camera) in cameras.iter().enumerate() {
+                step(algorithm.as_mut(), frame as u64, camera, true);
+                let a = optimised.audit(hierarchy, algorithm.mesh(), camera);
+                let b = reference.audit(hierarchy, algorithm.mesh(), camera);
+                let c = match cameras.get(frame + 1) {
+                    Some(next) => {
+                        told_next.audit_followed_by(hierarchy, algorithm.mesh(), camera, next)
+                    }
+                    None => told_next.audit(hierarchy, algorithm.mesh(), camera),
+                };
+                let context =
+                    format!("{config:?}, stride {stride}, popping {popping}, view {frame}");
+                assert_eq!(format!("{a:?}"), format!("{b:?}"), "{context}");
                 assert_eq!(
-                    format!("{a:?}"),
+                    format!("{c:?}"),
                     format!("{b:?}"),
-                    "{config:?}, stride {stride}, popping {popping}, view {frame}"
+                    "{context}, next camera told"
                 );
             }
         }

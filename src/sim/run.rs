@@ -237,7 +237,14 @@ impl<'a> FrameRunner<'a> {
         };
         stats.mesh = mesh.counts(stats.triangles);
         if let Some(auditor) = self.auditor.as_mut() {
-            stats.audit = Some(auditor.audit(hierarchy, mesh, &camera));
+            // The next pose is known: popping keeps heights only where the next frame may read.
+            stats.audit = Some(if frame + 1 < inputs.flight.n_frames() {
+                let pose = hierarchy.field().local_pose(inputs.flight.pose(frame + 1));
+                let next = Camera::new(&pose, *inputs.view);
+                auditor.audit_followed_by(hierarchy, mesh, &camera, &next)
+            } else {
+                auditor.audit(hierarchy, mesh, &camera)
+            });
         }
         if let (Some(auditor), Some(truth)) = (self.detail_auditor.as_mut(), inputs.detail_truth) {
             stats.audit_detail = Some(auditor.audit_against(hierarchy, mesh, &camera, Some(truth)));

@@ -90,6 +90,11 @@ pub struct Auditor {
     tiles_x: usize,
     /// Per tile this frame: whether it may be in view.
     tile_in_view: Vec<bool>,
+    /// Per tile this frame, with popping and the next camera known: whether it may be in view
+    /// from this camera or the next.
+    tile_in_either_view: Vec<bool>,
+    /// This frame's tiles whose drawn heights are kept (the others' triangles are skipped).
+    tile_kept: TilesKept,
     /// Per audited column of the source's samples: its x, as `Heightfield::position` has it.
     column_x: Vec<f64>,
     /// The drawn height at every audited sample (NaN: a hole, triangle lists only).
@@ -194,6 +199,8 @@ impl Auditor {
             lattice_columns,
             lattice_rows,
             tile_in_view: vec![false; tile_boxes.len()],
+            tile_in_either_view: Vec::new(),
+            tile_kept: TilesKept::All,
             column_x: (0..lattice_side)
                 .map(|li| (li * stride) as f64 * field.spacing().dx)
                 .collect(),
@@ -219,7 +226,22 @@ impl Auditor {
         mesh: MeshOutput,
         camera: &Camera,
     ) -> AuditFrame {
-        self.audit_against(hierarchy, mesh, camera, None)
+        self.audit_frame(hierarchy, mesh, camera, None, None)
+    }
+
+    /// [`Auditor::audit`] when the camera of the frame audited next is known (a flight's next
+    /// pose): with popping on, this frame's drawn heights are then kept only where the next
+    /// frame may read them (the tiles that may be in view from either camera), so the
+    /// triangles that touch none of those tiles are not rasterised. The figures are those of
+    /// [`Auditor::audit`], bit for bit, as long as the next call's camera is `next`.
+    pub fn audit_followed_by(
+        &mut self,
+        hierarchy: &Hierarchy,
+        mesh: MeshOutput,
+        camera: &Camera,
+        next: &Camera,
+    ) -> AuditFrame {
+        self.audit_frame(hierarchy, mesh, camera, None, Some(next))
     }
 
     /// [`Auditor::audit`] against `truth`, the synthesised surface at this auditor's depth
@@ -234,6 +256,18 @@ impl Auditor {
         camera: &Camera,
         truth: Option<&DetailField>,
     ) -> AuditFrame {
+        self.audit_frame(hierarchy, mesh, camera, truth, None)
+    }
+
+    /// One frame's audit against `truth`, knowing the next frame's camera or not.
+    fn audit_frame(
+        &mut self,
+        hierarchy: &Hierarchy,
+        mesh: MeshOutput,
+        camera: &Camera,
+        truth: Option<&DetailField>,
+        next: Option<&Camera>,
+    ) -> AuditFrame {
         assert_eq!(
             truth.map_or(0, DetailField::depth),
             self.refine,
@@ -243,6 +277,21 @@ impl Auditor {
         for (in_view, &(low, high)) in self.tile_in_view.iter_mut().zip(&self.tile_boxes) {
             *in_view = !skip_tiles || !camera.surely_misses_box(low, high);
         }
+        // With popping, the tiles whose heights the next frame may read too (all, not knowing
+        // its camera).
+        self.tile_kept = match (self.popping, next) {
+            (false, _) => TilesKept::InView,
+            (true, None) => TilesKept::All,
+            (true, Some(next)) => {
+                let tiles = self.tile_in_view.iter().zip(&self.tile_boxes);
+                let kept = tiles.map(|(&in_view, &(low, high))| {
+                    in_view || !skip_tiles || !next.surely_misses_box(low, high)
+                });
+                self.tile_in_either_view.clear();
+                self.tile_in_either_view.extend(kept);
+                TilesKept::InEitherView
+            }
+        };
         let general = matches!(mesh, MeshOutput::Triangles(_)) || self.refine > 0;
         if general {
             self.rasterise_general(hierarchy, mesh);
@@ -430,7 +479,7 @@ impl Auditor {
         let popping = popping.summary(previous.is_some());
         if self.popping {
             // Keep this frame's heights for the next; the old buffer becomes next frame's
-            // scratch (the lattice path overwrites every sample, the general path resets them).
+            // scratch (both paths write every sample of the tiles kept, and only those are read).
             let previous = self
                 .previous_height
                 .get_or_insert_with(|| vec![0.0; self.mesh_height.len()]);
@@ -447,8 +496,8 @@ impl Auditor {
         }
     }
 
-    /// 4-8 meshes: the exact integer rasteriser, every sample written (a closed mesh covers
-    /// the whole domain).
+    /// 4-8 meshes: the exact integer rasteriser, every sample of the tiles kept written (a
+    /// closed mesh covers the whole domain).
     fn rasterise_lattice(&mut self, hierarchy: &Hierarchy, mesh: MeshOutput) {
         let stride = self.stride as i64;
         let lattice_side = self.lattice_side;
@@ -469,14 +518,19 @@ impl Auditor {
         self.mesh_height = mesh_height;
     }
 
-    /// Which triangles to rasterise: those that may touch a tile in view. Without popping, a
-    /// sample's drawn height is read only where it is in view, and every triangle that covers
-    /// such a sample touches its tile, so skipping the others changes no figure (a shared
-    /// sample's last writer is kept). With popping, every sample's height is kept for the next
-    /// frame, so nothing is skipped.
+    /// Which triangles to rasterise: those that may touch a tile whose heights are kept
+    /// (`tile_kept`). Without popping, a sample's drawn height is read only where it is in
+    /// view, and every triangle that covers such a sample touches its tile, so skipping the
+    /// others changes no figure (a shared sample's last writer is kept). With popping, the
+    /// next frame reads this frame's heights where it sees: the tiles that may be in view from
+    /// either camera are kept, or every one when the next camera is not known.
     fn tiles_in_view(&self) -> TileFilter<'_> {
         TileFilter {
-            in_view: (!self.popping).then_some(self.tile_in_view.as_slice()),
+            in_view: match self.tile_kept {
+                TilesKept::InView => Some(self.tile_in_view.as_slice()),
+                TilesKept::InEitherView => Some(self.tile_in_either_view.as_slice()),
+                TilesKept::All => None,
+            },
             tiles_x: self.tiles_x,
             lattice_columns: self.lattice_columns,
             lattice_rows: self.lattice_rows,
@@ -563,6 +617,17 @@ fn columns_in_view(
         }
         (start < tx).then(|| start * TILE..(tx * TILE).min(lattice_columns))
     })
+}
+
+/// The tiles whose drawn heights a frame keeps.
+#[derive(Clone, Copy, Debug)]
+enum TilesKept {
+    /// Those that may be in view (no popping: nothing else is read).
+    InView,
+    /// Those that may be in view from this frame's camera or the next's.
+    InEitherView,
+    /// Every tile (popping, the next camera unknown).
+    All,
 }
 
 /// The tiles of audited samples that may be in view this frame, as a triangle filter.
