@@ -1,8 +1,9 @@
 //! The hot paths of every run, on the quickstart's terrain and flight
 //! (`experiments/quickstart.json`): each algorithm's per-frame update after a warm-up, the
 //! preprocessing pass, and the audit of one mesh (a 4-8 mesh on its fast path, every sample and
-//! every 4th; with popping on, also as a run audits it, told the next camera; the same
-//! triangles handed as a triangle list, on the general path).
+//! every 4th, also kept to the baseline instruction set; with popping on, also as a run audits
+//! it, told the next camera; the same triangles handed as a triangle list, on the general
+//! path).
 //!
 //! Run with `cargo bench --bench hot_paths`. Compare ratios measured in one run, not absolute
 //! times across machines; operation counts are in the run outputs.
@@ -85,6 +86,11 @@ fn audit(c: &mut Criterion) {
         let mut auditor = Auditor::new(&hierarchy, settings(stride, false));
         group.bench_function(BenchmarkId::new("stride", stride), |b| {
             b.iter(|| auditor.audit(&hierarchy, reference.mesh(), &camera))
+        });
+        // Kept to the baseline instruction set (no 256-bit vectors), as on a CPU without AVX2.
+        let mut portable = Auditor::new(&hierarchy, settings(stride, false)).without_wide_vectors();
+        group.bench_function(BenchmarkId::new("stride_portable", stride), |b| {
+            b.iter(|| portable.audit(&hierarchy, reference.mesh(), &camera))
         });
         // The audit as first written, in the same run: the speed-up is the ratio.
         let mut first_written = ReferenceAuditor::new(&hierarchy, settings(stride, false));

@@ -3,7 +3,9 @@
 //! popping — equal to the last bit, for 4-8 meshes and triangle lists (skirts, degenerate and
 //! collapsed triangles), at several strides, with and without popping, from eyes inside and
 //! outside the terrain, looking along it, straight down, and away from it, with near and far
-//! planes that cut it, on a terrain whose side is not a multiple of the tile.
+//! planes that cut it, on a terrain whose side is not a multiple of the tile; and so are the
+//! auditor told each frame the next frame's camera (as a run is) and the auditor kept to the
+//! baseline instruction set (`Auditor::without_wide_vectors`).
 
 mod common;
 
@@ -86,6 +88,9 @@ fn compare(hierarchy: &Hierarchy, config: AlgorithmConfig, extent: f64) {
             let mut optimised = Auditor::new(hierarchy, settings);
             // Told each frame the next frame's camera, as a run is.
             let mut told_next = Auditor::new(hierarchy, settings);
+            // The lattice path compiled for the baseline instruction set (the others use
+            // 256-bit vectors where the CPU has them).
+            let mut portable = Auditor::new(hierarchy, settings).without_wide_vectors();
             let mut reference = ReferenceAuditor::new(hierarchy, settings);
             let mut algorithm: Box<dyn LodAlgorithm + '_> =
                 config.build(hierarchy, &common::view_600(), SPEED);
@@ -102,9 +107,11 @@ fn compare(hierarchy: &Hierarchy, config: AlgorithmConfig, extent: f64) {
                     }
                     None => told_next.audit(hierarchy, algorithm.mesh(), camera),
                 };
+                let d = portable.audit(hierarchy, algorithm.mesh(), camera);
                 let context =
                     format!("{config:?}, stride {stride}, popping {popping}, view {frame}");
                 assert_eq!(format!("{a:?}"), format!("{b:?}"), "{context}");
+                assert_eq!(format!("{d:?}"), format!("{b:?}"), "{context}, portable");
                 assert_eq!(
                     format!("{c:?}"),
                     format!("{b:?}"),

@@ -95,6 +95,9 @@ pub struct Auditor {
     tile_in_either_view: Vec<bool>,
     /// This frame's tiles whose drawn heights are kept (the others' triangles are skipped).
     tile_kept: TilesKept,
+    /// Whether the lattice path may use 256-bit vector instructions when the CPU has them
+    /// ([`Auditor::without_wide_vectors`]).
+    wide_vectors: bool,
     /// Per audited column of the source's samples: its x, as `Heightfield::position` has it.
     column_x: Vec<f64>,
     /// The drawn height at every audited sample (NaN: a hole, triangle lists only).
@@ -201,6 +204,7 @@ impl Auditor {
             tile_in_view: vec![false; tile_boxes.len()],
             tile_in_either_view: Vec::new(),
             tile_kept: TilesKept::All,
+            wide_vectors: true,
             column_x: (0..lattice_side)
                 .map(|li| (li * stride) as f64 * field.spacing().dx)
                 .collect(),
@@ -216,6 +220,14 @@ impl Auditor {
             view_angle: Figures::default(),
             scratch: Vec::new(),
         }
+    }
+
+    /// This auditor with the lattice path kept to the baseline instruction set (no 256-bit
+    /// vectors even where the CPU has them): the same figures, bit for bit, more slowly; for
+    /// comparing the two compilations of that path.
+    pub fn without_wide_vectors(mut self) -> Auditor {
+        self.wide_vectors = false;
+        self
     }
 
     /// Measures one frame's mesh (and, with popping on, its change since the last call)
@@ -330,29 +342,29 @@ impl Auditor {
             popping: previous.is_some().then_some(&mut popping),
         };
         if !general {
-            // A 4-8 mesh against the source's samples: each run of samples in tiles that may be
-            // in view measured whole.
-            for lj in 0..self.lattice_rows {
-                let j = lj * stride;
-                let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
-                let dy = j as f64 * spacing.dy - eye.y;
-                let row = Row {
-                    heights: &heights[j * field_side..][..field_side],
-                    drawn: &self.mesh_height[lj * lattice_side..][..lattice_side],
-                    stride,
-                    x: &self.column_x,
-                    previous: previous
-                        .map(|previous| &previous[lj * lattice_side..][..lattice_side]),
-                    dy,
-                    right_y: dy * right.y,
-                    up_y: dy * up.y,
-                    forward_y: dy * forward.y,
-                };
-                for columns in columns_in_view(tile_row, self.lattice_columns) {
-                    batch.measure_row(run, &row, columns, &geometry, camera, &mut sinks);
-                }
-            }
-            batch.finish(&geometry, camera, &mut sinks);
+            let lattice = LatticeRows {
+                tile_in_view: &self.tile_in_view,
+                tiles_x,
+                lattice_columns: self.lattice_columns,
+                lattice_rows: self.lattice_rows,
+                lattice_side,
+                drawn: &self.mesh_height,
+                previous,
+                heights,
+                field_side,
+                stride,
+                spacing_y: spacing.dy,
+                column_x: &self.column_x,
+            };
+            let measure = MeasureLattice {
+                batch,
+                run,
+                lattice: &lattice,
+                geometry: &geometry,
+                camera,
+                sinks: &mut sinks,
+            };
+            measure.run(self.wide_vectors);
         } else {
             // The samples in view go to the batch in order, `n` of them waiting.
             let mut n = 0;
@@ -752,6 +764,97 @@ impl ErrorGeometry {
     }
 }
 
+/// What the lattice path reads of one frame: the lattice's rows, their tiles and heights.
+struct LatticeRows<'a> {
+    tile_in_view: &'a [bool],
+    tiles_x: usize,
+    lattice_columns: usize,
+    lattice_rows: usize,
+    lattice_side: usize,
+    /// The drawn height at every audited sample, and the previous frame's (with popping).
+    drawn: &'a [f32],
+    previous: Option<&'a [f32]>,
+    /// The source's heights, `field_side` per row.
+    heights: &'a [f32],
+    field_side: usize,
+    stride: usize,
+    spacing_y: f64,
+    /// Per audited column: its x, as `Heightfield::position` has it.
+    column_x: &'a [f64],
+}
+
+/// The lattice path's measurement of one frame: a 4-8 mesh against the source's samples, each
+/// run of samples in tiles that may be in view measured whole, in row order.
+struct MeasureLattice<'a, 'b> {
+    batch: &'a mut ErrorBatch,
+    run: &'a mut RunColumns,
+    lattice: &'a LatticeRows<'b>,
+    geometry: &'a ErrorGeometry,
+    camera: &'a Camera,
+    sinks: &'a mut Sinks<'b>,
+}
+
+impl MeasureLattice<'_, '_> {
+    /// Measures, with 256-bit vector instructions where `wide` (the CPU has AVX2): the same
+    /// IEEE operations on more values at once, so the same figures, bit for bit.
+    fn run(self, wide: bool) {
+        #[cfg(target_arch = "x86_64")]
+        if wide && std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the one requirement of calling a function compiled for AVX2 is a CPU
+            // that has it, checked just above.
+            #[allow(unsafe_code)]
+            unsafe {
+                self.run_avx2();
+            }
+            return;
+        }
+        let _ = wide;
+        self.run_here();
+    }
+
+    /// [`MeasureLattice::run_here`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn run_avx2(self) {
+        self.run_here();
+    }
+
+    #[inline(always)]
+    fn run_here(self) {
+        let MeasureLattice {
+            batch,
+            run,
+            lattice,
+            geometry,
+            camera,
+            sinks,
+        } = self;
+        let (eye, right, up, forward) = (camera.eye, camera.right, camera.up, camera.forward);
+        let (tiles_x, lattice_side) = (lattice.tiles_x, lattice.lattice_side);
+        for lj in 0..lattice.lattice_rows {
+            let j = lj * lattice.stride;
+            let tile_row = &lattice.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
+            let dy = j as f64 * lattice.spacing_y - eye.y;
+            let row = Row {
+                heights: &lattice.heights[j * lattice.field_side..][..lattice.field_side],
+                drawn: &lattice.drawn[lj * lattice_side..][..lattice_side],
+                stride: lattice.stride,
+                x: lattice.column_x,
+                previous: (lattice.previous)
+                    .map(|previous| &previous[lj * lattice_side..][..lattice_side]),
+                dy,
+                right_y: dy * right.y,
+                up_y: dy * up.y,
+                forward_y: dy * forward.y,
+            };
+            for columns in columns_in_view(tile_row, lattice.lattice_columns) {
+                batch.measure_row(run, &row, columns, geometry, camera, sinks);
+            }
+        }
+        batch.finish(geometry, camera, sinks);
+    }
+}
+
 /// Segments measured at once: their columns stay in the first-level cache.
 const BATCH: usize = 128;
 
@@ -931,6 +1034,7 @@ impl ErrorBatch {
     /// of the run measured at once (with no branch) into the batch's free places, then those
     /// out of view dropped (packing the rest, when there are any). With `popping`, the change
     /// since the previous frame too (`row.previous` must then be there).
+    #[inline(always)]
     fn measure_row(
         &mut self,
         run: &mut RunColumns,
@@ -1130,6 +1234,7 @@ impl ErrorBatch {
     }
 
     /// Adds the figures of the segments waiting to `sinks`, in order, and empties the batch.
+    #[inline(always)]
     fn finish(&mut self, g: &ErrorGeometry, camera: &Camera, sinks: &mut Sinks) {
         let n = std::mem::take(&mut self.waiting);
         let [out_projected, out_sine, out_cosine, out_special] =
@@ -1250,6 +1355,7 @@ impl Figures {
 
     /// Adds `first` to one figure and `second` to another, each in order: one loop, so that
     /// the two sums (chains of additions, each waiting on the one before) run side by side.
+    #[inline(always)]
     fn extend_both(first: (&mut Figures, &[f64]), second: (&mut Figures, &[f64])) {
         let ((a, first), (b, second)) = (first, second);
         a.values.extend_from_slice(first);
