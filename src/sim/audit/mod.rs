@@ -107,9 +107,12 @@ pub struct Auditor {
     /// The previous frame's `mesh_height`, when popping is measured (`None` before frame 0).
     previous_height: Option<Vec<f32>>,
     popping: bool,
+    /// The camera the last call promised for this one ([`Auditor::audit_followed_by`]):
+    /// popping then reads heights kept only where that camera may see.
+    promised_next: Option<Camera>,
     /// The samples in view whose error segments are still to be measured.
     batch: ErrorBatch,
-    /// The columns of one run of samples, in view or not (the common case's).
+    /// The columns of one run of samples, in view or not (the lattice path's).
     run: Box<RunColumns>,
     /// This frame's errors of the samples in view, in the order they were found.
     projected: Figures,
@@ -214,6 +217,7 @@ impl Auditor {
             crack: None,
             previous_height: None,
             popping: settings.popping,
+            promised_next: None,
             batch: ErrorBatch::default(),
             run: Box::default(),
             projected: Figures::default(),
@@ -245,7 +249,10 @@ impl Auditor {
     /// pose): with popping on, this frame's drawn heights are then kept only where the next
     /// frame may read them (the tiles that may be in view from either camera), so the
     /// triangles that touch none of those tiles are not rasterised. The figures are those of
-    /// [`Auditor::audit`], bit for bit, as long as the next call's camera is `next`.
+    /// [`Auditor::audit`], bit for bit.
+    ///
+    /// # Panics
+    /// With popping on, at the next call, when its camera is not `next`.
     pub fn audit_followed_by(
         &mut self,
         hierarchy: &Hierarchy,
@@ -285,6 +292,16 @@ impl Auditor {
             self.refine,
             "the audit's truth is not at its lattice's depth"
         );
+        // The previous frame kept heights only where the camera it was promised may see.
+        if let Some(promised) = self.promised_next.take() {
+            assert!(
+                promised == *camera,
+                "the audit was promised the next frame's camera {promised:?} and is given {camera:?}"
+            );
+        }
+        if self.popping {
+            self.promised_next = next.copied();
+        }
         let skip_tiles = self.refine == 0;
         for (in_view, &(low, high)) in self.tile_in_view.iter_mut().zip(&self.tile_boxes) {
             *in_view = !skip_tiles || !camera.surely_misses_box(low, high);
@@ -515,12 +532,12 @@ impl Auditor {
         let lattice_side = self.lattice_side;
         // Taken out for the frame, so that the tile filter can borrow the rest.
         let mut mesh_height = std::mem::take(&mut self.mesh_height);
-        let tiles = self.tiles_in_view();
+        let tiles = self.tiles_kept();
         let rasterise = |triangle: &DrawnTriangle| {
             rasterise_lattice_triangle(&triangle.corners, stride, lattice_side, &mut mesh_height);
         };
-        if tiles.in_view.is_some() {
-            // A triangle that touches no tile in view holds none that does: its subtree is
+        if tiles.kept.is_some() {
+            // A triangle that touches no tile kept holds none that does: its subtree is
             // skipped, and every triangle visited (a leaf of the bintree too) passed the test.
             let within = |corners: &[SurfacePoint; 3]| tiles.may_touch(corners);
             mesh.for_each_triangle_within(hierarchy, within, rasterise);
@@ -536,9 +553,9 @@ impl Auditor {
     /// others changes no figure (a shared sample's last writer is kept). With popping, the
     /// next frame reads this frame's heights where it sees: the tiles that may be in view from
     /// either camera are kept, or every one when the next camera is not known.
-    fn tiles_in_view(&self) -> TileFilter<'_> {
+    fn tiles_kept(&self) -> TileFilter<'_> {
         TileFilter {
-            in_view: match self.tile_kept {
+            kept: match self.tile_kept {
                 TilesKept::InView => Some(self.tile_in_view.as_slice()),
                 TilesKept::InEitherView => Some(self.tile_in_either_view.as_slice()),
                 TilesKept::All => None,
@@ -570,7 +587,7 @@ impl Auditor {
             self.lattice_side,
             domain_max,
         );
-        let tiles = self.tiles_in_view();
+        let tiles = self.tiles_kept();
         mesh.for_each_triangle(hierarchy, |triangle| {
             if !triangle.info.role.is_surface() || !tiles.may_touch(&triangle.corners) {
                 return;
@@ -642,11 +659,12 @@ enum TilesKept {
     All,
 }
 
-/// The tiles of audited samples that may be in view this frame, as a triangle filter.
+/// The tiles of audited samples whose drawn heights a frame keeps ([`TilesKept`]), as a
+/// triangle filter.
 struct TileFilter<'a> {
-    /// Per tile, whether it may be in view; `None`: every tile counts (popping keeps every
-    /// sample's height).
-    in_view: Option<&'a [bool]>,
+    /// Per tile, whether its heights are kept; `None`: every tile's (popping, the next camera
+    /// unknown).
+    kept: Option<&'a [bool]>,
     tiles_x: usize,
     lattice_columns: usize,
     lattice_rows: usize,
@@ -656,9 +674,9 @@ struct TileFilter<'a> {
 
 impl TileFilter<'_> {
     /// Whether the triangle's bounding box (widened to the audited samples around it) meets a
-    /// tile that may be in view.
+    /// tile whose heights are kept.
     fn may_touch(&self, corners: &[SurfacePoint; 3]) -> bool {
-        let Some(in_view) = self.in_view else {
+        let Some(kept) = self.kept else {
             return true;
         };
         let raw = corners.map(|c| c.position.raw());
@@ -678,7 +696,7 @@ impl TileFilter<'_> {
         let (i0, i1) = sample_range(x_min, x_max, self.lattice_columns);
         let (j0, j1) = sample_range(y_min, y_max, self.lattice_rows);
         (j0 / TILE..=j1 / TILE)
-            .any(|ty| (i0 / TILE..=i1 / TILE).any(|tx| in_view[ty * self.tiles_x + tx]))
+            .any(|ty| (i0 / TILE..=i1 / TILE).any(|tx| kept[ty * self.tiles_x + tx]))
     }
 }
 
@@ -866,7 +884,7 @@ const BATCH: usize = 128;
 ///
 /// Two ways in: [`put_segment`] and [`ErrorBatch::measure`] (the general path: one segment at
 /// a time, those of samples in view only), and [`ErrorBatch::measure_row`] (a 4-8 mesh
-/// against the source's samples with no previous frame: a run of one row's samples measured
+/// against the source's samples, with or without popping: a run of one row's samples measured
 /// whole, with no branch, those out of view dropped after).
 struct ErrorBatch {
     /// Per segment: its base in camera coordinates (x, y, z), its base minus the eye on the
@@ -1433,7 +1451,9 @@ impl Figures {
 /// A figure's running sum, maximum, histogram and bucket range while values are added: the
 /// maximum and the bucket range per lane, so that neither waits on the value before (runs of
 /// values in one bucket are the rule); the sum in order (its rounding must be that of a sum
-/// in order).
+/// in order). The lanes' maxima equal the maximum in order because no value is −0.0 (each is
+/// a square root, an `atan2` of a non-negative sine, or 0 or π over the pixel angle) and
+/// `f64::max` skips NaN either way.
 struct Sums<'a> {
     sum: f64,
     max: [f64; LANES],
@@ -1753,5 +1773,60 @@ mod tests {
         let frame = auditor.audit(&hierarchy, MeshOutput::lattice(&base_mesh), &camera);
         assert_eq!(frame.samples_in_view, 0);
         assert_eq!(frame.view_angle, None);
+    }
+
+    #[test]
+    fn the_batched_view_angle_equals_the_metric_in_its_special_cases_bit_for_bit() {
+        let camera = camera_above(&spike_field());
+        let g = ErrorGeometry::new(&camera);
+        let pixel_angle = camera.settings.pixel_angle();
+        // (eye to base, length): no length, the eye at the base or at the top (with zeros of
+        // either sign), on the segment's line but off it, and ordinary segments.
+        let cases = [
+            (DVec3::new(0.0, 0.0, 0.0), 0.0),
+            (DVec3::new(3.0, 4.0, -2.0), 0.0),
+            (DVec3::new(0.0, 0.0, 0.0), 5.0),
+            (DVec3::new(-0.0, 0.0, -0.0), 5.0),
+            (DVec3::new(0.0, 0.0, -5.0), 5.0),
+            (DVec3::new(-0.0, -0.0, -5.0), 5.0),
+            (DVec3::new(0.0, 0.0, -7.0), 5.0),
+            (DVec3::new(0.0, 0.0, 2.0), 5.0),
+            (DVec3::new(1e-300, 0.0, -5.0), 5.0),
+            (DVec3::new(3.0, 4.0, -2.0), 1.5),
+            (DVec3::new(-30.0, 400.0, -200.0), 0.25),
+        ];
+        for (to_base, delta) in cases {
+            let f = segment_figures(&g, DVec3::new(1.0, 1.0, 10.0), to_base, delta);
+            let ours = if f.special >= 0.0 {
+                f.special
+            } else {
+                f.sine.atan2(f.cosine) / pixel_angle
+            };
+            // The metric with the eye at the origin: its eye-to-base vector is `to_base`.
+            let theirs = view_angle_error_px(DVec3::ZERO, to_base, delta, pixel_angle);
+            assert_eq!(ours.to_bits(), theirs.to_bits(), "{to_base:?}, {delta}");
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "was promised the next frame's camera")]
+    fn popping_refuses_a_camera_other_than_the_one_promised() {
+        let hierarchy = spike_field();
+        let camera = camera_above(&hierarchy);
+        let elsewhere = Camera::new(
+            &Pose {
+                position: camera.eye + DVec3::new(5.0, 0.0, 0.0),
+                yaw: 0.0,
+                pitch: -std::f64::consts::FRAC_PI_2,
+            },
+            camera.settings,
+        );
+        let mut auditor = Auditor::new(&hierarchy, settings(1, true));
+        let base_mesh = VertexSet::base_mesh(hierarchy.lattice());
+        let mesh = MeshOutput::lattice(&base_mesh);
+        auditor.audit_followed_by(&hierarchy, mesh, &camera, &camera);
+        // Kept as promised: the same camera again.
+        auditor.audit_followed_by(&hierarchy, mesh, &camera, &camera);
+        auditor.audit(&hierarchy, mesh, &elsewhere);
     }
 }
