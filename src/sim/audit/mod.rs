@@ -483,11 +483,7 @@ impl Auditor {
                         let base_z = z.min(mesh_z);
                         let length = (z - mesh_z).abs();
                         let base_dz = base_z - eye.z;
-                        let base_in_camera = DVec3::new(
-                            right_xy + base_dz * right.z,
-                            up_xy + base_dz * up.z,
-                            forward_xy + base_dz * forward.z,
-                        );
+                        let base_in_camera = in_camera_at(base_z);
                         put_segment(
                             &mut batch.segments,
                             n,
@@ -514,12 +510,10 @@ impl Auditor {
                 .get_or_insert_with(|| vec![0.0; self.mesh_height.len()]);
             std::mem::swap(previous, &mut self.mesh_height);
         }
-        let projected_s = self.projected.summary(&mut self.scratch);
-        let view_angle_s = self.view_angle.summary(&mut self.scratch);
         AuditFrame {
             samples_in_view: self.view_angle.len() as u64,
-            projected: projected_s,
-            view_angle: view_angle_s,
+            projected: self.projected.summary(&mut self.scratch),
+            view_angle: self.view_angle.summary(&mut self.scratch),
             coverage,
             popping,
         }
