@@ -6,7 +6,8 @@
 //! path).
 //!
 //! Run with `cargo bench --bench hot_paths`. Compare ratios measured in one run, not absolute
-//! times across machines; operation counts are in the run outputs.
+//! times across machines; operation counts are in the run outputs. `docs/performance.md` quotes
+//! its figures.
 
 mod common;
 

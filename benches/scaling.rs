@@ -6,7 +6,7 @@
 //! warm-up frames, with nothing else running between frames.
 //!
 //! Needs about 5 GiB (the 16385² terrain, its hierarchy and ROAM's thickness). Run with
-//! `cargo bench --bench scaling`.
+//! `cargo bench --bench scaling`; `docs/performance.md` quotes its figures.
 
 mod common;
 

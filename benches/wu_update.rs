@@ -8,7 +8,9 @@
 //! (`reference_in_view_same_tau`, `reference_everywhere_same_tau`). All start from the same
 //! warmed-up point of the flight (Wu's queues in steady state) and then advance one frame per
 //! iteration along the circle, so every measured update is a real frame.
-//! Run with `cargo bench --bench wu_update`.
+//!
+//! Run with `cargo bench --bench wu_update`; `docs/performance.md` and
+//! `docs/reproductions/wu-table1.md` quote its figures.
 
 mod common;
 

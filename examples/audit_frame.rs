@@ -9,6 +9,7 @@
 //! once, counted: as the runner does, or with `list` the same triangles as a triangle list (the
 //! general rasteriser). Prints the audit's figures, so that two builds can be compared for
 //! identical results as well as for instructions. Times nothing: `benches/hot_paths.rs` does.
+//! `docs/performance.md` quotes its counts.
 
 use roamsim::edge::experiment;
 use roamsim::sim::algorithm::{BrokenBounds, FrameInput};

@@ -9,7 +9,7 @@
 //! each auditor in turn and prints the best and the median time of each and their ratios. The
 //! best of many interleaved rounds is the figure least moved by other work on a shared
 //! machine; `benches/hot_paths.rs` (`audit_one_frame`) is the criterion measurement. Checks
-//! that both give the same figures.
+//! that both give the same figures. `docs/performance.md` quotes its ratios.
 
 use roamsim::edge::experiment;
 use roamsim::sim::algorithm::{BrokenBounds, FrameInput};

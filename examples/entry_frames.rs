@@ -11,7 +11,7 @@
 //! flight's first frame counts as a broken bound. Prints the frames' mean counters and an
 //! order-dependent hash of every measured frame's mesh (triangles as the mesh's visitor gives
 //! them), so that a change meant to leave the meshes alone can be checked to do so. Times
-//! nothing: the criterion benches do.
+//! nothing: the criterion benches do. `docs/performance.md` quotes its counts.
 
 use roamsim::edge::experiment::{self, Experiment};
 use roamsim::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};

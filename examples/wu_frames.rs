@@ -10,7 +10,8 @@
 //! point of the flight, uncounted; callgrind's call counts are not toggled and cover every
 //! frame). The reference is built as `benches/wu_update.rs` builds it: the entry's nesting, zone
 //! and τ (the paper's initial τ in budget mode), split iff ℓ ≤ 0. Prints the frames' mean
-//! counters. Times nothing: the criterion bench does.
+//! counters. Times nothing: the criterion bench does. `docs/performance.md` and
+//! `docs/reproductions/wu-table1.md` quote its counts.
 
 use roamsim::edge::experiment::{self, Experiment};
 use roamsim::sim::algorithm::{

@@ -1,9 +1,16 @@
-//! The `roamsim` command line: `run`, `validate`, `info`, and with the `preview` feature
-//! `preview` (a window) and `render` (PNG files).
+//! The `roamsim` command line: `run` (with `--shard K/N`, one part of it: `docs/sharding.md`),
+//! `merge`, `validate`, `info`, and with the `preview` feature `preview` (a window) and `render`
+//! (PNG files). A build without the feature still knows those two names and answers how to build
+//! them. What a run reads and writes: `docs/experiment-format.md`, `docs/output-formats.md`.
 //!
 //! A thin edge over the library: parse arguments, call `edge::session` or the experiment
-//! loader, print results and errors, set the exit status. A progress bar is drawn on stderr only
-//! when stderr is a terminal.
+//! loader, print results and errors, set the exit status (failure, with `error: …` on stderr,
+//! for any error). An indicatif progress bar is drawn on stderr when stderr is a terminal;
+//! otherwise `edge::progress` writes plain lines, so that a batch job's log says how far it got.
+//!
+//! `roamsim validate` keeps its name although the code calls what it does *checking*
+//! (`check_experiment`): in the code, "validate" means only the mesh and structure validators
+//! that `--check` runs.
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};

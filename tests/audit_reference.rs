@@ -1,11 +1,11 @@
-//! The optimised audit against its differential reference (`sim::audit::reference`, the audit
-//! as first written): every figure — error maxima, means and p95s, holes, cracks, skirts,
+//! The optimised audit (SPEC §7) against its differential reference (`sim::audit::reference`, the
+//! audit as first written): every figure — error maxima, means and p95s, holes, cracks, skirts,
 //! popping — equal to the last bit, for 4-8 meshes and triangle lists (skirts, degenerate and
-//! collapsed triangles), at several strides, with and without popping, from eyes inside and
-//! outside the terrain, looking along it, straight down, and away from it, with near and far
-//! planes that cut it, on a terrain whose side is not a multiple of the tile; and so are the
-//! auditor told each frame the next frame's camera (as a run is) and the auditor kept to the
-//! baseline instruction set (`Auditor::without_wide_vectors`).
+//! collapsed triangles), at several strides, with and without popping, from eyes inside and outside
+//! the terrain, looking along it, straight down, and away from it, with near and far planes that
+//! cut it, on a terrain whose side is not a multiple of the tile; and so are the auditor told each
+//! frame the next frame's camera (as a run is) and the auditor kept to the baseline instruction set
+//! (`Auditor::without_wide_vectors`).
 
 mod common;
 

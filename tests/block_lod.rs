@@ -1,6 +1,7 @@
-//! The block-based algorithms, `geomipmap` and `chunked`, against their definitions: every
-//! frame's mesh through the `--check` validators and the algorithm's own structure validator;
-//! the selection against a from-scratch evaluation of the same criterion, for every eye over
+//! The block-based algorithms, `geomipmap` (de Boer 2000, as Lauritsen–Nielsen 2005 §2.5 survey
+//! it) and `chunked` (Lauritsen–Nielsen 2005 §3.2), against their definitions: every frame's
+//! mesh through the `--check` validators and the algorithm's own structure validator; the
+//! selection against a from-scratch evaluation of the same criterion, for every eye over
 //! 9×9 and 17×17 terrains; the skirts against the cracks the audit finds without them; the
 //! triangle target; culling, front-to-back order and morphing.
 

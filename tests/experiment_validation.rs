@@ -1,5 +1,6 @@
-//! Experiment validation: every error names the file, the field path and what was expected, and
-//! every problem in a file is reported at once.
+//! Experiment files checked before anything runs (SPEC §8; `docs/experiment-format.md`): every
+//! error names the file, the field path and what was expected, and every problem in a file is
+//! reported at once.
 
 mod common;
 

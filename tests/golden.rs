@@ -1,8 +1,9 @@
 //! Golden determinism: every quickstart entry over the first 60 frames of its flight, hashed —
 //! every per-frame count and algorithm column (never the timings) and every frame's mesh — must
 //! equal the hash pinned for it in `tests/golden/quickstart-60.sha256`, whatever the thread
-//! count. The test-only triangle-list and morphed-lattice algorithms (`tests/common/patches.rs`)
-//! are pinned the same way in `tests/golden/patches-40.sha256`.
+//! count (SPEC §8: the same experiment gives the same counts and meshes every time). The
+//! test-only triangle-list and morphed-lattice algorithms (`tests/common/patches.rs`) are pinned
+//! the same way in `tests/golden/patches-40.sha256`.
 //!
 //! Each `.sha256` file holds one line per entry: the entry's hash, two spaces, its label. So a
 //! change to one algorithm re-pins its own entries' lines and leaves the others alone, and a new

@@ -1,4 +1,5 @@
-//! Lindstrom'96 against its own criterion evaluated from scratch with no blocks.
+//! Lindstrom'96 against its own criterion evaluated from scratch with no blocks (SPEC §6: the
+//! brute-force reference is the ground truth of the block-based mesh).
 //!
 //! Exhaustive small cases: every eye position on a grid over 9×9 and 17×17 terrains, at a few
 //! heights, tolerances and block levels, under both nesting rules and with anisotropic posts, one

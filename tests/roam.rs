@@ -1,6 +1,6 @@
-//! ROAM'97 (`roam`) and its split-only rebuild (`roam-rebuild`) on small bumpy terrains:
-//! valid meshes and bintrees every frame, the dual queue against the rebuild, deferral against
-//! full recomputation, speed-bound violations, and the oscillation guard.
+//! ROAM'97 (`roam`) and its split-only rebuild (`roam-rebuild`) on small bumpy terrains (SPEC
+//! §6): valid meshes and bintrees every frame, the dual queue against the rebuild, deferral
+//! (ROAM'97 §7.3) against full recomputation, speed-bound violations, and the oscillation guard.
 
 mod common;
 

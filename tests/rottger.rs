@@ -1,12 +1,13 @@
-//! Röttger'98 against its own criterion evaluated from scratch on every block.
+//! Röttger'98 (§2) against its own criterion evaluated from scratch on every block.
 //!
 //! Exhaustive small cases: every eye position on a grid over 9×9 and 17×17 terrains, at heights
 //! below, inside and above the relief, for both distance norms, with and without clipping, at
 //! several C and c, one frame each in sequence: the mesh, the subdivided and forced blocks, the
 //! blend bytes, the fans, the morphing vertices and the heights the mesh output draws them at
-//! equal the brute force's, and the mesh and matrix validators pass. Then the paper's 2D guarantee (no forced split wherever every block
-//! averages to the same elevation), what propagation buys on rough terrain, the constant-load
-//! controller, and the experiment file.
+//! equal the brute force's, and the mesh and matrix validators pass. Then the paper's 2D
+//! guarantee (§2.2, eq. 4–5: no forced split wherever every block averages to the same
+//! elevation), what propagation buys on rough terrain, the constant-load controller, and the
+//! experiment file.
 
 mod common;
 

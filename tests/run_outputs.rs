@@ -1,4 +1,8 @@
-//! Whole runs: determinism, the output files and their columns, the CLI's exit statuses.
+//! Whole runs, as a user starts them: the same experiment gives the same counts whatever the
+//! thread count (SPEC §8); every output file is written with the columns `docs/output-formats.md`
+//! documents; sweeps expand into labelled entries and points compared at the top; the output
+//! folder is all or nothing and never replaces what roamsim did not write; `validate` and `info`
+//! answer as documented, and the CLI's exit statuses say whether it worked.
 
 mod common;
 

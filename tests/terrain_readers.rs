@@ -1,6 +1,6 @@
 //! Integration tests of the terrain readers: the real SRTM tile in `experiments/data`, round
 //! trips through the `png` and `tiff` encoders, and broken files of every format, each of which
-//! must give an error that names the file and the problem.
+//! must give an error that names the file and the problem (SPEC §9's last case, §11).
 //!
 //! These tests go through the public API only (`read_terrain`, `format_from_extension`); the
 //! readers' own unit tests cover their internals.

@@ -1,8 +1,9 @@
-//! Tuned entries (`"tune"` in an algorithm entry): the search over probe runs sets τ, ρ, c or C,
-//! or vanek's distances so that the mean rendered triangles, or the mean audited p95 error,
-//! over the probe frames comes within the tolerance of the target; the real run uses the value
-//! found, and summary.json, report.md and shard.json record the search. Through the binary, on
-//! a small synthetic terrain; the search itself is unit-tested in `src/sim/tuning.rs`.
+//! Tuned entries (`"tune"` in an algorithm entry, `docs/experiment-format.md`, "Tuning to a
+//! target"): the search over probe runs sets τ, ρ, c or C, or vanek's distances so that the mean
+//! rendered triangles, or the mean audited p95 error, over the probe frames comes within the
+//! tolerance of the target; the real run uses the value found, and summary.json, report.md and
+//! shard.json record the search. Through the binary, on a small synthetic terrain; the search
+//! itself is unit-tested in `src/sim/tuning.rs`.
 
 mod common;
 

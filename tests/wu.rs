@@ -1,4 +1,5 @@
-//! Wu's algorithm against the from-scratch reference, and its queues against their validator.
+//! Wu's algorithm (Wu et al. 2001 §3, §5; SPEC §5) against the from-scratch reference of its
+//! criterion (SPEC §6), and its queues against their validator.
 //!
 //! The central property (fixed τ, no budget, motion bounds honoured, traversal options off):
 //! after every frame,

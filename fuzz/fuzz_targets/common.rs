@@ -1,5 +1,11 @@
 //! What every terrain fuzz target does with a grid a reader accepted: fill its voids and embed
 //! it, as an experiment would, so that a reader's `Ok` is also checked downstream. Not a target.
+//!
+//! The fuzz crate is its own workspace, outside the package's build, with one target per parser
+//! over the parsers' byte entry points (`read_terrain_bytes`, `parse_flight_log_bytes`,
+//! `experiment::check_bytes`), which do no IO. CI builds every target without running it, so
+//! that none can rot. The targets, their seeds, how to run them and the runs so far:
+//! `docs/robustness.md`, "Fuzzing".
 
 use roamsim::edge::terrain_readers::{LoadedTerrain, TerrainReadError};
 use roamsim::sim::terrain::Spacing;

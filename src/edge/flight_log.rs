@@ -1,4 +1,9 @@
-//! Recorded camera logs: one pose per frame, as CSV.
+//! Recorded camera logs (SPEC §8): one pose per frame, as CSV, the `recorded` flight of
+//! `docs/experiment-format.md` ("Flight"). This file only reads poses; the flight built from
+//! them and its check against the speed bounds are the core's (`sim::flight`).
+//!
+//! [`read_flight_log`] reads the file and hands its bytes to [`parse_flight_log_bytes`], which
+//! parses from memory: the entry point of the fuzz target and the parser property tests.
 //!
 //! Format: a header line `frame,x_m,y_m,z_m,yaw_deg,pitch_deg`, then one line per frame with
 //! frames 0, 1, 2, … in order, every value a finite number. Blank lines and lines starting with

@@ -1,7 +1,12 @@
-//! The edges: everything that touches files or formats. Experiment files, terrain readers,
-//! flight logs, output writers and plots, and (with the `preview` feature) the preview window
-//! and offscreen renderer. The edges depend on the core (`crate::sim`), never
-//! the reverse.
+//! The edges: everything that touches files, formats or the terminal. Experiment files
+//! (`docs/experiment-format.md`), terrain readers, flight logs, one `roamsim run` and its shards
+//! (`session`, `shard`; `docs/sharding.md`), the output writers and plots
+//! (`docs/output-formats.md`), progress lines, the report `roamsim info` prints, and (with the
+//! `preview` feature) the preview window and offscreen renderer.
+//!
+//! The edges depend on the core (`crate::sim`), never the reverse. No algorithm, metric or audit
+//! lives here: the edges decide what goes into a run and how its results are written, not what
+//! a frame computes.
 
 pub mod experiment;
 pub mod flight_log;

@@ -1,4 +1,6 @@
-//! Plain progress lines for runs whose stderr is not a terminal (batch jobs, logs, pipes).
+//! Plain progress lines for runs whose stderr is not a terminal (batch jobs, logs, pipes; README,
+//! "Commands"). It is not the terminal's progress bar (the CLI's, `main.rs`), and it reads no
+//! frame's statistics: only how many frames and entries are done.
 //!
 //! A terminal gets the CLI's progress bar; anything else gets [`LineProgress`]: one line every
 //! [`PROGRESS_LINE_INTERVAL`] of wall time at most (decided: 10 s — a ten-minute run writes

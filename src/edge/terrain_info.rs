@@ -1,5 +1,7 @@
 //! What `roamsim info` prints about a terrain: one plain report, the same for a terrain file and
-//! for an experiment's terrain, written for a person (no debug notation).
+//! for an experiment's terrain, written for a person (no debug notation; README, "Commands"; the
+//! fitting, void filling and spacing it reports are `docs/experiment-format.md`, "Terrain"). It
+//! reads no file and fits nothing: the readers and `sim::terrain` have done both before.
 //!
 //! [`describe_terrain`] lays out what was read and how it was fitted into the (2^n + 1)² grid;
 //! [`describe_preprocessing`] times Wu's preprocessing on it and gives its memory. The caller

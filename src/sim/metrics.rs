@@ -1,4 +1,8 @@
-//! The four error metrics of SPEC §4, as plain functions, all in pixels.
+//! The four error metrics of SPEC §4, as plain functions, all in pixels: the audit's projected
+//! error and the criteria of Wu et al. 2001 §4.3, Lindstrom et al. 1996 and ROAM'97 eq. 3. They
+//! are the reference forms, with no state and no decision: ROAM's hoisted priorities
+//! (`roam/priority.rs`) and Lindstrom's squared test (`lindstrom/tolerance.rs`) are tested against
+//! them.
 //!
 //! Each takes a vertical error segment (or ROAM's wedgie) and a camera, and defines its
 //! degenerate cases rather than panicking:

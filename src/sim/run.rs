@@ -1,13 +1,29 @@
-//! The simulation runner: one algorithm over one flight, frame by frame.
+//! The simulation runner: one algorithm over one flight, frame by frame (SPEC §1's replay, with
+//! SPEC §7's effects, each on only when the experiment asks). It is not the session: building the
+//! algorithm, timing its preprocessing, the timing passes, running entries side by side and
+//! writing outputs are the edge's (`edge::session`).
 //!
-//! Per frame: the camera from the flight's pose → the algorithm's update (timed, nothing else
-//! inside the timed span) → optional effects in a fixed order: mesh validation (`check`),
-//! culling (triangles meeting the view volume), audit (with popping when asked; and, for an
-//! entry that synthesises detail, a second audit against the detail-extended surface). Every effect
-//! reads the mesh through its triangle visitor ([`MeshOutput::for_each_triangle`]), whatever
-//! its form. An effect that is off costs nothing. The mesh's role counts, draw batches and
-//! morphing vertices (triangle lists and morphed 4-8 meshes only) are read off the mesh in
-//! O(1). Progress is reported through a callback; the runner itself does no IO.
+//! Per frame: the camera from the flight's pose, moved once into the terrain's local frame
+//! (`Heightfield::local_pose`) → the algorithm's update (timed, nothing else inside the timed
+//! span) → optional effects in a fixed order: mesh validation (`check`), culling, audit (with
+//! popping when asked; and, for an entry that synthesises detail, a second audit against the
+//! detail-extended surface). Every effect reads the mesh through its triangle visitor
+//! ([`MeshOutput::for_each_triangle`]), whatever its form. An effect that is off costs nothing.
+//! A mesh over the run's limit (`limits.max_triangles`) stops the run before any effect.
+//! Progress is reported through a callback; the runner itself does no IO.
+//!
+//! Rendered triangles (`triangles_rendered`, culling on) are the triangles not rejected by a
+//! plane test against the view frustum, rejected only when all three corners are outside one
+//! plane ([`Camera::may_see_triangle`]): a conservative count, the same test for every family.
+//! With culling off every triangle counts as rendered.
+//!
+//! The mesh counts of the families beyond plain 4-8 meshes (triangles by role, draw batches,
+//! morphing vertices; triangle lists and morphed 4-8 meshes only) are read off the mesh by the
+//! runner, in O(1), so no algorithm counts them itself ([`MeshOutput::counts`]).
+//!
+//! The audit is told the flight's next pose (`Auditor::audit_followed_by`): with popping on, it
+//! then keeps this frame's drawn heights only where the next frame may read them, which spares
+//! work and changes no figure. The last frame has no next pose and is audited plainly.
 
 use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};

@@ -1,9 +1,17 @@
-//! Per-frame statistics and their summaries: what each algorithm did and what it cost.
+//! Per-frame statistics and their summaries: what each algorithm did and what it cost (SPEC §1's
+//! counters, §5's statistics the paper reports, §7's audit figures). These are values, not a
+//! format: `frames.csv` and `summary.json` are written by the edge.
 //!
 //! [`FrameStats`] is one row of `frames.csv`. The columns every algorithm fills are fields;
 //! algorithm-specific counters (Wu's `base_b`, ROAM's queue sizes, …) go in `extra`, aligned
 //! with the names the algorithm declares in [`crate::sim::algorithm::LodAlgorithm::extra_columns`].
-//! Summaries (mean, p50, p95, max) are computed here; formatting them is the edge's business.
+//! Summaries (mean, p50, p95, max; percentiles by nearest rank) are computed here; formatting
+//! them is the edge's business.
+//!
+//! The mesh counts of the families beyond plain 4-8 meshes ([`MeshCounts`]) are filled by the
+//! runner from the mesh. *Vertices changed* (what a renderer would upload again) is the
+//! algorithm's own count, since only it knows which vertex is which from frame to frame; plain
+//! 4-8 algorithms leave it empty, their `vertices_inserted` and `vertices_deleted` saying it.
 
 /// Error statistics over the samples of one frame, in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,10 +1,19 @@
-//! The camera of one frame: pose, lens and window, and the view volume.
+//! The camera of one frame: pose, lens and window, and the view volume (SPEC §2's camera:
+//! position, yaw and pitch, `fovy`, a window of w × h pixels, near and far planes). It is not a
+//! renderer's camera: it builds no projection matrix (the preview builds its own) and decides
+//! nothing about a mesh; the runner, the audit and the algorithms ask it questions.
 //!
 //! Conventions (SPEC §2): right-handed world, z up, metres. Yaw is measured in the xy-plane from
 //! +x towards +y; pitch is up from the horizontal. The camera's right vector is horizontal
 //! (sin yaw, −cos yaw, 0) whatever the pitch, so looking straight down is well defined. All
 //! camera arithmetic is `f64` and eye-relative (points are translated by −eye before any product),
-//! so terrains far from the origin keep their precision.
+//! so terrains far from the origin keep their precision; the runner builds the camera from a
+//! pose already in the terrain's local frame.
+//!
+//! Two kinds of test against the view volume: [`Camera::sees`] decides for a point (the audit's
+//! samples in view), while [`Camera::may_see_triangle`] and [`Camera::surely_misses_box`] are
+//! conservative, answering "outside" only when every corner is outside one plane, so they may keep
+//! what a point test would reject but never drop what it would keep.
 
 use glam::{DVec2, DVec3};
 
@@ -65,8 +74,8 @@ pub struct Camera {
     pub settings: ViewSettings,
     tan_half_fovy: f64,
     tan_half_fovx: f64,
-    /// [`ViewSettings::pixels_per_unit`], computed once (a tangent per projection was a tenth
-    /// of the audit's instructions).
+    /// [`ViewSettings::pixels_per_unit`], computed once per camera rather than as a tangent per
+    /// projection: every projection of a frame uses the same lens.
     pixels_per_unit: f64,
 }
 

@@ -1,12 +1,21 @@
-//! Wu's split zones and the signed valid life of a node (SPEC §5).
+//! Wu's split zones and the signed valid life of a node (Wu et al. 2001 §4.3 and §5, as SPEC §5
+//! fixes them), shared by `wu` and `reference`, and the motion bounds they assume
+//! ([`SpeedBound`]). Pure functions of a node and an eye: no queues, no state between frames.
 //!
-//! A vertical error segment of length δ subtends more than θ = τ·fovy/h only from inside two
-//! circles of radius r = δ/(2·sin θ) through its ends (a horn torus in 3D). Wu replaces that
-//! zone by an axis-aligned box, 4r × 4r wide and 2r high, centred on the segment. Two variants:
+//! A vertical error segment of length δ subtends more than θ = τ·fovy/h (Wu's small-angle form)
+//! only from inside two circles of radius r = δ/(2·sin θ) through its ends (a horn torus in 3D).
+//! Wu replaces that zone by an axis-aligned box, 4r × 4r wide and 2r high, centred on the
+//! segment. Two variants:
 //! - [`ZoneVariant::Paper`]: the box centred on the node's centre vertex, as published;
 //! - [`ZoneVariant::Conservative`]: the box grown by the block's footprint and height range (a
-//!   Minkowski sum), so every vertex error the node's δ covers, wherever it sits in the block, is
-//!   really below τ from outside the zone.
+//!   Minkowski sum: the footprint × the sample height range, grown by 2r across and r up and
+//!   down). Every vertex error the node's δ covers is a vertical segment inside that footprint and
+//!   height range, so wherever it sits in the block it is really below τ from outside the zone.
+//!
+//! The zone is sized by [`NodeErrors`]: Wu's δ as preprocessing stores it (the max rule, nothing
+//! more in memory), or, for the `max_plus_own` nesting, the centre vertex's max-plus-own nested
+//! error (4 bytes per sample), which bounds the boundary vertices and sub-blocks too and nests
+//! like δ.
 //!
 //! θ is clamped to π/2 before taking the sine: for larger angles the exact zone only shrinks, so
 //! r = δ/2 stays conservative and τ never produces a negative or infinite radius by wrap-around.
@@ -16,7 +25,13 @@
 //! The signed life ℓ = max over axes of (gap along the axis)/(speed bound along it), where the
 //! gap is the eye's distance beyond the box face (negative inside). Under the speed bound ℓ
 //! changes by at most 1 per frame. A zero speed bound makes an axis's life +∞ outside the box and
-//! −∞ on or inside it.
+//! −∞ on or inside it. ℓ equals the paper's `ValidLife()` when v_v = v_h/2 and the box is
+//! 4r × 4r × 2r, and it is monotone under box inclusion (a larger box never gives a longer life).
+//!
+//! [`SpeedBound`] is what the experiment declares: metres per frame horizontally and vertically,
+//! and the angle the look direction may turn in a frame. An experiment that declares no rotation
+//! bound gets π, which every turn honours, so such files run unchanged: Wu's view keys then defer
+//! little, and ROAM's deferral reads π as no rotation bound.
 
 use crate::sim::hierarchy::{GridPoint, Hierarchy, NestingRule};
 use glam::DVec3;

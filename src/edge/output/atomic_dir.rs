@@ -1,4 +1,5 @@
-//! All-or-nothing output folders that never touch what roamsim did not write.
+//! All-or-nothing output folders that never touch what roamsim did not write (the user's side of
+//! it is at the top of `docs/output-formats.md`).
 //!
 //! Files are written into a fresh staging folder beside the destination; only when every file is
 //! complete is the staging folder renamed into place (an existing destination is first moved

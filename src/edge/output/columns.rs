@@ -1,4 +1,5 @@
-//! The columns of `frames.csv` and `summary.json`, defined once.
+//! The columns of `frames.csv` and `summary.json`, defined once (each documented in
+//! `docs/output-formats.md`, "frames.csv").
 //!
 //! Order: `algorithm`, `frame`, the common counters, then the mesh columns when some run's mesh
 //! has them (triangle lists and morphed 4-8 meshes), then every algorithm-specific column in the

@@ -1,6 +1,7 @@
 //! What `roamsim run` prints when it has finished: per entry the figures a person looks at
 //! first (triangles, the audited error, update time, as `report.md`'s table has them), then
-//! where the files are. A sweep prints one block per point.
+//! where the files are (README, "Commands"). A sweep prints one block per point. It returns
+//! the text and computes no figure; printing it is `main.rs`'s.
 //!
 //! The figures are the report's own ([`Row`](super::report_md::Row)), warm-up frames left out
 //! as there; this module only lays them out as fixed-width text for a terminal or a log.

@@ -1,4 +1,6 @@
-//! `frames.csv`: one row per algorithm per frame, long format, with a header row.
+//! `frames.csv`: one row per algorithm per frame, long format, with a header row
+//! (`docs/output-formats.md`, "frames.csv"). The columns, their order and the writing of numbers
+//! are `columns.rs`'s; this file only lays out the rows, quoting labels as RFC 4180 asks.
 
 use super::columns::{RunColumns, format_number, numeric_columns, value};
 use std::fmt::Write;

@@ -1,5 +1,7 @@
 //! Whether a budget or target entry held its count: the flag `report.md`, `summary.json` and the
-//! command line raise when it did not.
+//! command line raise when it did not (`docs/output-formats.md`, `summary.json`'s `goal` and
+//! `report.md`'s *Budgets and targets*). It judges a finished run's counts; it holds no count
+//! (each algorithm does) and judges no error or time.
 //!
 //! An entry with a [`CountGoal`] (Wu's budget, ROAM's and the block algorithms' targets,
 //! Röttger's load) is checked over its frames against two documented tolerances:

@@ -1,4 +1,6 @@
-//! Where to put the labels of a scatter chart's points so that they do not overlap.
+//! Where to put the labels of a scatter chart's points so that they do not overlap: the labels
+//! of `accuracy_vs_time`'s Pareto front (`docs/output-formats.md`, "plots/"; `plots/scatter.rs`
+//! draws them). It draws nothing and chooses no point to label: the caller does both.
 //!
 //! Pure pixel geometry, no drawing: given each point's pixel position and its label's size, it
 //! returns a box for each label. Points are served in the order given (callers put the most

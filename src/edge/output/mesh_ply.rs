@@ -1,5 +1,7 @@
 //! Mesh export: one frame's drawn mesh as a PLY file (ASCII, format 1.0), for opening what an
-//! algorithm drew in one's own tools (MeshLab, Blender, ParaView, CloudCompare).
+//! algorithm drew in one's own tools (MeshLab, Blender, ParaView, CloudCompare); the format is
+//! `docs/output-formats.md`, "Meshes". It returns the file's text: which frames and entries are
+//! exported, and where the file goes, are the caller's.
 //!
 //! Read through the mesh visitor ([`MeshOutput::for_each_triangle`]), so both mesh forms come
 //! out the same way: every drawn triangle (skirts and degenerate triangles included) as a face

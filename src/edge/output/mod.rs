@@ -1,5 +1,12 @@
-//! Output writers: `frames.csv`, `summary.json`, `report.md`, plots, exported meshes (PLY), and
-//! the all-or-nothing output folder.
+//! Output writers: `frames.csv`, `summary.json`, `report.md`, plots, exported meshes (PLY), the
+//! top of a swept experiment's folder, the lines `roamsim run` prints at its end, and the
+//! all-or-nothing output folder they go into. Every file's format is documented in
+//! `docs/output-formats.md`.
+//!
+//! The writers see a run through its frame statistics, looked up by column name (`columns`), and
+//! its measurements; their summaries and the Pareto front are the core's (`sim::stats`). What is
+//! decided here is only what is reported: which frames a summary leaves out (`warm_up`) and
+//! whether an entry held its count (`goal_check`). Nothing here changes what a run measured.
 
 pub mod atomic_dir;
 pub mod columns;

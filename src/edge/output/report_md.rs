@@ -1,4 +1,5 @@
-//! `report.md`: the run's comparison table, readable as it is and on a code host.
+//! `report.md`: the run's comparison table, readable as it is and on a code host
+//! (`docs/output-formats.md`, "report.md").
 //!
 //! One row per algorithm entry (sweep points included): triangles, the audited error, update
 //! time, operations per frame and per split or merge, and memory per sample; then the entries on

@@ -1,6 +1,15 @@
-//! The standard plots of a run: triangles per frame, update time per frame, the audited error
-//! per frame (when the audit ran), popping per frame (when it was measured). One line per
-//! algorithm label.
+//! The standard plots of a run (`docs/output-formats.md`, "plots/"): triangles per frame
+//! (rendered ones too, when culling made them differ), update time per frame, the audited error
+//! per frame and the accuracy-versus-time Pareto plot (SPEC §7, when the audit ran), popping per
+//! frame (when it was measured), and Wu's b and Röttger's c per frame (when such an entry ran).
+//! Per-frame plots draw one line per algorithm label. This file chooses what is plotted;
+//! `plots` draws it.
+//!
+//! Every per-frame plot but Röttger's c marks the frames that broke the speed or rotation
+//! bounds. Triangles and update times always take a logarithmic y axis (entries differ by orders
+//! of magnitude), error and popping only when the entries' means differ by more than ten times
+//! (`LOG_AXIS_ABOVE_RATIO`). The Pareto plot, a summary, leaves out the warm-up frames; the
+//! per-frame plots keep them.
 
 use super::columns::{RunColumns, value};
 use super::plots::{

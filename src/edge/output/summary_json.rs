@@ -1,6 +1,7 @@
 //! `summary.json`: per algorithm, mean/p50/p95/max of every numeric column and its own
 //! preprocessing, plus the run's metadata. Format version 1 is documented in
-//! `docs/output-formats.md`.
+//! `docs/output-formats.md`, "summary.json". It lays out the document and writes no file; the
+//! summaries are `sim::stats`'s, the goal's verdict `goal_check.rs`'s, the warm-up `warm_up.rs`'s.
 
 use super::columns::{RunColumns, numeric_columns, value};
 use super::goal_check::check_goal;

@@ -1,5 +1,5 @@
 //! The top of a swept experiment's output folder: what the points of its top-level sweep show
-//! side by side.
+//! side by side (`docs/output-formats.md`, "Swept experiments").
 //!
 //! Each point has written its own folder (frames.csv, summary.json, report.md, plots); this
 //! module makes, from the figures of those reports, the sweep's `summary.json` (every point's

@@ -1,6 +1,8 @@
 //! What a tuned entry's search found (`"tune"` in the experiment): the record `summary.json`
 //! carries under `"tuning"`, the "Tuned entries" table of `report.md` and the progress line of
-//! each probe. Documented in `docs/output-formats.md`.
+//! each probe. Documented in `docs/output-formats.md` ("summary.json", "report.md") and
+//! `docs/experiment-format.md`, "Tuning to a target". It only reports: the search is
+//! `sim::tuning`'s.
 
 use crate::edge::experiment::{Tune, TuneTarget};
 use crate::sim::stats::FrameStats;

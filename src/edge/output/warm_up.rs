@@ -1,5 +1,7 @@
 //! Warm-up: the first frames of a run left out of its summaries, and whether an entry holding a
-//! count target had reached it.
+//! count target had reached it (`docs/experiment-format.md`, "Outputs", `warm_up_frames`). It
+//! changes no frame and no file's frame rows; whether an entry held its count over the run is
+//! `goal_check.rs`'s.
 //!
 //! An entry that starts far from its target (Wu's budget from the paper's initial τ, ROAM's or
 //! Röttger's controller from their first guess) takes frames to get there, and averaging those

@@ -3,7 +3,9 @@
 //!
 //! Pure: no GPU, no IO, so it is tested without an adapter. The mesh is read through its
 //! triangle visitor ([`MeshOutput::for_each_triangle`]), whatever its form: corners at their
-//! drawn heights (morphed ones included), each triangle's role and level. Positions are
+//! drawn heights (morphed ones included), each triangle's role and level, and whether it meets
+//! the view volume by the run's own culling test (`Camera::may_see_triangle`, the test behind
+//! `triangles_rendered`), so the culling view shows what the run counted. Positions are
 //! terrain-local metres in `f32`, which is what the screen needs; the simulation keeps its own
 //! `f64` arithmetic. The triangle list is not indexed: vertex `3k..3k+3` is triangle `k`, the
 //! order the visitor visits, so a shader recovers a triangle's number from its vertex index and

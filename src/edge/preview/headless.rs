@@ -1,4 +1,6 @@
-//! Drawing without a window: `roamsim render` and the render test.
+//! Drawing without a window: `roamsim render` and the render test (README, "Seeing the meshes:
+//! `preview` and `render`"). It computes nothing a run reports (the frames are the runner's,
+//! through `replay.rs`) and draws through [`super::renderer`], as the window does.
 //!
 //! [`Offscreen`] owns a wgpu device on whatever adapter the machine has (a GPU, or Mesa's
 //! software Vulkan/GL on CI), draws panes into textures and reads the pixels back: the colour

@@ -1,5 +1,8 @@
 //! The preview: one experiment's flight replayed and drawn, in a window (`roamsim preview`) or
-//! offscreen into PNG files (`roamsim render`). Built only with the `preview` cargo feature.
+//! offscreen into PNG files (`roamsim render`). Built only with the `preview` cargo feature,
+//! which enables the optional dependencies wgpu, winit, bytemuck and pollster; the default build
+//! compiles none of this. It is a way to look at meshes, not the GPU buffers SPEC §12 times: it
+//! draws every frame's mesh afresh through the mesh visitor.
 //!
 //! - [`replay`] steps the experiment's algorithms through the flight with the simulation's own
 //!   runner ([`crate::sim::run::FrameRunner`]), so the mesh and statistics shown are exactly

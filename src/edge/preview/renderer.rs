@@ -1,4 +1,6 @@
-//! The wgpu drawing shared by the window and the offscreen target.
+//! The wgpu drawing shared by the window and the offscreen target (README, "Seeing the meshes:
+//! `preview` and `render`"). It is a way to look at meshes, not SPEC §12's frame a GPU draws:
+//! nothing here is timed or counted, and it builds no algorithm's buffers.
 //!
 //! Three pipelines over one uniform block (`shader.wgsl`): the shaded mesh with its wireframe
 //! coloured by refinement level (culled triangles optionally tinted, skirts and stitches

@@ -1,4 +1,6 @@
-//! `roamsim preview`: the flight replayed in a winit window, one or two algorithms side by side.
+//! `roamsim preview`: the flight replayed in a winit window, one or two algorithms side by side
+//! (README, "Seeing the meshes: `preview` and `render`", lists the same keys). It computes
+//! nothing a run reports and draws nothing itself (see the last paragraph).
 //!
 //! Every algorithm entry of the experiment runs in lockstep (so switching a pane's algorithm
 //! shows that algorithm at the same frame at once); the panes show one or two of them. The

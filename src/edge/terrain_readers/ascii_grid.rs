@@ -1,5 +1,7 @@
 //! The ESRI ASCII grid reader (`.asc`): a header of `key value` lines, then `nrows × ncols`
-//! numbers, north row first.
+//! numbers, north row first (the options it takes: `docs/experiment-format.md`, "Terrain"). The
+//! rows are turned over so that grid row 0 is the south edge, as every reader's grid is. It does
+//! not reproject: a `.prj` only says whether the cell size is in degrees (below).
 //!
 //! Header keys are case-insensitive and may come in any order: `ncols`, `nrows`, `xllcorner` or
 //! `xllcenter`, `yllcorner` or `yllcenter`, `cellsize` (or `dx` and `dy`), and optionally

@@ -1,5 +1,7 @@
 //! The GeoTIFF reader: the first image of a single-band int16, uint16 or float32 TIFF, north row
-//! first, with nodata from the GDAL_NODATA tag and spacing from the GeoTIFF tags.
+//! first, with nodata from the GDAL_NODATA tag and spacing from the GeoTIFF tags (the options it
+//! takes: `docs/experiment-format.md`, "Terrain"). The rows are turned over so that grid row 0
+//! is the south edge, as every reader's grid is. A TIFF of several bands is refused, not split.
 //!
 //! Spacing comes from ModelPixelScaleTag when the GeoKeyDirectoryTag declares the model type:
 //! projected rasters are taken to be in metres (or in feet, when ProjLinearUnitsGeoKey says so),

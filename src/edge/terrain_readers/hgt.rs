@@ -1,4 +1,7 @@
-//! The SRTM `.hgt` reader: a headerless square of big-endian int16 metres, north row first.
+//! The SRTM `.hgt` reader: a headerless square of big-endian int16 metres, north row first
+//! (SPEC §11's tiles; the options it takes: `docs/experiment-format.md`, "Terrain"). The rows
+//! are turned over so that grid row 0 is the south edge, as every reader's grid is. It does not
+//! fill voids: the core does (`sim::terrain::fill`).
 //!
 //! The size comes from the byte length alone: 1201² samples (SRTM3, 3″ posts) or 3601² (SRTM1,
 //! 1″ posts). −32768 marks a void. The spacing is derived from the tile name (`N48E009.hgt`)

@@ -1,9 +1,18 @@
-//! Terrain readers: SRTM `.hgt`, 16-bit grayscale PNG, GeoTIFF, ESRI ASCII grid and raw samples.
+//! Terrain readers: SRTM `.hgt`, 8- or 16-bit grayscale PNG, GeoTIFF, ESRI ASCII grid and raw
+//! samples (SPEC §11; the formats and options an experiment names are in
+//! `docs/experiment-format.md`, "Terrain"). Readers only read: filling the voids and fitting the
+//! grid into (2^n + 1)² are the core's (`sim::terrain::fill`, `sim::terrain::embed`).
 //!
 //! Every reader turns a file into a [`SampleGrid`] (row 0 = south edge, voids marked) plus the
 //! grid spacing the file itself declares, if any. Every failure is a [`TerrainReadError`] that
 //! names the file and says what was wrong and what was expected. Readers never panic on bad
-//! input and never accept a NaN or infinite height that is not the declared nodata value.
+//! input and never accept a NaN or infinite height that is not the declared nodata value
+//! (SPEC §9's last case).
+//!
+//! Every reader parses bytes already in memory. [`read_terrain`] reads the file (and an ASCII
+//! grid's `.prj` beside it) and hands the bytes on; [`read_terrain_bytes`] is the same without
+//! the file and with no `.prj`, the entry point of the fuzz targets and the parser property
+//! tests. The path then only names the file in errors (and gives an `.hgt` tile its name).
 
 mod ascii_grid;
 mod geotiff;

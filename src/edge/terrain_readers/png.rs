@@ -1,4 +1,6 @@
-//! The PNG reader: 8- or 16-bit grayscale height maps, north row first.
+//! The PNG reader: 8- or 16-bit grayscale height maps, north row first (the options it takes:
+//! `docs/experiment-format.md`, "Terrain"). The rows are turned over so that grid row 0 is the
+//! south edge, as every reader's grid is. It is not an image reader (what it refuses, below).
 //!
 //! Only plain grayscale is accepted: no alpha, palette or colour, and no 1-, 2- or 4-bit depths,
 //! because a height map stored that way is almost certainly an image that is not a height map.

@@ -1,5 +1,8 @@
 //! The raw reader: headerless samples of a layout the caller declares (size, sample type, byte
-//! order, which edge comes first).
+//! order, which edge comes first; `docs/experiment-format.md`, "Terrain", `format.raw`). The file
+//! does not say which row is north: with `north_first` the rows are turned over so that grid row
+//! 0 is the south edge, as every reader's grid is; without it file row 0 is grid row 0. It
+//! guesses no layout.
 //!
 //! The file must hold exactly `columns × rows` samples: nothing is skipped or padded, and a
 //! header, if the file has one, is not recognised. Raw files declare no nodata value and no

@@ -1,4 +1,6 @@
-//! Every algorithm-specific column of `frames.csv`, named once.
+//! Every algorithm-specific column of `frames.csv`, named once. What a column means is in the
+//! module doc of the algorithm that fills it (its "Counters" list); the common columns are
+//! `FrameStats`'s, not here.
 //!
 //! An algorithm declares its columns ([`super::LodAlgorithm::extra_columns`]) with these
 //! constants, and whoever reads a column by name (the plots, the report, the tests) uses them

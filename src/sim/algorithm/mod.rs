@@ -1,4 +1,6 @@
-//! The LOD algorithms, behind one small trait, chosen at run time from the experiment.
+//! The LOD algorithms, behind one small trait, chosen at run time from the experiment: Wu's
+//! (SPEC §5), the baselines and the other papers' systems (SPEC §6), one module each. This file
+//! is the trait and the choice; what each paper leaves open is in its module's doc.
 //!
 //! Each algorithm owns its own data structure and is driven one frame at a time through
 //! [`LodAlgorithm::update`]. It hands its mesh to the runner as a [`MeshOutput`]: a 4-8

@@ -1,12 +1,14 @@
-//! `reference`: Wu's view-angle criterion evaluated from scratch every frame.
+//! `reference`: Wu's view-angle criterion evaluated from scratch every frame, SPEC §6's
+//! brute-force reference for Wu (the nodes of Wu et al. 2001 §3.1, the split zones and lives of
+//! §4.3 and §5, through `zone.rs`). It is not in the paper, and it holds no triangle budget.
 //!
 //! Top-down over Wu's quadtree from the root block: a node splits when it has an error (δ > 0)
 //! and its signed life ℓ meets the [`SplitThreshold`] (by default ℓ ≤ 0, i.e. the eye is in its
 //! split zone) and, with [`Refinement::InView`] (Wu's `refine` option), its bounding sphere meets
 //! the view cone ([`ViewThreshold::InView`], by default) or lies within its margin of it
 //! ([`ViewThreshold::WithinMargin`], the loosest test Wu's deferred merges can leave behind; see
-//! `wu/visibility.rs`); then its four sub-blocks are tested. Splitting activates the node's centre and,
-//! first, whatever closure needs (its parents, recursively: the forced splits). After the
+//! `wu/visibility.rs`); then its four sub-blocks are tested. Splitting activates the node's centre
+//! and, first, whatever closure needs (its parents, recursively: the forced splits). After the
 //! traversal every edge midpoint whose parents are both active is inserted (boundary vertices are
 //! "free": Wu's nodes are the block centres, and a shared edge is subdivided as soon as both blocks
 //! beside it are split). No queues, no deferral, no state carried between frames but the previous
@@ -15,7 +17,12 @@
 //! This is the ground truth that the incremental algorithms are tested against, and the
 //! denominator of every "what coherence saves" ratio. Counters: `splits` = nodes activated by this
 //! frame's rebuild (forced ones included), `merges` = 0, `vertices_inserted`/`deleted` = the
-//! difference from the previous frame's mesh, `metric_evaluations` = lives computed.
+//! difference from the previous frame's mesh (what changed on screen, the meaning the incremental
+//! algorithms give them), `metric_evaluations` = lives computed.
+//!
+//! Memory: two `VertexSet`s, one bit per vertex each (this frame's mesh and the previous one, in a
+//! `RebuiltMesh`), with their active-vertex lists; the traversal stack; and with the
+//! `max_plus_own` nesting, the centres' nested errors (4 bytes per sample, `zone.rs`).
 
 use super::wu::{Cone, ConeMotion, NodeSphere, Refinement, Sight};
 use super::{FrameInput, LodAlgorithm};

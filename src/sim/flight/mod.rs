@@ -1,9 +1,15 @@
-//! Camera flights: parametric paths and recorded logs, replayed exactly, frame by frame.
+//! Camera flights: parametric paths and recorded logs, replayed exactly, frame by frame (SPEC §8),
+//! and the check of a flight against the experiment's motion bounds ([`speed_violations`]). A
+//! flight is data: it knows nothing of the algorithms that fly it.
 //!
 //! A [`Flight`] is built once from a [`FlightPath`] and a [`Look`] rule; it evaluates every
 //! frame's [`Pose`] up front (40 bytes a frame: 40 MB for a 10^6-frame flight) so replay is a
 //! lookup and the speed check sees the whole flight before anything runs. Non-finite poses are
-//! rejected at construction. The frame index is the simulation clock.
+//! rejected at construction. The frame index is the simulation clock. Poses are in world
+//! coordinates; the runner moves each into the terrain's local frame.
+//!
+//! An eye below the ground is one of SPEC §9's hard cases, not an error: such a flight runs, and
+//! [`Flight::frames_below_ground`] lists the frames for the run to report.
 
 mod path;
 mod speed;

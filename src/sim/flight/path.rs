@@ -1,4 +1,11 @@
-//! Parametric flight paths and the rules for where the camera looks.
+//! Parametric flight paths and the rules for where the camera looks (SPEC §8: circle, line,
+//! spiral, waypoints, recorded poses). They are evaluated once, into a [`super::Flight`]; reading
+//! a recorded camera log is the edge's (`edge::flight_log`), not this module's.
+//!
+//! The look that follows the motion aims where the path goes one frame later, computed from the
+//! path's own formula even past the flight's last frame, so the last frame looks as it would in
+//! a longer flight. A height above the ground is interpolated as a clearance, and the bilinear
+//! ground under the eye is added after ([`Altitude`]).
 
 use super::FlightError;
 use crate::sim::terrain::Heightfield;

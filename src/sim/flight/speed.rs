@@ -1,6 +1,12 @@
 //! The motion check: every frame whose change from the previous frame breaks one of the
 //! experiment's bounds — the eye moved too far (horizontally or vertically) or the look direction
-//! turned too fast — with which bounds it broke.
+//! turned too fast — with which bounds it broke (SPEC §8: the runner checks the flight against
+//! the bounds its algorithms may assume). It reports and never corrects: what an algorithm does
+//! about a broken bound (revalidate its lives or its deferral) is the algorithm's.
+//!
+//! The horizontal step is the Euclidean length of the eye's move in the plane, the vertical step
+//! its absolute change in z, the turn the angle between consecutive look directions. Frame 0 has
+//! no previous frame and is never listed. The runner hands each frame its [`BrokenBounds`].
 
 use super::Flight;
 use crate::sim::zone::SpeedBound;

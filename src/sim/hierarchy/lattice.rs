@@ -1,4 +1,6 @@
-//! Index arithmetic of the 4-8 (longest-edge bisection) hierarchy over a (2^n+1)² grid.
+//! Index arithmetic of the 4-8 (longest-edge bisection) hierarchy over a (2^n+1)² grid (SPEC §3):
+//! vertex classes, parents, children, the edge a vertex bisects, and Wu's sub-blocks and boundary
+//! vertices (Wu et al. 2001 §3.1, Figure 2). Positions only: heights and errors are `mod.rs`'s.
 //!
 //! Every non-corner grid vertex is the centre of exactly one diamond, and its class follows from
 //! its coordinates alone. Let t be the largest power of two dividing both i and j (the vertex's

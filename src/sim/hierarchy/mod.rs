@@ -1,14 +1,19 @@
-//! The 4-8 hierarchy of a height field and the data preprocessing attaches to it.
+//! The 4-8 hierarchy of a height field (SPEC §3) and the data preprocessing attaches to it: Wu's
+//! node errors and height ranges (Wu et al. 2001 §4.2), and the other papers' nested errors on
+//! demand. It is built once per terrain and shared, read-only, by the algorithms; the index
+//! arithmetic is `lattice.rs`.
 //!
 //! [`Hierarchy::new`] is one O(samples) bottom-up pass that computes, for every square node
 //! (Wu's quadtree block): the node error δ under Wu's rule (max of the sub-blocks' δ, the centre's
-//! |ε| and the four boundary vertices' |ε|) and the block's height range. It stores them, 12 bytes
-//! per node, in a dense array ([`SquareIndex`] order) for every level but the finest. The finest
-//! blocks (half-size 1), three quarters of all nodes, store nothing: their δ and height range are
-//! computed on demand from the block's 9 samples, O(1) and bit-identical to what storing them
-//! would give. That is 12 bytes per 12 samples, i.e. 1 byte per sample on top of the 4-byte
-//! heights. Other papers' nested errors over all vertices ([`NestingRule`]) are built on demand by
-//! [`Hierarchy::nested_vertex_errors`], so a run pays only for the rules its algorithms use.
+//! |ε| and the four boundary vertices' |ε|) and the block's height range. The finest blocks count
+//! their boundary vertices too, as the paper says (§3.1: the vertices that depend on a leaf node
+//! are its children). Both are stored, 12 bytes per node, in a dense array ([`SquareIndex`]
+//! order) for every level but the finest. The finest blocks (half-size 1), three quarters of all
+//! nodes, store nothing: their δ and height range are computed on demand from the block's 9
+//! samples, O(1) and bit-identical to what storing them would give. That is 12 bytes per 12
+//! samples, i.e. 1 byte per sample on top of the 4-byte heights. Other papers' nested errors over
+//! all vertices ([`NestingRule`]) are built on demand by [`Hierarchy::nested_vertex_errors`], so a
+//! run pays only for the rules its algorithms use.
 //! Errors are rounded up to `f32`, never down, so they stay bounds.
 
 mod lattice;

@@ -1,6 +1,9 @@
 //! What `--check` (and every test) runs on a frame's [`MeshOutput`], whatever its form: the 4-8
 //! validator on a vertex set (plus: every morphed vertex is active), the triangle-list
-//! validator on a triangle list. Both compare the algorithm's own triangle count with the mesh.
+//! validator on a triangle list. Both compare the algorithm's own triangle count with the mesh
+//! (SPEC §3: "an algorithm's own count must always equal this; test it"). It reads the mesh
+//! only, never an algorithm's own structures (their validators live beside each algorithm); the
+//! runner checks the extra columns.
 
 use super::list_validate::{TriangleListError, TriangleListValidator};
 use super::output::{LatticeMesh, MeshOutput};

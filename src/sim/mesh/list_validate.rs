@@ -1,6 +1,8 @@
 //! The triangle-list validator: what makes a [`TriangleList`] a mesh of its terrain under the
-//! crack policy it declares. `roamsim run --check` runs it after every frame; tests call it
-//! after every frame too. The 4-8 validator (`validate`) is separate and unchanged.
+//! crack policy it declares (SPEC §3: the meshes beyond the 4-8 family, with T-junctions, skirts,
+//! collapsed borders and stitches). `roamsim run --check` runs it after every frame; tests call
+//! it after every frame too. It does not measure how well the mesh fits the terrain (the audit
+//! does); the 4-8 validator (`validate`) is separate.
 //!
 //! Checked, first failure reported (triangles and edges in the list's order, samples in
 //! row-major order):

@@ -1,4 +1,7 @@
-//! Meshes: what an algorithm draws, in the two forms of [`MeshOutput`], and what checks them.
+//! Meshes: what an algorithm draws, in the two forms of [`MeshOutput`], and what checks them
+//! (SPEC §3: the 4-8 family, and the families beyond it). Not an algorithm's own mesh structure:
+//! bintrees, block trees and queues stay with each algorithm, which hands its mesh over in one of
+//! these two forms.
 //!
 //! - The 4-8 form: [`VertexSet`], a set of active vertices closed under parents, one bit per
 //!   grid vertex (2^28 vertices of a 16385² grid take 32 MiB) plus a count. Triangles are not

@@ -1,5 +1,7 @@
 //! Morphed heights of a 4-8 mesh: the vertices an algorithm draws at a height of its own (a
-//! geomorph between two levels) instead of their sample's height.
+//! geomorph between two levels) instead of their sample's height. Röttger's geomorphing (Röttger
+//! et al. 1998 §2.3, SPEC §6) hands them; the block families morph inside their triangle lists
+//! instead ([`super::TriangleList`]). It holds the heights; the algorithm computes them.
 //!
 //! Sparse: only the morphing vertices are held, by vertex id, so a mesh that morphs nothing
 //! costs nothing and one that morphs k vertices costs O(k). Lookups are O(1) (a hash map with a
@@ -8,8 +10,8 @@
 //!
 //! The hasher is a multiply by an odd 64-bit constant (Fibonacci hashing, as rustc's Fx hash
 //! folds a word; ROAM's queues use the same), not SipHash: the keys are vertex ids, which no
-//! adversary chooses, and an algorithm that rebuilds its morphs every frame (Röttger's) spends
-//! most of its morphing time hashing.
+//! adversary chooses, and an algorithm that rebuilds its morphs every frame (Röttger's) hashes
+//! every morphing vertex of every frame.
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};

@@ -1,5 +1,6 @@
 //! The mesh an algorithm hands the runner, in one of two forms, and the one way every consumer
-//! visits its triangles.
+//! visits its triangles: SPEC §3's two kinds of mesh under SPEC §7's one yardstick. It borrows
+//! the algorithm's mesh for the frame and stores nothing; it is not a renderer's buffer.
 //!
 //! - [`MeshOutput::Lattice`], the 4-8 fast path: a [`VertexSet`] closed under parents, plus
 //!   optionally [`MorphedHeights`] (vertices drawn at a geomorphed height). Wu, ROAM, Lindstrom,

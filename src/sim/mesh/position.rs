@@ -1,18 +1,21 @@
 //! Where a drawn vertex sits: a position in the terrain's plane in fixed-point grid units, and a
-//! height of its own.
+//! height of its own (SPEC §3: the families beyond 4-8 draw vertices at fractional positions and
+//! heights between levels). These are the vertices of the general mesh form; a 4-8 mesh's
+//! vertices are grid samples, held by vertex id in a [`super::VertexSet`].
 //!
 //! Positions are measured in grid cells from sample (0, 0) (x along columns, y along rows), in
-//! fixed point with [`SUBGRID_BITS`] fractional bits: 1/65 536 of a cell, the sub-texel precision
-//! a GPU tessellator works at. Grid samples are exact (`SubgridPoint::grid`), and so is every
-//! dyadic fraction down to that precision; other fractions (a continuous tessellation factor's
-//! vertices) are rounded to the nearest representable point once, when the algorithm makes the
-//! vertex, so every consumer afterwards sees the same exact point. Integer coordinates are what
-//! make the audit's inside tests exact (no two triangles both claim, or both miss, a sample on
-//! their shared edge): differences of two coordinates fit 34 bits, products of two differences
-//! fit an `i128`.
+//! `i64` fixed point with [`SUBGRID_BITS`] fractional bits: 1/65 536 of a cell, the sub-texel
+//! precision a GPU tessellator works at. Grid samples are exact (`SubgridPoint::grid`), and so is
+//! every dyadic fraction down to that precision; other fractions (a continuous tessellation
+//! factor's vertices) are rounded to the nearest representable point once, when the algorithm
+//! makes the vertex, so every consumer afterwards sees the same exact point. Integer coordinates
+//! are what make the audit's inside tests exact (no two triangles both claim, or both miss, a
+//! sample on their shared edge): differences of two coordinates fit 34 bits, products of two
+//! differences fit an `i128`, so the inside tests multiply in `i128`, exactly.
 //!
 //! Heights are `f32` metres in the terrain's local frame, like the stored samples: a morphed or
-//! resampled height is whatever the algorithm computed, rounded as a GPU vertex buffer would hold it.
+//! resampled height is whatever the algorithm computed, rounded as a GPU vertex buffer would hold
+//! it. Consumers interpolate heights between corners in `f64` (`raster`).
 
 use crate::sim::hierarchy::GridPoint;
 use crate::sim::terrain::Spacing;

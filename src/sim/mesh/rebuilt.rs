@@ -1,9 +1,11 @@
 //! A mesh rebuilt from scratch every frame, double-buffered so that the frame's inserted and
-//! deleted vertices can be counted against the previous frame's mesh.
+//! deleted vertices can be counted against the previous frame's mesh: what changed on screen,
+//! the meaning those counters have for the incremental algorithms too. It is the vertex set of
+//! the 4-8 algorithms that rebuild their mesh each frame (SPEC §12): `reference`, `lindstrom`
+//! and `rottger`. Incremental algorithms keep their own.
 //!
-//! Used by the from-scratch algorithms (`reference`, `lindstrom`). Starting a frame swaps the
-//! buffers and clears the new current one in O(previous active vertices), not O(grid); it keeps
-//! the four corners. Nothing allocates after the first frames.
+//! Starting a frame swaps the buffers and clears the new current one in O(previous active
+//! vertices), not O(grid); it keeps the four corners. Nothing allocates after the first frames.
 
 use super::VertexSet;
 use crate::sim::hierarchy::Lattice;

@@ -1,4 +1,5 @@
-//! The general mesh form: an indexed triangle list as a block-based algorithm draws it.
+//! The general mesh form: an indexed triangle list as a block-based algorithm draws it (SPEC §3:
+//! the families beyond the 4-8 hierarchy, taken as they are drawn).
 //!
 //! For the families outside the 4-8 hierarchy (geomipmapping, chunked LOD, Vaněk–Ježek patches,
 //! tessellated blocks with stitching strips, anything geomorphed): vertices with positions of

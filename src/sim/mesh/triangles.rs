@@ -1,4 +1,6 @@
-//! The triangles of a mesh, found by descending the bintree of right triangles.
+//! The triangles of a 4-8 mesh, found by descending the bintree of right triangles (SPEC §3:
+//! triangles follow from the active vertex set alone). Nothing here stores triangles; a
+//! triangle list is visited as its algorithm built it ([`super::MeshOutput::for_each_triangle`]).
 //!
 //! Start from the two base triangles (hypotenuse from (0,0) to (2^n,2^n)); a triangle is split
 //! when the midpoint of its hypotenuse is an active vertex. This visits O(T) triangles and

@@ -1,4 +1,5 @@
-//! The mesh validator: what makes a vertex set a crack-free mesh of the 4-8 family.
+//! The mesh validator: what makes a vertex set a crack-free mesh of the 4-8 family (SPEC §3).
+//! It checks the set only; triangle lists have their own validator (`list_validate`).
 //!
 //! A valid mesh holds the four corners, is closed under parents (every active vertex's parents
 //! are active), and its enumerated triangles number T = 2 + Σ parents. Tests call it after every

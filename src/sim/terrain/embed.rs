@@ -1,9 +1,13 @@
-//! Embedding an arbitrary grid into a (2^n+1)² height field: padding or cropping.
+//! Embedding an arbitrary grid into a (2^n+1)² height field: padding or cropping (SPEC §2: the
+//! smallest 2^n+1 square, padding replicating the border, cropping on request). It neither fills
+//! voids (a grid with voids left is refused) nor resamples.
 //!
 //! Padding places the data at the south-west corner and fills the east and north margins by
-//! replicating the nearest border sample, so the padding adds no new relief across the border;
-//! the height field remembers the real data extent so the audit ignores the padding. Cropping
-//! takes the largest (2^n+1)² window that fits, at a chosen origin (by default centred).
+//! replicating the nearest border sample, so the padding adds no new relief across the border
+//! (though a border whose profile varies still has vertex errors along it, and the padding repeats
+//! that profile). The height field remembers the real data extent so the audit ignores the
+//! padding samples. Cropping takes the largest (2^n+1)² window that fits, at a chosen origin (by
+//! default centred).
 
 use super::{Heightfield, HeightfieldError, SampleGrid, Spacing};
 

@@ -1,4 +1,6 @@
-//! Void filling: every void sample takes the height of its nearest valid sample.
+//! Void filling: every void sample takes the height of its nearest valid sample (SPEC §2: voids
+//! are filled before use and the number filled is reported). It is the one fill policy; it does
+//! not interpolate, and a grid with no valid sample is an error, not a guess.
 //!
 //! "Nearest" is by 4-connected grid distance, found by one breadth-first pass that starts from
 //! all valid samples at once, so the whole fill is O(samples). Ties (two valid samples at the

@@ -1,12 +1,18 @@
-//! The (2^n+1)² height field every algorithm runs on.
+//! The (2^n+1)² height field every algorithm runs on (SPEC §2's conventions). Its constructors
+//! hold its invariants: side 2^n+1 (n ≥ 1), finite heights, positive spacing; nothing downstream
+//! checks them again. It is not a reader (`edge::terrain_readers`) nor a preprocessed hierarchy
+//! (`crate::sim::hierarchy`).
 //!
-//! Sample (i, j) sits at x = i·dx, y = j·dy (metres, z up) in the terrain's *local* frame; the
-//! world position is `origin + local`. Every algorithm, the audit and the camera work in local
-//! coordinates (the runner converts each pose once, with [`Heightfield::local_pose`]), so a
-//! terrain far from the world origin keeps all its precision. Heights are stored as `f32`
-//! relative to the origin: every real elevation model fits (SRTM's int16 exactly), and it halves
-//! the memory of the largest terrains; every geometric computation promotes them to `f64`. The field also remembers which
-//! part of it is real data (the rest is padding), so the audit measures real samples only.
+//! Sample (i, j) sits at x = i·dx, y = j·dy (metres, z up) in the terrain's *local* frame, row 0
+//! the south edge; the world position is `origin + local`, with an `f64` origin. Every
+//! algorithm, the audit and the camera work in local coordinates: the runner converts each world
+//! pose once, with [`Heightfield::local_pose`] (one `f64` subtraction), so a terrain far from the
+//! world origin keeps all its precision, and a terrain and flight moved together 10^6 m from it
+//! give the same meshes as at the origin (SPEC §9; `tests/hard_cases.rs`). Heights are stored as
+//! `f32` relative to the origin: every real elevation model fits (SRTM's int16 exactly), and it
+//! halves the memory of the largest terrains; every geometric computation promotes them to
+//! `f64`. The field also remembers which part of it is real data (the rest is padding), so the
+//! audit measures real samples only.
 
 use crate::sim::view::Pose;
 use glam::{DVec2, DVec3};

@@ -1,4 +1,7 @@
-//! A rectangular grid of height samples as a reader found it, before void filling and embedding.
+//! A rectangular grid of height samples as a reader found it, before void filling and embedding
+//! (SPEC §2: any input of at least 3×3; NaN or infinite heights are refused, never accepted
+//! silently). It holds no spacing and no origin: those travel beside it to the
+//! [`super::Heightfield`].
 //!
 //! Row order is the map's: row 0 of a [`SampleGrid`] is the **south** edge (y = 0), so readers of
 //! north-up files (SRTM, PNG, GeoTIFF, ESRI grids) flip rows while reading. Void samples (SRTM's

@@ -1,4 +1,7 @@
-//! Seeded synthetic terrain by the diamond-square algorithm, for any (2^n+1)² size.
+//! Seeded synthetic terrain by the diamond-square algorithm, for any (2^n+1)² size (SPEC §11:
+//! synthetic terrains cover the sizes the real tiles cannot). It makes whole terrains before a
+//! run; the detail chunked LOD synthesises during a run (Lauritsen–Nielsen) is separate
+//! (`crate::sim::algorithm::chunked`).
 //!
 //! The generator is fully determined by its parameters: the random numbers come from a
 //! SplitMix64 stream seeded by `seed`, visited in a fixed order, so the same parameters give

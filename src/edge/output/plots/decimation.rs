@@ -1,5 +1,6 @@
 //! Decimation of long line series for drawing, and the breaks at non-plottable points (the rule
-//! is in the module doc of `plots`).
+//! is in the module doc of `plots`; the reader's side is `docs/output-formats.md`, "plots/"). It
+//! thins only what is drawn: `frames.csv` and every summary keep every frame.
 
 use super::ticks::is_plottable;
 use super::{DECIMATE_ABOVE_POINTS, DECIMATION_COLUMNS};

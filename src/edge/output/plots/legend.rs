@@ -1,4 +1,6 @@
-//! Text beside the plot: the legend box, marker labels spread apart, and text cut to fit.
+//! Text beside the plot: the legend box, marker labels spread apart, and text cut to fit
+//! (`docs/output-formats.md`, "plots/": legend labels wrap onto more rows and are never cut; a
+//! marker label or a title too wide is). It writes no label's words: the callers do.
 
 use super::{
     IMAGE_SIZE, LEGEND_BORDER_COLOR, LEGEND_FONT_SIZE, LEGEND_MAX_TEXT_WIDTH, LEGEND_PADDING,

@@ -1,4 +1,7 @@
-//! Line charts: the plan (axis ranges, series split into drawable runs, colours) and its drawing.
+//! Line charts: the plan (axis ranges, series split into drawable runs, colours) and its drawing:
+//! the per-frame plots and a sweep's figures (`docs/output-formats.md`, "plots/" and "Swept
+//! experiments"). It picks no series and computes no statistic: the callers (`run_plots.rs`,
+//! `sweep_outputs.rs`) hand it the data.
 
 use super::decimation::drawable_runs;
 use super::legend::{Legend, LegendEntry, fit_text, spread_apart};

@@ -22,7 +22,8 @@
 //!   run of consecutive points falling into one column is replaced by its first, lowest, highest
 //!   and last point, in their original order. For a series whose x increases (frames, time) this
 //!   draws exactly the same min/max envelope as the full series with at most four points per
-//!   column, so a run of 10^6 frames plots in a fraction of a second and its SVG stays small.
+//!   column, so a run of 10^6 frames draws at most 4 800 points per series and its SVG stays
+//!   small.
 //!   A gap (skipped point) inside one column is invisible at that resolution and is bridged.
 //!   Series whose x jumps back and forth are not reduced much: line charts expect ordered x.
 //!
@@ -30,8 +31,9 @@
 //! decide file names beyond `<stem>.png`/`<stem>.svg`; those belong to the callers. The scatter
 //! chart is meant for tens of points (one per algorithm or setting): every point is drawn;
 //! without groups every point is labelled, with groups (colour per group, marker shape per
-//! variant, a legend) only the front's points are; each label placed where it overlaps no other label and no dot
-//! (`label_placement.rs`), joined to its point by a grey leader line when it had to move away.
+//! variant, a legend) only the front's points are; each label placed where it overlaps no other
+//! label and no dot (`label_placement.rs`), joined to its point by a grey leader line when it had
+//! to move away.
 //!
 //! The parts: `line.rs` (the line chart's plan and drawing), `decimation.rs` (breaks and the
 //! decimation of long series), `scatter.rs` (the scatter chart), `ticks.rs` (ranges, tick labels,

@@ -1,5 +1,6 @@
 //! Scatter charts: the plan (drawable points, the front, linear or logarithmic x) and its drawing
-//! with placed labels.
+//! with placed labels: `accuracy_vs_time` (`docs/output-formats.md`, "plots/"). It computes no
+//! front (the caller's, from `sim::stats`) and places no label itself (`label_placement.rs`).
 
 use super::super::label_placement::{DOT_RADIUS, PixelBox, place_labels};
 use super::legend::{Legend, LegendEntry};

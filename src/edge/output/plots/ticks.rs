@@ -1,5 +1,7 @@
 //! Axes: plottable values, axis ranges with their margins, tick label formats (linear and
-//! logarithmic), and the axis configuration every chart shares.
+//! logarithmic), and the axis configuration every chart shares (the axes `docs/output-formats.md`,
+//! "plots/", names for each plot). It chooses no linear or logarithmic scale: each chart's
+//! caller does.
 
 use super::{
     AXIS_COLOR, AXIS_DESC_FONT_SIZE, GRID_BOLD_COLOR, GRID_LIGHT_COLOR,

@@ -1,6 +1,6 @@
 //! Holding a triangle target by choosing τ every frame: the controller of the block
 //! algorithms' `target_triangles` option (what makes them comparable with the budget-driven
-//! Wu and ROAM at equal triangles).
+//! Wu and ROAM at equal triangles). It is roamsim's: none of the block papers holds a count.
 //!
 //! **The controller.** Each frame, τ is the smallest value on a fixed grid (every 1/64 of an
 //! octave between 2^−40 and 2^40 px, plus 0) whose mesh has at most the target's triangles,
@@ -19,8 +19,8 @@
 //! fits, τ = 0.
 //!
 //! Compared with Wu's base shifting (one step of b per frame from the previous count) this
-//! controller never overshoots the target and has no drift, at the price of about ten
-//! selection passes per frame; the passes are counted in `metric_evaluations`.
+//! controller never overshoots the target and has no drift, at the price of several selection
+//! passes per frame; the passes are counted in `metric_evaluations`.
 
 /// The largest τ the search tries, pixels.
 pub(crate) const TAU_MAX_PX: f64 = 1_099_511_627_776.0; // 2^40

@@ -1,4 +1,9 @@
-//! The regular grid both block algorithms draw, and geomorphing on it.
+//! The regular grid both block algorithms draw, and geomorphing on it: a cell's two triangles,
+//! the even neighbours an odd vertex morphs between, and its morphed height (Lauritsen–Nielsen
+//! §3.2.3's simplification, every other row and column removed, and §3.2.8's morphing, eq. 3.4;
+//! de Boer's geomipmaps, not in `papers/`). It is not a level choice or a morph factor
+//! (`threshold.rs`), nor stitching or skirts (`geomipmap/stitch.rs`, `chunked/mesh.rs`): only the
+//! arithmetic every block shares, so that blocks compute a shared vertex alike, bit for bit.
 //!
 //! A block at stride s is a grid of vertices every s samples, each cell split along its
 //! south-west–north-east diagonal into the triangles (SW, SE, NE) and (SW, NE, NW). The next

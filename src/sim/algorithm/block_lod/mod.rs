@@ -3,12 +3,13 @@
 //! or the exact vertical projection), the detail test d < δ·C and the morph factor of eq. 3.5
 //! (`threshold.rs`), box culling (`cull.rs`), the regular grid both triangulate their blocks
 //! with and geomorphing on it (`grid.rs`), and the per-frame τ search that holds a triangle
-//! target (`budget.rs`).
+//! target (`budget.rs`). `vanek` also uses the box culling and the τ search, `stitching-strips`
+//! the box culling.
 //!
-//! Both papers' blocks are regular grids of (2^k + 1)² samples taken every 2^ℓ-th sample, each
-//! cell split along its south-west–north-east diagonal; a grid at stride s with its odd
-//! vertices moved onto the lines between their even neighbours is exactly the grid at stride
-//! 2s, which is what makes geomorphing pop-free.
+//! Both schemes' blocks (de Boer's geomipmaps, Lauritsen–Nielsen's chunks) are regular grids of
+//! (2^k + 1)² samples taken every 2^ℓ-th sample, each cell split along its south-west–north-east
+//! diagonal; a grid at stride s with its odd vertices moved onto the lines between their even
+//! neighbours is exactly the grid at stride 2s, which is what makes geomorphing pop-free.
 //!
 //! What it is not: an algorithm. No state is kept here from frame to frame.
 

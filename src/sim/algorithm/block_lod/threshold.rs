@@ -1,4 +1,5 @@
-//! The detail test of the block papers and the morph factor, on a block's box.
+//! The detail test of the block papers and the morph factor, on a block's box
+//! (Lauritsen–Nielsen §3.2.5, eq. 3.3, and §3.2.8, eq. 3.5).
 //!
 //! A block (a geomipmap patch at a level, a chunk) has a nested world-space error δ and a box:
 //! its square times the height range of its samples. Its distance d from the eye is measured

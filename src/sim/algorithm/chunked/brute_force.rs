@@ -1,5 +1,6 @@
-//! The chunked selection decided chunk by chunk from the definitions, for differential tests:
-//! no top-down traversal, and errors recomputed another way.
+//! The chunked selection decided chunk by chunk from the definitions (eq. 3.1's errors, the
+//! test of listing 3.2), for differential tests: no top-down traversal, and errors recomputed
+//! another way.
 //!
 //! Every chunk's surface is evaluated at the samples by interpolation in its cell (the
 //! triangle (SW, SE, NE) or (SW, NE, NW) the sample falls in), δ_m is the largest vertical

@@ -1,6 +1,7 @@
 //! A cache of chunks held in sibling groups of four (a quadtree node has four children or
-//! none), with least-recently-used eviction: the synthesised chunks of runtime detail, and the
-//! source chunks resident under out-of-core loading.
+//! none), with least-recently-used eviction (the paper's LRU cache, Lauritsen–Nielsen §3.2.14;
+//! dynamic nodes "are also cached, just like the static node", §3.4.3): the synthesised chunks
+//! of runtime detail, and the source chunks resident under out-of-core loading.
 //!
 //! Each entry remembers the frame it was last used and the frame it becomes available (a chunk
 //! requested with a latency is held, its room reserved, before it can be drawn). A group is

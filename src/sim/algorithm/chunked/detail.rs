@@ -23,11 +23,12 @@
 //! - **Displacement** (§3.3.3): a fractal of gradient (Perlin) noise, the paper's basis
 //!   function: octave o = 1..=levels has its lattice every 2^−(o−1) source cells and amplitude
 //!   `amplitude_m`·`roughness`^(o−1). Gradient noise is zero on its own lattice, so every
-//!   octave is zero on the source samples (the source is kept exactly) and a vertex first made
-//!   at depth k below the source is moved by octaves 1..=k only. Gradients come from a seeded
-//!   integer hash (SplitMix64) of (seed, octave, lattice point), one of eight exact directions;
-//!   everything is `f64` arithmetic on dyadic positions, so the surface is the same on every
-//!   run, platform and thread count.
+//!   octave is zero on the source samples (the source is kept exactly, and the two audits,
+//!   against the source and against the synthesised surface, agree wherever the drawn surface
+//!   is exact) and a vertex first made at depth k below the source is moved by octaves 1..=k
+//!   only. Gradients come from a seeded integer hash (SplitMix64) of (seed, octave, lattice
+//!   point), one of eight exact directions; everything is `f64` arithmetic on dyadic positions,
+//!   so the surface is the same on every run, platform and thread count.
 //!
 //! # Errors (§3.4.1)
 //!
@@ -51,7 +52,8 @@
 //! no group can go, the request is refused (counted) and the cap holds.
 //!
 //! Memory: per cached chunk its bordered base grid ((2^c + 5)² `f32`) and its drawn heights
-//! ((2^c + 1)² `f32`), about 36 KiB for 65² chunks, plus the map's entry.
+//! ((2^c + 1)² `f32`), about 36 KiB for 65² chunks, plus the map's entry; at most `cache_chunks`
+//! of them, reported every frame (`detail_bytes`).
 
 use super::super::block_lod::grid::{coarser_neighbours, round_up_f32};
 use super::cache::GroupCache;

@@ -4,8 +4,9 @@
 //! The model, in frames (no IO: a simulation of a loader, so that runs are deterministic):
 //!
 //! - Every chunk's record (its error and box, 16 bytes) is known up front, as the paper's file
-//!   directory is; what is loaded is a chunk's vertices ((2^c + 1)² heights). The root is always
-//!   resident.
+//!   directory is; what is loaded is a chunk's vertices ((2^c + 1)² heights), counted as the
+//!   resident bytes (`resident_bytes`) while the heights themselves stay in the shared field.
+//!   The root is always resident.
 //! - When the selection wants a chunk's children and they are not resident, it draws the chunk
 //!   and requests them (listing 3.6, the asynchronous scheme); siblings travel together.
 //! - Requests are issued in the selection's visiting order (nearest first with front-to-back

@@ -1,4 +1,6 @@
-//! A drawn chunk as triangles: its regular grid, morphed as the selection says, and its skirt.
+//! A drawn chunk as triangles (Lauritsen–Nielsen §3.2.3, §3.2.6, §3.2.8): its regular grid,
+//! morphed as the selection says, and its skirt. It chooses nothing: which chunks are drawn,
+//! and their morph factors, are the selection's (`select.rs`).
 //!
 //! - **Surface**: the chunk's (2^c + 1)² vertices, its cells split along their south-west–
 //!   north-east diagonal (`block_lod::grid`). With a morph factor f < 1 every vertex the

@@ -1,7 +1,8 @@
 //! `chunked`: the chunked quadtree of Lauritsen and Nielsen 2005 (§3.2), after Ulrich's chunked
 //! LOD: chunks of (2^c + 1)² vertices at every level of a quadtree, selected top-down each
 //! frame, skirts hung from every chunk border, morphing, box culling and front-to-back order as
-//! effects.
+//! effects; runtime detail (§3.3–3.4) and out-of-core loading (§3.2.14) as two more. Nothing is
+//! read from disk: loading is a model counted in frames (`loading.rs`).
 //!
 //! # The algorithm as the paper gives it
 //!
@@ -19,7 +20,7 @@
 //! - **Culling and order** (§3.2.11–12), effects: chunks whose box is outside the view volume
 //!   are not drawn and not descended; children are visited nearest first.
 //!
-//! # Decisions where the paper is open (ARCHITECTURE.md "Decisions")
+//! # Decisions where the paper is open
 //!
 //! - **The distance d** is from the eye to the chunk's box (its square × the height range of
 //!   its samples), 0 inside it; the paper says "the distance from the viewpoint to the chunk".
@@ -79,10 +80,18 @@
 //!   box culling a leaf whose detail rises above its box can be culled while that detail would
 //!   be in view: the audit counts such samples as holes. With both effects off every count is
 //!   what it was before they existed.
+//! - **A terrain too large for memory** is flown as a small source extended by synthesised
+//!   levels (a 1025² source with six levels is a 65 537² surface,
+//!   `experiments/lauritsen-65537.json`): the surface is evaluated per chunk on demand and held
+//!   only in the cache, never built whole (the detail audit builds it only up to
+//!   [`detail::DETAIL_TRUTH_MAX_SAMPLES`]). A source height field of that size (tiles read on
+//!   demand, no in-memory `Hierarchy`) is not implemented: the run still preprocesses the whole
+//!   source.
 //!
 //! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
-//! triangle list (O(drawn triangles)), the selection's buffers. Per frame: O(chunks visited +
-//! drawn triangles), several selection passes with a target.
+//! triangle list (O(drawn triangles)), the selection's buffers; with runtime detail the cached
+//! chunks (`detail.rs`), with loading the resident chunks' heights (`loading.rs`). Per frame:
+//! O(chunks visited + drawn triangles), several selection passes with a target.
 
 mod brute_force;
 mod cache;

@@ -1,8 +1,8 @@
 //! After each frame's selection: mark what it visited as used, then serve its requests for
-//! missing children, in visiting order — a source group is loaded (out-of-core loading), a
-//! group below the source leaves is synthesised (runtime detail) — within the frame's
-//! bandwidth, the creation limit and the caps, evicting least recently used groups to make room.
-//! Policies: `loading.rs`, `detail.rs`.
+//! missing children (Lauritsen–Nielsen's listings 3.6–3.7), in visiting order — a source group
+//! is loaded (out-of-core loading), a group below the source leaves is synthesised (runtime
+//! detail) — within the frame's bandwidth, the creation limit (§3.4.4) and the caps, evicting
+//! least recently used groups to make room. Policies: `loading.rs`, `detail.rs`.
 //!
 //! Per frame: O(chunks visited + requests · (held chunks + a chunk's samples)).
 

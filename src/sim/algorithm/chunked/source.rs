@@ -1,7 +1,8 @@
 //! The chunks one frame can read: the source tree (with out-of-core loading, its resident
-//! chunks only) and, with synthesised detail on, the cache of chunks made below its leaves. The selection, the mesh builder and the frame validator
-//! read chunks only through this view ([`ChunkSource`]), so a synthesised chunk and a source
-//! chunk look alike to them; a chunk not cached is simply not available.
+//! chunks only) and, with synthesised detail on, the cache of chunks made below its leaves.
+//! The selection, the mesh builder and the frame validator read chunks only through this view
+//! ([`ChunkSource`]), so a synthesised chunk and a source chunk look alike to them; a chunk not
+//! cached is simply not available.
 
 use super::cache::GroupCache;
 use super::detail::DetailCache;

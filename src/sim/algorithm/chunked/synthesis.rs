@@ -1,6 +1,7 @@
 //! Runtime detail's state between frames: the displacement function, the cache of synthesised
-//! chunks, and how a sibling group is made (the policy is described in `detail.rs`; requests are
-//! served in `requests.rs`).
+//! chunks, and how a sibling group is made (Lauritsen–Nielsen §3.4.3: four children from their
+//! parent's bordered base grid). The policy is described in `detail.rs`; requests are served in
+//! `requests.rs`.
 
 use super::SkirtDepth;
 use super::detail::{DetailCache, DetailConfig, DetailGeometry, Displacement, source_leaf_base};

@@ -1,5 +1,6 @@
-//! The chunk quadtree: chunk identity, the chunks built from the height field before the first
-//! frame, and what the selection and the mesh read them through.
+//! The chunk quadtree (Lauritsen–Nielsen §3.2.1–3.2.3, errors by eq. 3.1): chunk identity, the
+//! chunks built from the height field before the first frame, and what the selection and the
+//! mesh read them through.
 //!
 //! **Identity.** A chunk is named by its place in the quadtree, [`ChunkId`] (level, x, y), not
 //! by an index into an array built up front: level 0 is the root (the whole terrain), and at

@@ -2,10 +2,11 @@
 //! each frame's selection. Tests call them after every frame; the mesh itself is checked by the
 //! triangle-list validator like every algorithm's.
 //!
-//! Tree: every leaf's error is 0 (ε with synthesised detail); every internal chunk's is eq. 3.1 recomputed (its children's
-//! largest plus its own δ_m, rounded up once); every box holds its children's and is the range
-//! of its samples; every skirt is as deep as [`SkirtDepth`] says (the covering depth checked
-//! against every pair of chunks that touch without nesting, O(chunks²)).
+//! Tree: every leaf's error is 0 (ε with synthesised detail); every internal chunk's is eq. 3.1
+//! recomputed (its children's largest plus its own δ_m, rounded up once); every box holds its
+//! children's and is the range of its samples; every skirt is as deep as [`SkirtDepth`] says
+//! (the covering depth checked against every pair of chunks that touch without nesting,
+//! O(chunks²)).
 //!
 //! Frame: drawn and culled chunks tile the terrain (each area once, every ancestor of one of
 //! them refined, every child of a refined chunk accounted for); every refined chunk wants

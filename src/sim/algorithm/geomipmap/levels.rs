@@ -1,5 +1,8 @@
 //! Each frame's patch levels: the criterion, the limit on neighbouring levels, morph factors,
-//! and what each patch border is drawn at.
+//! and what each patch border is drawn at (de Boer's level selection and morphing, not in
+//! `papers/`, as Lauritsen–Nielsen §2.5 surveys it). Recomputed from scratch every frame. It
+//! is not the levels' errors (built once, `patches.rs`), nor the triangles (`stitch.rs`), nor
+//! the choice of τ under a triangle target (`block_lod/budget.rs`).
 //!
 //! 1. **Criterion** (de Boer, as Lauritsen–Nielsen §2.5 and eq. 3.3 give it): a patch at
 //!    distance d is drawn at its coarsest level ℓ whose d_ℓ = D_ℓ·C is not above d (d < d_ℓ

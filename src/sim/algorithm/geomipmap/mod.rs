@@ -1,6 +1,7 @@
-//! `geomipmap`: de Boer's geometrical mipmapping (2000), as Lauritsen and Nielsen survey it
-//! (§2.5, eq. 3.3): fixed patches of (2^k + 1)² samples, each drawn every frame at the level
-//! its distance allows, borders between levels stitched, optional geomorphing.
+//! `geomipmap`: de Boer's geometrical mipmapping (2000; not in `papers/`), as Lauritsen and
+//! Nielsen survey it (§2.5, eq. 3.3): fixed patches of (2^k + 1)² samples, each drawn every frame
+//! at the level its distance allows, borders between levels stitched, optional geomorphing. It
+//! culls nothing: the quadtree over the patches the survey mentions for culling is not built.
 //!
 //! # The algorithm
 //!
@@ -16,7 +17,7 @@
 //!   factor (eq. 3.5), patch borders by the coarser-looking side's factor, so the surface stays
 //!   closed while it morphs.
 //!
-//! # Decisions where the paper is open (ARCHITECTURE.md "Decisions")
+//! # Decisions where the paper is open
 //!
 //! - **Level errors nest** (D_ℓ = max over levels 0..=ℓ), so the level is a function of the
 //!   distance; with de Boer's usual increasing errors this changes nothing.

@@ -1,5 +1,5 @@
-//! The geomipmaps, built once: the terrain cut into patches of (2^k + 1)² samples, and per
-//! patch its height range and the error of each of its levels.
+//! The geomipmaps, built once (Lauritsen–Nielsen §2.5): the terrain cut into patches of
+//! (2^k + 1)² samples, and per patch its height range and the error of each of its levels.
 //!
 //! Patch (px, py) covers the closed square of 2^k cells from sample (px·2^k, py·2^k); its
 //! level ℓ (0 ≤ ℓ ≤ k) is the grid of its samples every 2^ℓ-th (level 0: all of them; level k:

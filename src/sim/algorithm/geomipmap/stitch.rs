@@ -1,5 +1,7 @@
 //! A patch as triangles: its level's regular grid, with the borders it shares with coarser
-//! neighbours stitched.
+//! neighbours stitched (de Boer's gap avoidance, not in `papers/`, as Lauritsen–Nielsen §2.5
+//! surveys it). It chooses nothing: the levels and factors it draws at are `levels.rs`'s, the
+//! grid's triangles and morphed heights `block_lod::grid`'s.
 //!
 //! A patch at level ℓ (stride s = 2^ℓ, n = 2^(k−ℓ) cells a side) whose four sides are drawn at
 //! levels ℓ_W, ℓ_E, ℓ_S, ℓ_N ≥ ℓ (`levels.rs`): a side drawn coarser than the patch is

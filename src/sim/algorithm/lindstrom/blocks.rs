@@ -1,4 +1,6 @@
-//! Lindstrom's quadtree of blocks, built once: who owns which vertex, and each block's δ range.
+//! Lindstrom's quadtree of blocks (Lindstrom et al. 1996's discrete block levels; SPEC §6), built
+//! once: who owns which vertex, and each block's δ range. It decides nothing per frame; the
+//! coarse step (`coarse.rs`) reads it.
 //!
 //! The grid of side 2^n + 1 is covered by a complete quadtree of depth D = n − k (k the effective
 //! block level, 1 ≤ k ≤ n). A node at depth d covers a square of side S_d = 2^(n−d) cells and is

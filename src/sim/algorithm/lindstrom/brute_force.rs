@@ -1,8 +1,9 @@
-//! The brute-force reference for Lindstrom's criterion: every vertex evaluated exactly, no
-//! blocks, no interval tests, closure by activating parents recursively (top-down).
+//! SPEC §6's brute-force reference for Lindstrom's criterion: every vertex evaluated exactly, no
+//! blocks, no interval tests, closure by activating parents recursively (top-down). Not an entry
+//! of its own: tests and `examples/lindstrom_brute_force.rs` compare the algorithm against it.
 //!
-//! It shares with the algorithm only the criterion itself ([`Tolerance::keeps`]); it is the
-//! ground truth of the differential tests. O(samples) per call.
+//! It shares with the algorithm only the criterion itself ([`Tolerance::keeps`]), so it is an
+//! independent ground truth. O(samples) per call.
 
 use super::Tolerance;
 use crate::sim::hierarchy::{GridPoint, Hierarchy};

@@ -1,4 +1,6 @@
-//! The coarse step: per frame, a block-level decision from interval tests on the block's δ range.
+//! Lindstrom et al. 1996's coarse, block-based step (SPEC §6): per frame, a block-level decision
+//! from interval tests on the block's δ range. Vertices the intervals leave undecided are
+//! evaluated exactly here; closure is the fine step's (`fine.rs`).
 //!
 //! For a node's box (its square × the height range of its samples) and the eye, the vertical
 //! projection factor g = λ·r/(r² + h²) (r the horizontal, h the vertical eye–vertex distance) is

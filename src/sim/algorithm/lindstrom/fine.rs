@@ -1,5 +1,6 @@
-//! The fine step: bottom-up, finest level first, a vertex stays when it meets the criterion or
-//! when something that depends on it stayed.
+//! Lindstrom et al. 1996's fine, vertex-based step (SPEC §6): bottom-up, finest level first, a
+//! vertex stays when it meets the criterion or when something that depends on it stayed. It
+//! evaluates no metric: the coarse step hands it the kept vertices.
 //!
 //! The 4-8 levels are numbered from the finest: rotated vertices of half-size t are level
 //! 2·log₂t, square ones 2·log₂t + 1, and every vertex's parents are exactly one level coarser

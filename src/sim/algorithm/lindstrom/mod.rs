@@ -1,4 +1,6 @@
-//! `lindstrom`: Lindstrom et al.'s 1996 continuous LOD for height fields, on the 4-8 family.
+//! `lindstrom`: Lindstrom et al.'s 1996 continuous LOD for height fields, on the 4-8 family: SPEC
+//! §6's bottom-up baseline, the algorithm without frame-to-frame deferral that Wu and ROAM are set
+//! against. Its brute-force ground truth is `brute_force.rs`.
 //!
 //! Each frame runs two steps, as in the paper: a *coarse* block-based step (`coarse.rs`) that
 //! decides whole blocks of a quadtree (`blocks.rs`) by interval tests on their δ range, starting
@@ -26,13 +28,10 @@
 //!
 //! **What the metric measures off the view axis.** The vertical-projection error is the length
 //! the segment would have on screen if the camera looked straight at the vertex horizontally; it
-//! ignores where the vertex lies in the image. A real perspective camera stretches a segment
-//! towards the edges of the window by 1/cos² of its angle off the axis: at pitch −15° in a 600×600
-//! window with fovy = 60°, the true projected length of a short vertical segment equals the metric
-//! at the image centre, is 1.33× the metric at the middle of the bottom (or top) edge, 1.38× at a
-//! bottom corner and 1.49× at a top corner (`tests/lindstrom.rs` pins these). So the audit's
-//! projected error can exceed τ even where every vertex met the criterion
-//! (`docs/reproductions/lindstrom.md`).
+//! ignores where the vertex lies in the image, where a real perspective camera stretches a segment
+//! by 1/cos² of its angle off the axis. So the audit's projected error can exceed τ even where
+//! every vertex met the criterion; the factors at the reproduction's view are in
+//! `docs/reproductions/lindstrom.md`, pinned by `tests/lindstrom.rs`.
 //!
 //! # Decisions the paper leaves to the implementation
 //!

@@ -1,5 +1,6 @@
-//! Lindstrom et al.'s vertex criterion in the paper's own form: a squared comparison, no square
-//! root, a vertex kept only when its screen error exceeds τ.
+//! Lindstrom et al.'s vertex criterion (1996; SPEC §4's vertical-projection error) in the paper's
+//! own form: a squared comparison, no square root, a vertex kept only when its screen error
+//! exceeds τ.
 //!
 //! With d = vertex − eye, the vertical-projection error is λ·δ·√(dx²+dy²)/(dx²+dy²+dz²); the paper
 //! squares both sides of "error > τ" to compare λ²δ²(dx²+dy²) with τ²(dx²+dy²+dz²)². This is the

@@ -1,4 +1,6 @@
-//! The validator of the block quadtree: what the coarse step relies on.
+//! The validator of Lindstrom's block quadtree (`blocks.rs`): what the coarse step relies on. Only
+//! tests call it; it checks the structure built once, not a frame's decisions (the differential
+//! tests against `brute_force.rs` do that).
 //!
 //! Checks that the owned sets partition the non-corner vertices, that every owned vertex lies in
 //! its node's box (square × height range), that each node's list is sorted by δ, largest first,

@@ -1,5 +1,5 @@
-//! ROAM's triangle bintree: right triangles in a `SlotMap`, linked to parent, children and their
-//! three neighbours.
+//! ROAM's triangle bintree (ROAM'97; SPEC §6): right triangles in a `SlotMap`, linked to parent,
+//! children and their three neighbours. The data structure only: no priorities, no queues.
 //!
 //! Every triangle is a [`Triangle`] of the shared 4-8 family (apex = right-angle corner,
 //! left–right = hypotenuse). Its children split the hypotenuse at its midpoint, the *split

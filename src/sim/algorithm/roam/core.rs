@@ -1,6 +1,7 @@
-//! The state `roam` and `roam-rebuild` share and the operations on it: priorities into the
-//! queues, splits and merges with everything that follows them (queues, culling flags, strips,
-//! deferral schedules), full and due recomputation, and the dual-queue loops.
+//! The state `roam` and `roam-rebuild` share and the operations on it (ROAM'97 as SPEC §6 fixes
+//! it): priorities into the queues, splits and merges with everything that follows them (queues,
+//! culling flags, strips, deferral schedules), full and due recomputation, and the dual-queue
+//! loops with their oscillation guard and tie rule (`mod.rs` states them).
 //!
 //! Nothing here knows which algorithm runs it beyond `track_merges` (the rebuild has no merge
 //! queue) and whether a [`Deferral`] exists. `mod.rs` decides, per frame, what is recomputed.

@@ -1,4 +1,7 @@
-//! View-frustum culling flags as ROAM'97 §7.1 describes them, kept incrementally.
+//! View-frustum culling flags as ROAM'97 §7.1 describes them, kept incrementally: what ROAM's
+//! priorities (an `Out` triangle gets 0) and strips (only drawn leaves) read. It is not the
+//! runner's `triangles_rendered` test (`Camera::may_see_triangle`, the same for every family),
+//! and it removes no triangle from the mesh.
 //!
 //! The frustum is the intersection of six half-spaces. Every triangle of the bintree carries an
 //! IN flag per half-space (its wedgie lies entirely inside it) and a label: `Out` when the wedgie

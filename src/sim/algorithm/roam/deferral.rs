@@ -1,13 +1,15 @@
 //! Deferred priority recomputation as ROAM'97 §7.3 describes it: a priority is recomputed only
 //! when its time-dependent bound could reach the crossover, and each recomputation is scheduled
-//! on a small ring of per-frame lists.
+//! on a small ring of per-frame lists. It is not a change to the mesh: it only decides when a
+//! priority is recomputed, the meshes are those of full recomputation, and splits and merges
+//! stay the frame loop's (`mod.rs`, `core.rs`).
 //!
 //! **The rule.** "Given a velocity bound on the viewpoint, bounds can be obtained for
 //! screen-distortion priorities over time … Recomputation of a triangle can safely be deferred
 //! until its priority bound overlaps the crossover priority. A deferral list is kept for each of
 //! the next few dozen frames." The crossover is where the split queue meets the merge queue. With
-//! a fixed tolerance τ it is τ itself. With a triangle target it moves (slowly: the paper measured
-//! about 1 % a frame), so roamsim keeps a band around it, a *floor* G below and a *ceiling* H above
+//! a fixed tolerance τ it is τ itself. With a triangle target it moves (slowly, in roamsim's
+//! reading of §7.3), so roamsim keeps a band around it, a *floor* G below and a *ceiling* H above
 //! ([`Deferral`]): a split-queue triangle is deferred while its priority provably stays at or
 //! below G, a mergeable diamond while its priority provably stays above H. Elements inside the
 //! band are recomputed every frame. The frame loop (`mod.rs`) then never needs a stale priority:

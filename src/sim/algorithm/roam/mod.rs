@@ -1,4 +1,8 @@
-//! `roam` and `roam-rebuild`: Duchaineau et al.'s ROAM (1997) on the shared 4-8 mesh family.
+//! `roam` and `roam-rebuild`: Duchaineau et al.'s ROAM (1997) on the shared 4-8 mesh family, as
+//! SPEC §6 fixes it: the triangle bintree, eq. (3)'s priorities over eq. (1)'s thicknesses, the
+//! dual split and merge queues, and the effects of §7.1 (culling flags), §7.2 (strips) and §7.3
+//! (deferral). Not simulated: §7.4's progressive optimisation (stopping when the frame time runs
+//! out) and drawing the strips (they are counted).
 //!
 //! **Data.** A triangle bintree in a slot map (`bintree.rs`), split with recursive forced splits
 //! (`split.rs`), merged by diamonds (`merge.rs`), two priority queues (`queues.rs`): leaves that
@@ -22,6 +26,9 @@
 //!   bottom diamond; while the top split fits in the budget (forced splits included), split it;
 //!   when it does not fit but beats the bottom diamond, merge that diamond to make room. The
 //!   mesh never ends above the target unless it started above it with nothing left to merge.
+//!   "Beats" compares priority *values*: equal values (+∞ against +∞ behind the near plane above
+//!   all) never trade places, since trading equals moved the mesh from frame to frame under a
+//!   still camera.
 //!
 //! **Oscillation guard.** Priorities are monotone (a child's never exceeds its parent's, a
 //! diamond's never falls below its parents') and totally ordered by the tie rule of

@@ -1,5 +1,6 @@
-//! Priorities: ROAM eq. (3) over the nested thicknesses, with everything that depends only on the
-//! frame computed once per frame.
+//! ROAM's priorities: eq. (3)'s wedgie bound (ROAM'97; SPEC §4) over the nested thicknesses of
+//! `thickness.rs`, with everything that depends only on the frame computed once per frame. What
+//! is done with a priority (queues, deferral) is the core's.
 //!
 //! **Priority.** A triangle's priority is eq. (3)'s wedgie bound over its three corners: with
 //! (p, q, r) a corner in camera coordinates and (a, b, c) the camera-space image of the thickness
@@ -14,9 +15,9 @@
 //! rule is monotone for the same reasons; and an `Out` parent has `Out` children.
 //!
 //! **What is computed once per frame** ([`ViewFrame`]): the camera-space image of the world's up
-//! direction (so the thickness vector is e_T times it), the pixels per unit (tan(fovy/2) used to
-//! be evaluated inside every priority and every frustum test, about 9 % of the update; hoisting it
-//! gives bit-identical priorities) and the frustum's planes. The metric is the same as
+//! direction (so the thickness vector is e_T times it), the pixels per unit (tan(fovy/2), hoisted
+//! out of every priority and every frustum test, with bit-identical priorities) and the frustum's
+//! planes. The metric is the same as
 //! [`crate::sim::metrics::wedgie_error_px`]; a test checks they agree bit for bit.
 //!
 //! **What is read.** Each triangle carries a copy of its corners and thicknesses

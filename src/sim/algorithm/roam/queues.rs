@@ -1,4 +1,5 @@
-//! ROAM's two priority queues: leaf triangles to split, mergeable diamonds to merge.
+//! ROAM's two priority queues (SPEC §6): leaf triangles to split, mergeable diamonds to merge,
+//! and the total order both kinds share. What enters them and when is the core's (`core.rs`).
 //!
 //! Priorities need a total order that does not depend on how the slot map happened to allocate
 //! keys, so a [`QueueKey`] is the priority value (by `f64::total_cmp`) followed by a tie key
@@ -15,7 +16,8 @@
 //!   insertion, removal and priority change, the top found by scanning its bucket;
 //! - `heap`: `priority_queue::PriorityQueue`s, O(log n) push, pop and remove by key, their index
 //!   of keys hashed with [`KeyHasher`], a fixed multiplicative hash of the slot map key's two
-//!   words (not SipHash, which the profile showed among ROAM's hot spots).
+//!   words (not SipHash: every queue operation hashes, and the keys come from the slot map, not
+//!   from outside, so they need no protection against crafted collisions).
 //!
 //! Order never depends on the hash or the buckets: only on [`QueueKey`], so both kinds give the
 //! same meshes bit for bit (a test runs both side by side).

@@ -1,4 +1,6 @@
-//! Incremental triangle strips as ROAM'97 §7.2 describes them.
+//! Incremental triangle strips as ROAM'97 §7.2 describes them, kept over the drawn leaves.
+//! Counted, not drawn: they feed only `triangles_per_strip`; the mesh the runner reads is the
+//! bintree's leaves as a vertex set, whatever the strips, and no strip reaches the preview.
 //!
 //! "We consider only non-generalized strips (no vertex swapping). We use a simple, sub-optimal,
 //! incremental approach … As triangles are split, merged or change view-culling status, minimal
@@ -21,8 +23,8 @@
 //! tried in a fixed order (base, left, right), so the strips are deterministic.
 //!
 //! `triangles_per_strip` = stripped triangles / strips; the paper reports about 4 to 5 for its
-//! strips. Counted, not emitted: roamsim draws nothing. Each operation is O(1) apart from the
-//! reversal, so strips cost O(splits + merges + culling changes) per frame.
+//! strips. Each operation is O(1) apart from the reversal, so strips cost O(splits + merges +
+//! culling changes) per frame.
 
 use super::bintree::{Bintree, Side, StripLinks, TriangleKey};
 use crate::sim::hierarchy::GridPoint;

@@ -1,5 +1,7 @@
-//! ROAM's nested wedgie thicknesses e_T, built once: per bintree triangle as eq. (1) of the paper
-//! says (the default), or per split vertex as roamsim did before (an option).
+//! ROAM's nested wedgie thicknesses e_T, built once before the first frame: per bintree triangle
+//! as eq. (1) of ROAM'97 says (the default), or per split vertex as roamsim did before (an
+//! option); SPEC §3 asks for each paper's own nesting. Tables only: the priorities that read them
+//! are `priority.rs`'s.
 //!
 //! **Per triangle (eq. 1).** A bintree triangle T with apex a and hypotenuse (l, r) splits at the
 //! midpoint v of its hypotenuse into T0 (split vertex m0 = mid(a, l), apex v) and T1 (split vertex

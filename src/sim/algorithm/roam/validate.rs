@@ -1,4 +1,6 @@
-//! The bintree validator: what makes ROAM's state consistent.
+//! The validator of ROAM's state: the bintree, the mesh it draws, the §7.1 flags, the §7.2
+//! strips and the queues with their priorities (eq. 3), each against a recomputation. Only tests
+//! call it; no frame of a run does.
 //!
 //! Checks, in order: parent/child links; every leaf's neighbour links are symmetric, point at
 //! leaves and share the right edge; neighbours' depths differ by at most one; the leaf count;

@@ -1,5 +1,6 @@
-//! The brute-force reference for Röttger's criterion: f evaluated on every block of the grid, no
-//! traversal, closure by iterating to a fixed point, fans found by walking the mesh's triangles.
+//! The brute-force reference for Röttger's criterion (§2.2, eq. 3): f evaluated on every block
+//! of the grid, no traversal, closure by iterating to a fixed point, fans found by walking the
+//! mesh's triangles.
 //!
 //! It shares with the algorithm only the criterion (`criterion.rs`), the clipping test
 //! (`clip.rs`) and the stored d2 codes it reads; it is the ground truth of the differential

@@ -1,9 +1,10 @@
-//! The constant-load controller: c, the desired global resolution, chosen every frame so that
-//! the fans hold a target number of triangles or vertices.
+//! The constant-load controller: c, the desired global resolution of eq. 3, chosen every frame
+//! so that the fans hold a target number of triangles or vertices. The rule is roamsim's: the
+//! paper gives none.
 //!
-//! The paper adjusts c "to the current system load" to hold 25 Hz and gives no rule. roamsim
-//! holds a count instead of a frame rate (counts are reproducible, times are not), with this
-//! rule: after a frame that drew n (triangles or vertices, as the target says) with c,
+//! The paper adjusts c "to the current system load" (§2.2) to hold 25 Hz (§3) and gives no rule.
+//! roamsim holds a count instead of a frame rate (counts are reproducible, times are not), with
+//! this rule: after a frame that drew n (triangles or vertices, as the target says) with c,
 //!
 //!   c ← c · √(target / n), the factor clamped to [½, 2], c clamped to [`DESIRED_RESOLUTION_MIN`,
 //!   [`DESIRED_RESOLUTION_MAX`]].

@@ -1,5 +1,6 @@
-//! The subdivision criterion of Röttger et al. (eq. 3): f = l / (d · C · max(c · d2, 1)), a block
-//! subdivides when f < 1, and the blend b = 2(1 − f) clamped to [0, 1] that geomorphing uses.
+//! The subdivision criterion of Röttger et al. (§2.2, eq. 3): f = l / (d · C · max(c · d2, 1)),
+//! a block subdivides when f < 1, and the blend b = 2(1 − f) clamped to [0, 1] that geomorphing
+//! uses (§2.3).
 //!
 //! Shared by the algorithm and its brute-force reference: this file *is* the criterion, nothing
 //! of the traversal. Every quantity is a pure function of the block, the eye and the parameters,

@@ -7,8 +7,9 @@
 //! one `GL_TRIANGLE_FAN` can draw: a contiguous run of triangles around the centre; a block whose
 //! drawn quadrants are not contiguous draws two fans. A run of t triangles sends t + 2 vertices
 //! (centre, then the ring; a closed ring repeats its first vertex), which is how the paper counts
-//! "vertices" (≈ 15 000 for ≈ 1600 fans, at most 10 per fan). When the root is not subdivided,
-//! the mesh is the two base triangles: one fan of 4 vertices.
+//! "vertices" ("up to 10 vertices" a fan, §2.2; "approximately 1600 triangle fans, or a total of
+//! roughly 15000 vertices per frame", §3). When the root is not subdivided, the mesh is the two
+//! base triangles: one fan of 4 vertices.
 //!
 //! Every triangle of the mesh belongs to exactly one fan, so without clipping the fans' triangles
 //! add up to the mesh's; with clipping, a fan is counted only when its block's box may be seen.

@@ -19,7 +19,8 @@
 //!
 //! **The mesh output.** With geomorphing on, every frame's mesh output carries the morphed
 //! heights ([`MorphedHeights`], as `f32`, the heights' own precision) of exactly the morphing
-//! vertices; the others are drawn at their samples. The map is **rebuilt every frame** by
+//! vertices; the others are drawn at their samples. With geomorphing off the output is the plain
+//! lattice, with no morphed heights. The map is **rebuilt every frame** by
 //! [`rebuild_morphed`], like the mesh itself: one pass over the frame's active vertices, which
 //! the frame has just generated anyway (O(mesh vertices), of which O(morphing vertices) are
 //! hash-map inserts), with no state to keep consistent between frames. An incremental map would

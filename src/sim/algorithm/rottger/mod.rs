@@ -1,14 +1,16 @@
 //! `rottger`: Röttger, Heidrich, Slusallek and Seidel 1998, "Real-Time Generation of Continuous
-//! Levels of Detail for Height Fields", on the shared 4-8 lattice.
+//! Levels of Detail for Height Fields" (§2: the quadtree, the criterion, geomorphing, clipping),
+//! on the shared 4-8 lattice. It is not incremental: every frame's mesh is generated from
+//! scratch, and only the previous frame's is kept, to count what changed.
 //!
-//! Every frame is generated from scratch, top-down from the root (`refine.rs`): a block
-//! subdivides when f = l / (d · C · max(c · d2, 1)) < 1 (eq. 3, `criterion.rs`), with d2 the
-//! block's roughness, precomputed and propagated bottom-up (`roughness.rs`) and stored with the
-//! frame's blend values in one byte per grid point (`matrix.rs`). Subdivided blocks draw triangle
-//! fans (`fans.rs`); blocks out of view can be left coarse (`clip.rs`); with geomorphing on, the
-//! blend values give every drawn vertex a morphed height, which the mesh output carries, so the
-//! audit, popping and culling measure the morphed surface (`geomorph.rs`); c can be chosen every
-//! frame to hold a load (`control.rs`). `brute_force.rs` evaluates the same criterion on every block with no
+//! Every frame is generated top-down from the root (`refine.rs`): a block subdivides when
+//! f = l / (d · C · max(c · d2, 1)) < 1 (eq. 3, `criterion.rs`), with d2 the block's roughness,
+//! precomputed and propagated bottom-up (`roughness.rs`) and stored with the frame's blend values
+//! in one byte per grid point (`matrix.rs`). Subdivided blocks draw triangle fans (`fans.rs`);
+//! blocks out of view can be left coarse (`clip.rs`); with geomorphing on, the blend values give
+//! every drawn vertex a morphed height, which the mesh output carries, so the audit, popping and
+//! culling measure the morphed surface (`geomorph.rs`); c can be chosen every frame to hold a
+//! load (`control.rs`). `brute_force.rs` evaluates the same criterion on every block with no
 //! traversal; `validate.rs` checks the matrix and the frame.
 //!
 //! # The paper on the 4-8 lattice
@@ -50,12 +52,12 @@
 //!
 //! # Decisions the paper leaves open
 //!
-//! - **Distance.** l = |Δx| + |Δy| + |Δz| (the paper's L¹ norm, the default), Δx, Δy from the
-//!   block's centre and Δz from the block's **average elevation**, the mean of its nine samples
-//!   at its own level (corners, edge midpoints, centre): the paper's approximation for 3D. The
-//!   mean over all the block's samples would need 4 more bytes per block; the nine are read in
-//!   O(1). [`DistanceNorm::Euclidean`] is the option: the Euclidean distance from the same point,
-//!   as Röttger's own library (libMini) measures it.
+//! - **Distance.** l = |Δx| + |Δy| + |Δz| (the paper's L¹ norm, §2.2, the default), Δx, Δy
+//!   from the block's centre and Δz from the block's **average elevation**, the mean of its nine
+//!   samples at its own level (corners, edge midpoints, centre): the paper's approximation for
+//!   3D (§2.2). The mean over all the block's samples would need 4 more bytes per block; the
+//!   nine are read in O(1). [`DistanceNorm::Euclidean`] is the option: the Euclidean distance
+//!   from the same point, as Röttger's own library (libMini) measures it.
 //! - **d** is the block's edge length in metres, the longer edge where dx ≠ dy.
 //! - **d2** (eq. 2) is the largest of the block's six elevation differences (four edge
 //!   midpoints, the centre against both diagonals) over d. It is propagated bottom-up: each
@@ -95,9 +97,12 @@
 //! `vertices_changed` = vertices inserted since the previous frame plus those drawn at another
 //! height than in it (what a renderer would upload again); without, it is not filled.
 //!
-//! Memory: the matrix (1 byte per grid point), two bits per grid point for the double-buffered
-//! mesh, the active-vertex lists, and with geomorphing two maps of the morphing vertices'
-//! heights (this frame's and the previous). Per frame: O(blocks visited + mesh).
+//! Memory: the matrix (1 byte per grid point, reported as the run fact
+//! `matrix_bytes_per_sample`), two bits per grid point for the double-buffered mesh, the lists
+//! of active vertices and subdivided blocks, and with geomorphing two maps of the morphing
+//! vertices' heights (this frame's and the previous). It reads the shared hierarchy's heights
+//! and block height ranges (for clipping) and stores nothing else. Per frame:
+//! O(blocks visited + mesh).
 
 mod brute_force;
 mod clip;

@@ -1,4 +1,7 @@
-//! The validator of Röttger's quadtree matrix and of a frame's state.
+//! The validator of Röttger's quadtree matrix and of a frame's state: the d2 codes against eq. 2
+//! and the propagation of §2.2, the blend bytes against the mesh (§2.3, §3's one byte per grid
+//! point). Only tests call it, through `Rottger::validate_roughness` and
+//! `Rottger::validate_frame`; no frame of a run does, and it is not the mesh validator.
 //!
 //! - [`validate_roughness`]: the d2 codes are what eq. 2 and the propagation define — every
 //!   block's stored d2 is at least its local d2 and (with propagation) at least K times the

@@ -1,7 +1,8 @@
-//! `stitching-strips`: the multilevel terrain of Zhang, Sun et al. (ISPRS IJGI 2019): quadtree
-//! leaves drawn as M-blocks, each tessellated on the GPU at its own continuous factor F, the
-//! gaps between them filled every frame by dynamic stitching strips (DSS) and, where four strips
-//! meet, P-blocks. With the paper's two comparison methods as options.
+//! `stitching-strips`: the multilevel terrain of Zhang, Sun et al. (ISPRS IJGI 2019, §3):
+//! quadtree leaves drawn as M-blocks, each tessellated on the GPU at its own continuous factor
+//! F, the gaps between them filled every frame by dynamic stitching strips (DSS) and, where four
+//! strips meet, P-blocks. With the paper's two comparison methods (§4.1) as options. No GPU is
+//! involved: the tessellator is simulated exactly on the CPU (`tessellate.rs`).
 //!
 //! # The algorithm
 //!
@@ -30,16 +31,16 @@
 //!   box (rectangle × the node's height range) and left out when outside: the paper's edges
 //!   that generate no strip. The selection is made as without culling, so a culled block's
 //!   neighbours and strips are unchanged.
-//! - **Method I** (`method: power_of_two`): the same quadtree and criterion, F rounded up to a
-//!   power of two, no strips (the blocks touch). The edges between blocks of different sizes
+//! - **Method I** (`method: power_of_two`, §4.1): the same quadtree and criterion, F rounded up
+//!   to a power of two, no strips (the blocks touch). The edges between blocks of different sizes
 //!   or factors take one spacing that both sides share: the coarser of the two sides' interior
 //!   spacings (for a long side, over every block along it), no coarser than the smallest
 //!   block along it; integer spacing (a factor of 1 allowed on an edge).
-//! - **Method II** (`method: uniform`): every block at the deepest level, F continuous by the
-//!   same metric, no strips; a shared edge takes the larger of its two blocks' factors,
+//! - **Method II** (`method: uniform`, §4.1): every block at the deepest level, F continuous by
+//!   the same metric, no strips; a shared edge takes the larger of its two blocks' factors,
 //!   fractional-even, so both sides cut it alike.
 //!
-//! # Decisions where the paper is open (ARCHITECTURE.md "Decisions")
+//! # Decisions where the paper is open
 //!
 //! - **θ** is the angle between +Z and the direction from the viewpoint to the block's centre
 //!   ([`ViewDirection::ToBlock`], the paper's §4.1 figures), so sinθ is the horizontal share of
@@ -49,6 +50,10 @@
 //!   0 inside, is [`BlockDistance::Box`]. d = 0 gives ρ = ∞ (a block with any error splits);
 //!   the eye at the centre counts as sinθ = 1.
 //! - **λ** = (window height in pixels)/(2 tan(fovy/2)), as eq. 1 writes it.
+//! - **What the metric implies.** δ_i is a block's *mean* error, and a block of s ≤ 64 cells
+//!   has none at any F = 2i that s divides (every sample is then a vertex): such a block has
+//!   δ_32 = 0 and never splits, and δ_i is not monotone in i, so eq. 4's scan from i = 32 down
+//!   can make F jump. Both are the paper's metric taken as written.
 //! - **Fractional-even rounding**: n = 2⌈F/2⌉ segments, the two short ones in the middle of the
 //!   edge (the OpenGL specification leaves their place to the implementation, symmetric).
 //!   Every position is rounded once to 1/65 536 of a cell; where a short segment rounds to
@@ -67,7 +72,8 @@
 //!   reverse; `vertices_inserted` / `vertices_deleted`: the vertices of every block, and of
 //!   every node's cross of strips and P-block, that differs from last frame's (positions or
 //!   heights; all of the new and all of the old); `vertices_changed`: the vertices built on the
-//!   CPU and uploaded every frame (strips and P-blocks: the GPU tessellates the blocks); `metric_evaluations`: nodes whose ρ was computed. Columns:
+//!   CPU and uploaded every frame (strips and P-blocks: the GPU tessellates the blocks);
+//!   `metric_evaluations`: nodes whose ρ was computed. Columns:
 //!   `m_blocks`, `m_blocks_culled`, `p_blocks`, `strips`, `strips_culled`,
 //!   `tessellation_factor_mean` (over the M-blocks), the histogram of F
 //!   (`tessellation_factor_2_4` … `tessellation_factor_32_64`: blocks with F in [2, 4), …,

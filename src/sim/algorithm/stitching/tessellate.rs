@@ -1,7 +1,9 @@
-//! The GPU's tessellation of a block, simulated exactly on the CPU: where the tessellator puts
-//! the vertices of an edge (fractional-even or equal spacing), the height a vertex gets (the
-//! height field resampled bilinearly), and the triangles of a quad patch (an interior grid and an
-//! outer ring joining it to the four edges), added to a [`TriangleList`].
+//! The GPU's tessellation of a block, simulated exactly on the CPU (the paper's M-blocks are
+//! tessellated by the hardware, §3.1.1, and its strips reuse the "fractional even spacing
+//! scheme", §3.2.2): where the tessellator puts the vertices of an edge (fractional-even or equal
+//! spacing), the height a vertex gets (the height field resampled bilinearly), and the triangles
+//! of a quad patch (an interior grid and an outer ring joining it to the four edges), added to a
+//! [`TriangleList`].
 //!
 //! Positions are fixed-point raw units (1/65 536 of a cell, [`SUBGRID_UNITS_PER_CELL`]); an
 //! edge's vertices are computed from its two ends and its spacing alone, always from the low end

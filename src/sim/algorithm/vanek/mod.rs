@@ -1,7 +1,8 @@
-//! `vanek`: the distance-driven patches of Vaněk and Ježek (WSCG 2004): the terrain cut into
-//! overlapping patches of (2^n + 1)² samples, each drawn every frame at the level of detail its
-//! distance gives, as one triangle strip with degenerate triangles; cracks removed by moving
-//! the finer patch's border vertices onto the coarser neighbour's.
+//! `vanek`: the distance-driven patches of Vaněk and Ježek (WSCG 2004, §3 "Large height-map",
+//! drawn with §2's strip): the terrain cut into overlapping patches of (2^n + 1)² samples, each
+//! drawn every frame at the level of detail its distance gives, as one triangle strip with
+//! degenerate triangles; cracks removed by moving the finer patch's border vertices onto the
+//! coarser neighbour's. Distance alone chooses a patch's level: no roughness enters it.
 //!
 //! # The algorithm
 //!
@@ -10,8 +11,8 @@
 //!   k = 0: the four corners). The terrain's own grid is 2^N + 1 samples a side, so the patches
 //!   form a 2^(N−n) square; n is clamped to [1, N].
 //! - **Selection** (§3, `select.rs`): k = n nearer than `mindist`, 0 beyond `maxdist`, else
-//!   n·(1 − ((dist − mindist)/(maxdist − mindist))^exp), rounded. No roughness term: the audit
-//!   shows what distance-only selection costs on rough terrain.
+//!   n·(1 − ((dist − mindist)/(maxdist − mindist))^exp), rounded. The audit shows what
+//!   distance-only selection costs on rough terrain (`docs/reproductions/vanek.md`).
 //! - **Drawing** (§2, `strip.rs`): each patch's vertex buffer is its level's (2^k + 1)²
 //!   vertices, row by row; its index buffer is the paper's single strip with degenerate
 //!   triangles, the same for every patch of a level. Every three consecutive indices are a
@@ -24,20 +25,25 @@
 //! - **Box culling** (§3), an effect (`box_culling`): a patch whose box (square × its samples'
 //!   height range) lies entirely outside the view volume is not drawn and is declared to the
 //!   mesh as a culled region. Levels and collapses are chosen as without culling, so the drawn
-//!   patches are the same either way.
-//! - **Triangle target** (`target_triangles`): every frame, the distances are multiplied by a
-//!   factor μ (the same as dividing `mindist` and `maxdist` by μ; `exp` kept), μ the smallest on
-//!   the grid of `block_lod/budget.rs` whose mesh has at most the target's triangles: the
-//!   finest mesh the target allows. The count is every triangle drawn, joins and collapsed ones
-//!   included (what the GPU is sent), over the patches not culled.
+//!   patches are the same either way. The paper projects the box to the screen and tests it
+//!   against the viewport; roamsim tests it against the frustum's planes (`block_lod/cull.rs`).
+//! - **Triangle target** (`target_triangles`, roamsim's: the paper's user sets `mindist`,
+//!   `maxdist` and `exp` by hand): every frame, the distances are multiplied by a factor μ (the
+//!   same as dividing `mindist` and `maxdist` by μ; `exp` kept), μ the smallest on the grid of
+//!   `block_lod/budget.rs` whose mesh has at most the target's triangles: the finest mesh the
+//!   target allows. The count never rises as μ grows, so that μ is found whatever the search
+//!   starts from. The count is every triangle drawn, joins and collapsed ones included (what
+//!   the GPU is sent), over the patches not culled.
 //!
-//! # Decisions where the paper is open (ARCHITECTURE.md "Decisions")
+//! # Decisions where the paper is open
 //!
 //! - **dist** is measured from the eye to the patch's box, 0 inside it
 //!   ([`PatchDistance::Box`]): the nearest point of the patch decides, so a patch the eye stands
-//!   on is at k = n. The alternative, to the box's centre, is [`PatchDistance::Centre`].
-//! - **k is rounded down** ([`LodRounding::Down`]), as an integer conversion of the formula in
-//!   the paper's C code would: k = n exactly when dist ≤ mindist, as the formula's first case
+//!   on is at k = n. The paper says only "the patch distance from the camera position" (§3).
+//!   The alternative, to the box's centre, is [`PatchDistance::Centre`].
+//! - **k is rounded down** ([`LodRounding::Down`]), roamsim's choice: the paper gives k as a
+//!   real expression and does not say how it becomes a level. Rounding down, as a C integer
+//!   conversion would, keeps k = n exactly where dist ≤ mindist, as the formula's first case
 //!   says. [`LodRounding::Nearest`] and [`LodRounding::Up`] are the alternatives.
 //! - **Which vertex a collapsed one moves to**: on the south and west sides the neighbour's
 //!   vertex at or before it (towards the south-west corner), on the north and east sides the
@@ -45,7 +51,8 @@
 //!   the triangles from folding; the directions matter at the two corners the strip's
 //!   north-west–south-east diagonals do not reach (south-west, north-east): there the corner
 //!   cell has a triangle with a vertex on each side, and moving both towards the corner
-//!   flattens it, where moving them away would leave a T-junction on its diagonal.
+//!   flattens it, where moving them away would leave a T-junction on its diagonal (tested on
+//!   every combination of neighbouring levels, `tests/vanek.rs`).
 //! - **The strip's last two indices** (after the last row) are kept, as the paper's code emits
 //!   them: a patch at level k draws (2·(2^k + 1) + 2)·2^k − 2 triangles, 2·4^k of them surface
 //!   (less the collapsed ones).

@@ -1,6 +1,8 @@
 //! The per-patch level of detail of Vaněk–Ježek (§3): k = n below `mindist`, 0 beyond
 //! `maxdist`, between them n·(1 − ((dist − mindist)/(maxdist − mindist))^exp), rounded as the
-//! configuration says; and the patch distance the formula reads.
+//! configuration says; and the patch distance the formula reads. The formula is the paper's;
+//! the rounding and the distance (the paper says only "the patch distance from the camera
+//! position") are roamsim's choices, recorded in `mod.rs`.
 //!
 //! Distances are multiplied by a factor μ before the test (1 without a target): the triangle
 //! target scales `mindist` and `maxdist` together by 1/μ, which is the same thing. μ = 0 puts

@@ -1,11 +1,17 @@
-//! The constant triangle budget: base shifting, and the paper's initial threshold.
+//! Wu's constant triangle budget: base shifting (Wu et al. 2001 §6, MobilizeQueues), the paper's
+//! initial threshold (§6), and τ re-centring, an outer loop that is not in the paper. This file
+//! decides how b and τ move; recomputing and deferring the wheels' links is the frame loop's
+//! (`mod.rs`).
 //!
 //! **Base shifting** (the paper's MobilizeQueues, as published). With budget n and the previous
 //! frame's count n_prev: n_prev > n moves b down by one, anything else (n_prev ≤ n) moves it up by
 //! one, so b moves every frame; the paper's third branch ("else …") is unreachable in its
 //! pseudo-code. An optional dead band d restores it: n_prev > n + d moves b down, n_prev + d < n
 //! moves it up, anything else leaves it. b is clamped to [−limit, limit]; a frame that wanted to
-//! move past the limit reports the clamp.
+//! move past the limit reports the clamp. With a changing b the deferral is the paper's heuristic,
+//! not a guarantee (a key can fall by two in a frame: one for the eye, one for b); at a fixed b it
+//! is safe, and the tests check it there (Wu's mesh between two references, `tests/wu.rs`, and
+//! the queue validator with its life check).
 //!
 //! **τ re-centring** (an option, not in the paper): an outer loop on top of base shifting that
 //! hands the budget from b to τ. A base b lets a node split or merge b frames of travel early or

@@ -1,6 +1,7 @@
-//! Wu's view cone: the view frustum approximated by the cone around it (the paper's
-//! simplification, §7), and the cone's signed distance, which every view test of `visibility.rs`
-//! is built on.
+//! Wu's view cone: the view frustum approximated by the cone around it (Wu et al. 2001 §7, the
+//! paper's simplification), and the cone's signed distance, which every view test of
+//! `visibility.rs` (and of `reference.rs` in view) is built on. It is not the frustum test behind
+//! the runner's `triangles_rendered` (`view.rs`).
 //!
 //! The cone's apex is the eye, its axis the view direction, its half-angle the angle from the
 //! axis to a frustum corner; it ignores the near and far planes. Conservative: whatever is inside

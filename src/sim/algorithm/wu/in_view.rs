@@ -1,4 +1,12 @@
-//! The in-view flags and the in-view triangle count, kept incrementally.
+//! Wu's in-view flags and in-view triangle count, kept incrementally: what a renderer culling
+//! Wu's nodes against the view cone draws (Wu et al. 2001 §3.2 and §7), and what the budget holds
+//! with `cone_culling`. It decides nothing about splitting; `visibility.rs` says what is in view.
+//!
+//! **Not the runner's `triangles_rendered`** (triangles with no frustum plane that has all three
+//! corners outside). The cone circumscribes the frustum and a block's sphere is larger than its
+//! triangles, so Wu's count is typically the larger of the two (the ratio on the Table 1 flight
+//! is in `docs/reproductions/wu-table1.md`). Counting triangle by triangle would make each flag
+//! change cost up to eight cone tests instead of one.
 //!
 //! Every active node carries a flag: its bounding sphere meets this frame's view cone. The flag
 //! is set when the node activates and brought up to date whenever a key of the node runs out

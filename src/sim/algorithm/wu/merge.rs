@@ -1,6 +1,7 @@
-//! Merging a node: delete its boundary vertices and its centre, then the bookkeeping of the
-//! queues (its sub-blocks stop being splittable, it becomes splittable, the nodes it depended on
-//! may become mergeable — leaving the view queue — and merge at once if their key has run out).
+//! Merging a node (Wu et al. 2001 §3.1, Figure 4): delete its boundary vertices and its centre,
+//! then the bookkeeping of the queues (its sub-blocks stop being splittable, it becomes
+//! splittable, the nodes it depended on may become mergeable — leaving the view queue — and merge
+//! at once if their key has run out). When to merge is decided by the frame loop (`mod.rs`).
 
 use super::wheel::Queue;
 use super::{NodeLook, Wu};

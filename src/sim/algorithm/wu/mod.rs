@@ -1,4 +1,8 @@
-//! `wu`: Wu, Liu, Zhan and Gao's view-dependent terrain algorithm (Graphics Interface 2001).
+//! `wu`: Wu, Liu, Zhan and Gao's view-dependent terrain algorithm (Graphics Interface 2001), the
+//! incremental engine: split and merge queues of valid lives, carried from frame to frame. It
+//! implements Wu et al. 2001 §3 (nodes, traversal, culling), §5 (valid lives) and §6 (base
+//! shifting) as SPEC §5 fixes them. Not here: the split zones and lives (`zone.rs`), the node
+//! errors (`hierarchy`), and the from-scratch ground truth it is tested against (`reference.rs`).
 //!
 //! **Nodes** are the quadtree blocks, represented by their centre vertices (the square diamonds of
 //! the 4-8 hierarchy). Wu's node hierarchy is the quadtree: a node is queued as **splittable** when
@@ -9,9 +13,11 @@
 //! exactly when all its parents are. Splitting a node first activates what closure needs (its 4-8
 //! parents, which forces the neighbouring blocks up the hierarchy: the forced splits, never
 //! refused); merging deletes the node and its boundary vertices. The mesh is always a valid 4-8
-//! mesh. The paper's own *splittable* statistic (§3.1) is narrower — inactive with both corner
-//! parents active, i.e. splittable without forcing anything — and is reported beside the split
-//! queue's length (`splittable`, `split_queue`).
+//! mesh. Because boundary vertices are free, a split never cascades along a level, only up it: a
+//! split block whose neighbour is not split draws its side of the shared edge without the
+//! midpoint, which is exactly the 4-8 mesh. The paper's own *splittable* statistic (§3.1) is
+//! narrower — inactive with both corner parents active, i.e. splittable without forcing anything
+//! — and is reported beside the split queue's length (`splittable`, `split_queue`).
 //!
 //! **Valid lives.** A node's signed life ℓ (see `zone.rs`) is how many frames the eye needs, at
 //! the speed bounds, to reach its split zone. A splittable node splits when ℓ ≤ b; a mergeable node
@@ -40,7 +46,7 @@
 //! wheel, the view queue), and the count is updated by ±(the block's own triangles) when a flag
 //! changes and by the triangles each vertex insertion or deletion moves between blocks: O(1) per
 //! change, no walk over the mesh or over blocks. With `cone_culling` the budget counts this;
-//! without, the whole mesh.
+//! without, the whole mesh. It is not the runner's `triangles_rendered` (`in_view.rs` says why).
 //!
 //! **Constant budget** (`budget.rs`): with a triangle budget n, b moves by one every frame towards
 //! the budget (the paper's MobilizeQueues as published): n_prev > n lowers b, recomputes the two
@@ -58,12 +64,16 @@
 //! merges that come due through a revalidation or an overflow wrap are acted on even in a frame
 //! whose base shift defers the other kind (only the due wheel link is deferred).
 //!
-//! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory: a 4-byte
-//! queue handle per node (1.33 bytes per sample) and a 16-byte link entry per queued node (the
-//! frontier, and with view tracking every active node: O(mesh size)), one bit per vertex for the
-//! mesh and, with view tracking, one in-view bit per node; with the shared hierarchy (heights and
-//! the node data above the finest level, 5 bytes per sample) about 7 bytes per sample in all
-//! (ARCHITECTURE.md, Memory).
+//! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory, on top of
+//! the shared hierarchy (heights and the node data above the finest level, 5 bytes per sample):
+//! a 4-byte queue handle per node (1.33 bytes per sample); a 16-byte link entry per queued node
+//! (the frontier, and with view tracking every active node, the view queue holding the
+//! non-mergeable ones: O(mesh size)) in a slab that keeps its peak size rounded up to a power of
+//! two (`wheel.rs`); one bit per vertex for the mesh (0.125 bytes per sample); with view
+//! tracking, one in-view bit per node (0.04 bytes per sample); the work lists; and with the
+//! `max_plus_own` nesting, the centres' nested errors (4 bytes per sample, `zone.rs`). A mesh
+//! near full resolution (τ → 0) queues most nodes, and the slab then grows towards 16 bytes per
+//! node. The measured totals are in `docs/performance.md`.
 
 mod budget;
 mod cull;

@@ -1,4 +1,6 @@
-//! Wu's quadtree nodes by dense index, their signed lives and where they are in the view.
+//! Wu's quadtree nodes (Wu et al. 2001 §3.1, Figure 1's node hierarchy) by dense index, their
+//! signed lives and where they are in the view. Only index arithmetic and the lookups that join
+//! a node to its zone (`zone.rs`) and its sphere (`visibility.rs`); no queue state.
 //!
 //! A node is a square block, numbered as in [`SquareIndex`]: coarsest level first, row-major
 //! within a level. Level k has 2^k × 2^k nodes; node (k, a, b) is centred at

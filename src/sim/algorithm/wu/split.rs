@@ -1,5 +1,7 @@
-//! Splitting a node: closure first (forced splits), then the node, its free boundary vertices,
-//! and the bookkeeping of the queues.
+//! Splitting a node (Wu et al. 2001 §3.1, Figure 4; SPEC §5): closure first (forced splits, never
+//! refused), then the node, its free boundary vertices, and the bookkeeping of the queues. When to
+//! split is decided by the frame loop (`mod.rs`); the children of a split are scheduled here, in
+//! order of error under block-priority traversal (§3.2).
 
 use super::nodes::NO_NODE;
 use super::wheel::Queue;

@@ -1,4 +1,9 @@
-//! The validator of Wu's queues and counts: every splittable node is in exactly one split link,
+//! The validator of Wu's queues and counts (SPEC §5's queues, and Wu et al. 2001 §3.1's
+//! splittable and mergeable nodes): what the tests call after every frame through
+//! `Wu::validate_queues`, and the unit tests between operations. It recounts every node, O(nodes);
+//! no frame of a run calls it.
+//!
+//! It checks that every splittable node is in exactly one split link,
 //! every mergeable node in exactly one merge link, every other active node in a view link when
 //! the view is followed and nowhere otherwise, nothing else is queued; the link counts match a
 //! recount; the paper's splittable count matches a recount; when the view is followed, every

@@ -1,4 +1,7 @@
-//! What the view cone says about a node, and how soon the camera can change it.
+//! What the view cone says about a node, and how soon the camera can change it: the view side of
+//! Wu's `in_view` refinement (Wu et al. 2001 §3.2, "the spatial relations between such nodes and
+//! view-frustum when deciding whether to split or merge them"; SPEC §5, Culling). It decides no
+//! split or merge itself; the frame loop (`mod.rs`) combines its view keys with the life keys.
 //!
 //! **Node spheres.** A node's bounding sphere is centred on its block's centre at the middle of
 //! the block's height range, with radius h·√(dx² + dy²) + (z_max − z_min)/2 (the half-diagonal of
@@ -24,7 +27,9 @@
 //! relative 10⁻⁹ of the distance) so that rounding never decides; a node whose state cannot
 //! change sooner than that is looked at again then, and not before. These are the view keys the
 //! queues use beside the life keys; they are valid only while both bounds hold, so a frame that
-//! breaks either revalidates them.
+//! breaks either revalidates them. An experiment that declares no rotation bound gets π
+//! (`SpeedBound::NO_ROTATION_BOUND`), which every turn honours: such files run unchanged, and the
+//! view keys then defer little.
 //!
 //! **Owned triangles.** Each mesh triangle lies in exactly one smallest active block (or, while
 //! the root is inactive, in none: the two base triangles). [`owned_triangles`] counts a block's

@@ -1,12 +1,16 @@
-//! The split, merge and view queues: timing wheels of doubly linked links.
+//! Wu's split, merge and view queues: timing wheels of doubly linked links (Wu et al. 2001 §6,
+//! "the data structure of split and merge queue are all defined as arrays" of links; SPEC §5, a
+//! timing wheel with a rotating head, not a heap). The wheels only hold nodes; keys and what to
+//! do when a link comes due are the frame loop's (`mod.rs`).
 //!
 //! The split queue holds splittable nodes, the merge queue mergeable ones; the view queue, kept
 //! only when Wu tracks the view cone, holds the other active nodes, each due when its view may
-//! change (`visibility.rs`). Each queue is an array of `W` links indexed by frame modulo `W` (the head is the link of the
-//! current frame, so it rotates once per frame and nothing is decremented node by node), plus an
-//! **overflow** link for keys of `W` frames or more, re-examined whenever the wheel wraps, and a
-//! **parked** link for infinite keys (nodes without error, or a zero speed bound), which is only
-//! re-examined when the speed bounds were broken. A node is in at most one link of one queue.
+//! change (`visibility.rs`). Each queue is an array of `W` links indexed by frame modulo `W` (the
+//! head is the link of the current frame, so it rotates once per frame and nothing is decremented
+//! node by node), plus an **overflow** link for keys of `W` frames or more, re-examined whenever
+//! the wheel wraps, and a **parked** link for infinite keys (nodes without error, or a zero speed
+//! bound), which is only re-examined when the speed bounds were broken. A node is in at most one
+//! link of one queue.
 //!
 //! **Memory.** Only queued nodes (the frontier: splittable and mergeable nodes, O(mesh size)) hold
 //! a link entry (node, prev, next, slot: 16 bytes) in a slab whose freed entries are reused; every
