@@ -1,10 +1,22 @@
-//! The audit's differential reference: [`ReferenceAuditor`], the audit as it was before it
-//! skipped the tiles out of view and solved the rasteriser's row spans (roamsim 0.1.0 at
-//! 7319e86). Every figure of [`super::Auditor`] must equal this one's to the last bit
-//! (`tests/audit_reference.rs`), and `benches/hot_paths.rs` times both in one run. Not used by
-//! the runner.
+//! The audit's differential reference (SPEC §7): [`ReferenceAuditor`], the audit as it was
+//! before it skipped the tiles out of view and solved the rasteriser's row spans (roamsim 0.1.0
+//! at 7319e86). It is not used by the runner, and it has no refined (synthesised detail)
+//! lattice.
+//!
+//! Decisions:
+//!
+//! - **The yardstick of every shortcut.** Every figure of [`super::Auditor`] must equal this
+//!   one's to the last bit (`tests/audit_reference.rs`, through `Debug`, which prints every
+//!   `f64` exactly), and `benches/hot_paths.rs` times both in one run. So its arithmetic stays
+//!   as first written: every audited sample tested against the view with `Camera::sees`, every
+//!   triangle rasterised over its whole bounding box, the metrics called one sample at a time,
+//!   and its own summary by selection over all values.
+//! - **Shared with the auditor:** what is not a shortcut, the crack and popping bookkeeping
+//!   (`CrackHeights`, `PoppingSums`) and the general rasteriser.
 
-use super::{AuditSettings, CrackHeights, PoppingSums};
+use super::AuditSettings;
+use super::general::CrackHeights;
+use super::popping::PoppingSums;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::raster::{SampleRaster, rasterise_lattice_triangle_by_box};
 use crate::sim::mesh::{MeshOutput, SUBGRID_UNITS_PER_CELL, TriangleRole};
@@ -86,26 +98,7 @@ impl ReferenceAuditor {
                 let index = (j / stride) * lattice_side + i / stride;
                 let drawn = self.mesh_height[index];
                 if let (Some(coverage), Some(crack)) = (coverage.as_mut(), self.crack.as_ref()) {
-                    let (low, high) = (crack.low[index], crack.high[index]);
-                    if low < high {
-                        let gap = f64::from(high) - f64::from(low);
-                        coverage.crack_samples += 1;
-                        coverage.crack_gap_max_m = coverage.crack_gap_max_m.max(gap);
-                        let base = DVec3::new(sample.x, sample.y, f64::from(low));
-                        if let Some(px) = projected_error_px(camera, base, gap) {
-                            coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
-                        }
-                        let open = crack.uncovered(index);
-                        if open > 0.0 {
-                            coverage.cracks_uncovered += 1;
-                            coverage.crack_uncovered_max_m =
-                                coverage.crack_uncovered_max_m.max(open);
-                            if let Some(px) = projected_error_px(camera, base, open) {
-                                coverage.crack_uncovered_max_px =
-                                    coverage.crack_uncovered_max_px.max(px);
-                            }
-                        }
-                    }
+                    count_crack(coverage, crack, camera, sample, index);
                     if drawn.is_nan() {
                         coverage.holes += 1;
                         continue;
@@ -206,6 +199,35 @@ impl ReferenceAuditor {
                     .then(a.1.total_cmp(&b.1))
                     .then(a.2.total_cmp(&b.2))
             });
+        }
+    }
+}
+
+/// Counts the crack gap at sample `index` (at `sample`) into `coverage`, when there is one,
+/// and the part of it no skirt spans.
+fn count_crack(
+    coverage: &mut SurfaceCoverage,
+    crack: &CrackHeights,
+    camera: &Camera,
+    sample: DVec3,
+    index: usize,
+) {
+    let (low, high) = (crack.low[index], crack.high[index]);
+    if low < high {
+        let gap = f64::from(high) - f64::from(low);
+        coverage.crack_samples += 1;
+        coverage.crack_gap_max_m = coverage.crack_gap_max_m.max(gap);
+        let base = DVec3::new(sample.x, sample.y, f64::from(low));
+        if let Some(px) = projected_error_px(camera, base, gap) {
+            coverage.crack_gap_max_px = coverage.crack_gap_max_px.max(px);
+        }
+        let open = crack.uncovered(index);
+        if open > 0.0 {
+            coverage.cracks_uncovered += 1;
+            coverage.crack_uncovered_max_m = coverage.crack_uncovered_max_m.max(open);
+            if let Some(px) = projected_error_px(camera, base, open) {
+                coverage.crack_uncovered_max_px = coverage.crack_uncovered_max_px.max(px);
+            }
         }
     }
 }

@@ -13,7 +13,9 @@
 //!   or a vertex belongs to the triangle it would fall in if nudged by an infinitesimal step east
 //!   (west on the domain's east border) and an infinitely smaller step north (south on the
 //!   north border). This is the top-left rule of GPU rasterisers, written as the perturbation it
-//!   is; it needs no shared vertices, so T-junctions and stitches are handled alike. Heights are
+//!   is: every point of a tiling then has exactly one triangle, with shared vertices or not, so
+//!   T-junctions, collapsed borders and stitches need no special case; positions are fixed-point
+//!   integers (1/65 536 of a cell), so the inside tests are exact. Heights are
 //!   interpolated inside the triangle; on an edge, from the edge's two ends only, in a canonical
 //!   order of the ends, so two triangles with the same edge give a sample on it bit-identical
 //!   heights and a crack gap is exactly zero where there is no crack; on a vertex, the vertex's
