@@ -1,6 +1,7 @@
 //! Rasterising drawn triangles over a lattice of samples: which samples a triangle covers, and
-//! the height it draws there. Shared by the audit (mesh heights at audited samples) and the
-//! triangle-list validator (every sample covered exactly once).
+//! the height it draws there. Shared by the audit (SPEC §7: mesh heights at audited samples) and
+//! the triangle-list validator (every sample covered exactly once). It measures no error and
+//! decides no sample set: which samples are audited is the audit's (`sim::audit::tiles`).
 //!
 //! Two rasterisers, both with exact integer inside tests:
 //!
