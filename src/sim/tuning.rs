@@ -2,6 +2,10 @@
 //! short probe runs that finds the tolerance (or resolution, or distance scale) whose mean
 //! rendered triangles, or mean audited p95 error, comes closest to a target.
 //!
+//! **A search over probe runs, not a controller inside the algorithm**, so that the entry then
+//! runs at one fixed τ (or ρ, c, C, distance scale) as the paper's algorithm would, and entries
+//! of every family are compared at equal mean rendered triangles or equal mean audited p95.
+//!
 //! Pure: the caller runs the probes; this module decides which values to probe, in which order,
 //! and which probe wins. The search, documented in `docs/experiment-format.md`:
 //!

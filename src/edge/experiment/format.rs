@@ -2,8 +2,8 @@
 //! beyond JSON types and unknown fields. `docs/experiment-format.md` documents every field.
 //!
 //! Field names carry their units (`_m`, `_deg`, `_px`, `_m_per_frame`). Algorithm entries are
-//! kept as raw JSON here and decoded per algorithm in `check`, so a bad parameter is reported
-//! with the entry's own path.
+//! kept as raw JSON here and decoded per algorithm in `parameters.rs` (and the block
+//! algorithms' files), so a bad parameter is reported with the entry's own path.
 
 use serde::Deserialize;
 use serde_json::{Map, Value};

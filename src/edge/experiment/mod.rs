@@ -1,75 +1,42 @@
-//! Experiment files: parse (what the file says), check (is it meaningful? `check.rs`), load
-//! (terrain read and preprocessed inputs, flight built and checked against the speed bounds:
-//! `load.rs`), and the plan of a swept experiment's points (`plan.rs`).
+//! Experiment files (SPEC §8): from the file's bytes to a runnable [`Experiment`], in stages that
+//! never call back. Not the running of an experiment (`edge::session`) nor its outputs
+//! (`edge::output`). The format is documented in `docs/experiment-format.md`.
 //!
-//! Every error names the file, the field path (`flight.path.circle.radius_m`,
-//! `algorithms[1].tau_px`) and what was expected. Checking reports every semantic problem at
-//! once; reading the terrain or a flight log stops at the first. Nothing runs before all of this
-//! has passed. The format is documented in `docs/experiment-format.md`.
+//! **Parsed data, then checked configuration, then the loaded experiment** (ripgrep's
+//! low-level and high-level arguments). Each stage imports only the ones before it:
+//!
+//! 1. *Parse*: `format.rs` is the file as written (serde types, format version 1); `sweep.rs`
+//!    expands a top-level sweep into one JSON document per point, knowing nothing of the fields.
+//! 2. *Check* (no IO), bottom up: `problems.rs` (what can be wrong, with its field path);
+//!    `block_lod.rs`, `block_strips.rs` and `parameters.rs` (one entry's parameters into its
+//!    `AlgorithmConfig`); `tune.rs` (an entry's `"tune"`); `entries.rs` (the entries: sweeps
+//!    expanded, labels, [`AlgorithmSpec`], [`tuned_spec`]); `check.rs` (the whole file).
+//! 3. *Load* (the IO): `load.rs` reads or generates the terrain, reads a recorded flight, builds
+//!    the flight: the [`Experiment`].
+//!
+//! `plan.rs` drives them: stages 1 and 2 for every point of the file at once ([`plan`], so every
+//! problem of every point is reported before any terrain is read), stage 3 for one point at a
+//! time ([`Plan::load_point`]). Nothing runs before all three have passed for a point. This file
+//! only declares the stages and re-exports what the rest of the crate uses.
 
 mod block_lod;
+mod block_strips;
 mod check;
+mod entries;
 mod format;
 mod load;
+mod parameters;
 mod plan;
+mod problems;
 mod sweep;
 mod tune;
 
-pub use check::KNOWN_ALGORITHMS;
+pub use check::MeshExports;
+pub use entries::{AlgorithmSpec, tuned_spec};
 pub use format::FORMAT_VERSION;
-pub use load::{AlgorithmSpec, Experiment, MeshExports, TerrainReport};
+pub use load::{Experiment, TerrainReport};
+pub use parameters::KNOWN_ALGORITHMS;
 pub use plan::{Plan, check_bytes, load, plan};
+pub use problems::{ExperimentError, FieldProblem};
 pub use sweep::{SweepChoice, choice_label};
-pub use tune::{Tune, TuneTarget, tuned_spec};
-
-use std::fmt;
-use std::path::PathBuf;
-
-/// One thing wrong with an experiment file.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FieldProblem {
-    /// Path of the field, e.g. `view.fovy_deg` or `algorithms[0].label`; empty for the file.
-    pub field: String,
-    pub problem: String,
-}
-
-/// An experiment file that cannot run, with everything found wrong in it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ExperimentError {
-    pub file: PathBuf,
-    pub problems: Vec<FieldProblem>,
-}
-
-impl ExperimentError {
-    pub(crate) fn single(
-        file: &std::path::Path,
-        field: impl Into<String>,
-        problem: impl Into<String>,
-    ) -> ExperimentError {
-        ExperimentError {
-            file: file.to_path_buf(),
-            problems: vec![FieldProblem {
-                field: field.into(),
-                problem: problem.into(),
-            }],
-        }
-    }
-}
-
-impl fmt::Display for ExperimentError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (k, p) in self.problems.iter().enumerate() {
-            if k > 0 {
-                writeln!(f)?;
-            }
-            if p.field.is_empty() {
-                write!(f, "{}: {}", self.file.display(), p.problem)?;
-            } else {
-                write!(f, "{}: {}: {}", self.file.display(), p.field, p.problem)?;
-            }
-        }
-        Ok(())
-    }
-}
-
-impl std::error::Error for ExperimentError {}
+pub use tune::{Tune, TuneTarget};

@@ -1,16 +1,22 @@
-//! From the experiment file's text to a plan of checked points, and from a point to a runnable
-//! [`Experiment`].
+//! From the experiment file's bytes to a plan of checked points, and from a point to a runnable
+//! [`Experiment`] (SPEC §8): the driver of the stages, which does none of their work itself
+//! beyond reading the file and parsing its JSON.
 //!
 //! Stage 1 parses JSON into the format types (serde reports the field path of a type error).
 //! Stage 2 (`check.rs`) checks meaning, collecting every problem with its field path. Stage 3
 //! (`load.rs`) does the IO: reads the terrain (or generates it), fills voids, embeds it, reads a
 //! recorded flight, builds the flight and checks it against the speed bounds.
+//!
+//! **Every point checked before any is loaded.** A swept experiment's points are all parsed and
+//! checked up front, and every problem of every point is reported at once (each prefixed with
+//! its point's choice) before any terrain is read; loading, one terrain at a time, waits for the
+//! run.
 
 use super::check::{Checked, check, path_kind};
 use super::format::ExperimentFile;
 use super::load::{Experiment, build_flight, load_terrain};
+use super::problems::{ExperimentError, FieldProblem};
 use super::sweep::{ExperimentPoint, SweepChoice, choice_label, expand_experiment};
-use super::{ExperimentError, FieldProblem};
 use crate::sim::flight::speed_violations;
 use serde_json::Value;
 use sha2::{Digest, Sha256};

@@ -3,17 +3,24 @@
 //! Two kinds share one expansion rule (the cartesian product of the listed values, parameters in
 //! alphabetical order, the first one varying slowest):
 //! - an algorithm entry's `"sweep": {"tau_px": [1, 2]}` sets the entry's own parameters
-//!   (expanded in `check.rs`, where the entries are checked);
+//!   (expanded in `entries.rs`, where the entries are checked);
 //! - the experiment's top-level `"sweep": {"terrain.synthetic.level": [10, 12]}` sets any field
 //!   of the experiment by its path (`.`-separated keys, `[k]` for an array element): each point
 //!   is a whole experiment, with its own terrain, run one after another. Its `"together"` group
 //!   (`{"path": [...], "other.path": [...]}`, lists of one length) is one axis whose k-th point
 //!   sets every listed field to its k-th value, for settings that must change in step.
 //!
-//! This module only rewrites JSON values; it knows nothing of what the fields mean. Every point
-//! is then parsed and checked like a written experiment.
+//! This module only rewrites JSON values (stage 1, before parsing: SPEC §8's experiment file);
+//! it knows nothing of what the fields mean. Every point is then parsed and checked like a
+//! written experiment.
+//!
+//! **Fields that move in step.** A `"together"` group exists so that a flight made faster
+//! declares the speed bounds that match it (`experiments/study-speed.json`): a cartesian product
+//! would pair fast flights with slow bounds (speed violations every frame) and slow flights with
+//! loose bounds (needlessly short lives), and one experiment per speed would lose the sweep's
+//! table and plots.
 
-use super::FieldProblem;
+use super::problems::FieldProblem;
 use serde_json::Value;
 
 /// Most points one sweep may expand into.

@@ -1,13 +1,20 @@
-//! An algorithm entry's `"tune"`: the target (mean rendered triangles, or mean audited p95
-//! error, over probe runs), the parameter it sets and the search's settings, checked; and the
-//! entry with the parameter set to a value ([`tuned_spec`]), which the probes and the real run
-//! use. The search itself is `sim::tuning`; the probes are run by `edge::session`.
+//! An algorithm entry's `"tune"` checked (stage 2, no IO): the target (mean rendered triangles,
+//! or mean audited p95 error, over probe runs), the parameter it sets, its start, range and
+//! sense, and the search's settings. Not the search (`sim::tuning`, where the choice of a search
+//! over probe runs is recorded), not the entry with a value set (`tuned_spec`, in `entries.rs`),
+//! not the probe runs (`edge::session`). Documented in `docs/experiment-format.md` ("Tuning to a
+//! target").
 //!
-//! Documented in `docs/experiment-format.md` ("Tuning to a target").
+//! **One count target per entry.** `tune` sets the entry's triangle count through its parameter,
+//! so an entry that also gives a count target of its own (`budget_triangles`,
+//! `target_triangles`, `target_fan_vertices`) is refused; so is a sweep of the tuned parameter
+//! (`entries.rs`), whose label would name a value the run does not use.
+//!
+//! **Checked at the start value.** When the entry does not write the tuned parameter, the
+//! search's start is put there, so that the entry is checked, and listed, with the value the
+//! search starts from.
 
-use super::FieldProblem;
-use super::check::{Problems, entry_config};
-use super::load::AlgorithmSpec;
+use super::problems::{Problems, decode};
 use crate::sim::tuning::{SearchSettings, Sense};
 use serde::Deserialize;
 use serde_json::{Map, Value};
@@ -86,9 +93,9 @@ pub struct Tune {
     /// How the rendered triangles move as the parameter grows.
     pub triangles_sense: Sense,
     /// Where the entry came from (`algorithms[k]`), for errors.
-    origin: String,
+    pub(super) origin: String,
     /// The algorithm's name as the file writes it.
-    name: String,
+    pub(super) name: String,
 }
 
 impl Tune {
@@ -189,7 +196,6 @@ pub(super) fn check_tune(
     audited: bool,
     problems: &mut Problems,
 ) -> Option<Tune> {
-    let at = |field: &str| format!("{origin}.tune.{field}");
     // The start goes in first, so that a `tune` with its own problems adds no second one (an
     // entry without its τ).
     if let Some(tunable) =
@@ -199,7 +205,7 @@ pub(super) fn check_tune(
     {
         parameters.insert(tunable.parameter.to_string(), Value::from(tunable.start));
     }
-    let entry: TuneEntry = super::check::decode(&format!("{origin}.tune"), tune, problems)?;
+    let entry: TuneEntry = decode(&format!("{origin}.tune"), tune, problems)?;
     let n_problems = problems.list.len();
     let clashing: Vec<&str> = COUNT_TARGETS
         .into_iter()
@@ -214,69 +220,9 @@ pub(super) fn check_tune(
             ),
         );
     }
-    let target = match (entry.rendered_triangles, entry.audit_p95_px) {
-        (Some(triangles), None) => Some(TuneTarget::RenderedTriangles(triangles)),
-        (None, Some(p95)) => Some(TuneTarget::AuditP95Px(p95)),
-        _ => {
-            problems.add(
-                format!("{origin}.tune"),
-                "expected exactly one target: \"rendered_triangles\" or \"audit_p95_px\"",
-            );
-            None
-        }
-    };
-    if let Some(target) = target {
-        let value = target.value();
-        if !(value > 0.0 && value.is_finite()) {
-            problems.add(
-                at(target.field()),
-                format!("{value}: expected a finite target above 0"),
-            );
-        }
-        if matches!(target, TuneTarget::AuditP95Px(_)) && !audited {
-            problems.add(
-                at("audit_p95_px"),
-                "a target of audited error needs the audit: expected \"effects\": {\"audit\": \
-                 {...}} in the experiment",
-            );
-        }
-    }
-    let options = tunables(name);
-    let tunable = match &entry.parameter {
-        None => options.first(),
-        Some(wanted) => {
-            let found = options.iter().find(|t| t.parameter == wanted);
-            if found.is_none() {
-                let names: Vec<&str> = options.iter().map(|t| t.parameter).collect();
-                problems.add(
-                    at("parameter"),
-                    format!(
-                        "{wanted:?} is not a parameter tune can set for {name}: expected {}",
-                        names.join(" or ")
-                    ),
-                );
-            }
-            found
-        }
-    };
-    if let Some(frames) = entry.probe_frames
-        && frames < 2
-    {
-        problems.add(at("probe_frames"), format!("{frames}: expected at least 2"));
-    }
-    if let Some(tolerance) = entry.tolerance
-        && !(tolerance > 0.0 && tolerance.is_finite())
-    {
-        problems.add(
-            at("tolerance"),
-            format!("{tolerance}: expected a finite relative tolerance above 0"),
-        );
-    }
-    if let Some(probes) = entry.max_probes
-        && probes < 2
-    {
-        problems.add(at("max_probes"), format!("{probes}: expected at least 2"));
-    }
+    let target = tune_target(origin, &entry, audited, problems);
+    let tunable = tunable_of(origin, name, &entry, problems);
+    check_search_limits(origin, &entry, problems);
     let tunable = tunable?;
     // The start: the written value (its own check reports a bad one), else the default.
     let start = match parameters.get(tunable.parameter) {
@@ -305,37 +251,92 @@ pub(super) fn check_tune(
     })
 }
 
-/// The entry `spec` (tuned by `tune`) with its tuned parameter set to `value`: its configuration
-/// and its parameters as listed in the outputs (vanek's `distance_scale` multiplies
-/// `min_dist_m` and `max_dist_m`). An error, which a value inside the parameter's range does
-/// not give, names the entry's field and what was wrong.
-pub fn tuned_spec(spec: &AlgorithmSpec, tune: &Tune, value: f64) -> Result<AlgorithmSpec, String> {
-    let mut parameters = spec.parameters.clone();
-    let Some(map) = parameters.as_object_mut() else {
-        return Err(format!("{}: expected an object of parameters", tune.origin));
-    };
-    if tune.parameter == "distance_scale" {
-        for field in ["min_dist_m", "max_dist_m"] {
-            let written = map.get(field).and_then(Value::as_f64).unwrap_or(0.0);
-            map.insert(field.to_string(), Value::from(written * value));
+/// The target: exactly one of `rendered_triangles` and `audit_p95_px`, finite and above 0; an
+/// audited error only with the audit on.
+fn tune_target(
+    origin: &str,
+    entry: &TuneEntry,
+    audited: bool,
+    problems: &mut Problems,
+) -> Option<TuneTarget> {
+    let at = |field: &str| format!("{origin}.tune.{field}");
+    let target = match (entry.rendered_triangles, entry.audit_p95_px) {
+        (Some(triangles), None) => Some(TuneTarget::RenderedTriangles(triangles)),
+        (None, Some(p95)) => Some(TuneTarget::AuditP95Px(p95)),
+        _ => {
+            problems.add(
+                format!("{origin}.tune"),
+                "expected exactly one target: \"rendered_triangles\" or \"audit_p95_px\"",
+            );
+            None
         }
-    } else {
-        map.insert(tune.parameter.to_string(), Value::from(value));
+    };
+    if let Some(target) = target {
+        let value = target.value();
+        if !(value > 0.0 && value.is_finite()) {
+            problems.add(
+                at(target.field()),
+                format!("{value}: expected a finite target above 0"),
+            );
+        }
+        if matches!(target, TuneTarget::AuditP95Px(_)) && !audited {
+            problems.add(
+                at("audit_p95_px"),
+                "a target of audited error needs the audit: expected \"effects\": {\"audit\": \
+                 {...}} in the experiment",
+            );
+        }
     }
-    let mut problems = Problems::default();
-    let config = entry_config(&tune.origin, &tune.name, &parameters, &mut problems);
-    match config {
-        Some(config) if problems.list.is_empty() => Ok(AlgorithmSpec {
-            label: spec.label.clone(),
-            config,
-            parameters,
-            tune: spec.tune.clone(),
-        }),
-        _ => Err(problems
-            .list
-            .iter()
-            .map(|FieldProblem { field, problem }| format!("{field}: {problem}"))
-            .collect::<Vec<_>>()
-            .join("; ")),
+    target
+}
+
+/// The parameter tuned: the entry's `parameter`, else the algorithm's default.
+fn tunable_of(
+    origin: &str,
+    name: &str,
+    entry: &TuneEntry,
+    problems: &mut Problems,
+) -> Option<&'static Tunable> {
+    let at = |field: &str| format!("{origin}.tune.{field}");
+    let options = tunables(name);
+    match &entry.parameter {
+        None => options.first(),
+        Some(wanted) => {
+            let found = options.iter().find(|t| t.parameter == wanted);
+            if found.is_none() {
+                let names: Vec<&str> = options.iter().map(|t| t.parameter).collect();
+                problems.add(
+                    at("parameter"),
+                    format!(
+                        "{wanted:?} is not a parameter tune can set for {name}: expected {}",
+                        names.join(" or ")
+                    ),
+                );
+            }
+            found
+        }
+    }
+}
+
+/// The search's limits: at least 2 probe frames and 2 probes, a finite tolerance above 0.
+fn check_search_limits(origin: &str, entry: &TuneEntry, problems: &mut Problems) {
+    let at = |field: &str| format!("{origin}.tune.{field}");
+    if let Some(frames) = entry.probe_frames
+        && frames < 2
+    {
+        problems.add(at("probe_frames"), format!("{frames}: expected at least 2"));
+    }
+    if let Some(tolerance) = entry.tolerance
+        && !(tolerance > 0.0 && tolerance.is_finite())
+    {
+        problems.add(
+            at("tolerance"),
+            format!("{tolerance}: expected a finite relative tolerance above 0"),
+        );
+    }
+    if let Some(probes) = entry.max_probes
+        && probes < 2
+    {
+        problems.add(at("max_probes"), format!("{probes}: expected at least 2"));
     }
 }

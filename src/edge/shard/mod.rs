@@ -5,11 +5,12 @@
 //!
 //! **Units and parts.** An experiment's work units are its (sweep point, algorithm entry) pairs
 //! in the experiment's order: point 0's entries, then point 1's, and so on. Shard K of N takes
-//! the K-th of N contiguous, nearly equal runs of them (units ⌊(K−1)·U/N⌋ up to ⌊K·U/N⌋), so a
-//! shard loads as few of the sweep's terrains as it can (a sweep over terrain sizes keeps a
-//! shard's memory to its own points). Each unit runs exactly as in a whole run (its own fresh
-//! algorithm over the point's terrain and flight), so its counts, columns and meshes are those
-//! of the whole run; only its timings differ.
+//! the K-th of N contiguous, nearly equal runs of them (units ⌊(K−1)·U/N⌋ up to ⌊K·U/N⌋), not
+//! every N-th unit, so a shard loads as few of the sweep's terrains as it can (a sweep over
+//! terrain sizes keeps a shard's memory to its own points), at the price of balance, which N
+//! controls. Each unit runs exactly as in a whole run (its own fresh algorithm over the point's
+//! terrain and flight), so its counts, columns and meshes are those of the whole run; only its
+//! timings differ.
 //!
 //! **The shard file** (`shard.json`, format `"roamsim shard"`, version 1): the experiment's
 //! name, file (absolute path) and content hash, K and N, the run's `--frames` and `--check`, and
@@ -22,7 +23,8 @@
 //! all are of the same experiment (name and content hash), of the same N, `--frames`,
 //! `--check` and timing (`--repeat`, `--time-with-effects`); each K from 1 to N is there exactly once; the experiment file is still there and
 //! unchanged (its content hash), since merging loads each point's terrain and flight again for
-//! the writers (nothing is simulated).
+//! the writers (summary.json's terrain and flight sections; nothing is simulated). A merge
+//! refuses to guess.
 //!
 //! This module is the format and its checks; `edge::session` runs and merges.
 
