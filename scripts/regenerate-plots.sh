@@ -51,4 +51,4 @@ for name in "${experiments[@]}"; do
     for pid in "${pids[@]}"; do wait "$pid"; done
     "$roamsim" merge "${parts[@]}" --out "plots/$name"
 done
-echo "== done ($(date -u +%H:%M:%S))"
+echo "== done ($(date -u +%H:%M:%S)); now \`scripts/doc-tables\` refills the docs' figures from these outputs"

@@ -1,0 +1,19 @@
+"""The figures of roamsim's docs, printed from the committed outputs (`scripts/doc-tables`).
+
+A doc holds generated text between two markers; the opening one names the command that prints
+it, so a reader can run it:
+
+    <!-- scripts/doc-tables study-circle -->
+    | entry | ... |            (a block: the marker ends its line, the text is whole lines)
+    <!-- /scripts/doc-tables -->
+
+    ... the reference at <!-- scripts/doc-tables cell compare-circle "reference τ=3.3" rendered -->6216<!-- /scripts/doc-tables --> ...
+                               (inline: a figure inside a sentence)
+
+Everything printed is read from a run's own outputs under plots/ (report.md tables,
+summary.json records): the scripts select, join and order figures, and compute a figure only
+where the doc says how (a ratio of two printed figures). Python 3 standard library only.
+
+Modules: `outputs` reads the committed outputs; `markers` finds and fills the marked text;
+`generators` holds every generator by name; `cli` is the command line.
+"""

@@ -1,0 +1,180 @@
+"""Every generator a doc can name, by name: what each prints, from which committed outputs.
+
+A generator is called with the marker's arguments (strings) and prints its text; `render`
+captures it. Block generators print whole lines; inline ones print one figure, no newline.
+Adding a generator: write the function, add it to `GENERATORS` with a one-line description.
+"""
+
+import contextlib
+import inspect
+import io
+
+from .outputs import OutputMissing, main_cell, main_table, table, tables, report_path, tuned
+
+
+def equal_triangles(name):
+    """The study's equal-triangle table of one experiment (docs/study.md §1–§3)."""
+    main = main_table(name)
+    popping = table(name, "Popping")
+    settings = tuned(name)
+    print(f"From `plots/{name}/report.md` (`bash scripts/regenerate-plots.sh {name}`):\n")
+    print(
+        "| entry | tuned | rendered | triangles | audited error max / mean / p95 (px) "
+        "| popping RMSE / max (px) | update p50 (µs) | operations per frame | bytes per sample |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for label, row in main.items():
+        pop = popping.get(label, {})
+        pop_cell = f"{pop.get('RMSE (px)', '—')} / {pop.get('max (px)', '—')}"
+        update = row["update p50 / p95 (µs)"].split("/")[0].strip()
+        print(
+            f"| {label} | {settings.get(label, '—')} | {row['rendered']} | {row['triangles']} "
+            f"| {row['error max / mean / mean of p95 (px)']} | {pop_cell} | {update} "
+            f"| {row['splits + merges per frame']} | {row['bytes per sample']} |"
+        )
+    print()
+
+
+def error_targets():
+    """Rendered triangles each algorithm needed for each audited error target."""
+    name = "study-error-targets"
+    main = main_table(name)
+    settings = tuned(name)
+    algorithms = []
+    for label in main:
+        base = label.rsplit(" @", 1)[0]
+        if base not in algorithms:
+            algorithms.append(base)
+    print(
+        "From `plots/study-error-targets/report.md` "
+        "(`bash scripts/regenerate-plots.sh study-error-targets`): rendered triangles (and the "
+        "audited mean of per-frame p95 the tuned entry reached) for each target.\n"
+    )
+    print("| algorithm | 1 px | 2 px | 4 px |")
+    print("|---|---|---|---|")
+    for base in algorithms:
+        row = [base]
+        for px in (1, 2, 4):
+            entry = main.get(f"{base} @{px}px")
+            if entry is None:
+                row.append("—")
+                continue
+            p95 = entry["error max / mean / mean of p95 (px)"].split("/")[-1].strip()
+            note = "" if "not reached" not in settings.get(f"{base} @{px}px", "") else " †"
+            row.append(f"{entry['rendered']} ({p95} px){note}")
+        print("| " + " | ".join(row) + " |")
+    print("\n† the search did not reach the target within its tolerance: the closest probe.\n")
+
+
+def nominal():
+    """Each accuracy-vs-time entry's nominal tolerance against its audited error."""
+    main = main_table("accuracy-vs-time")
+    print(
+        "From `plots/accuracy-vs-time/report.md` "
+        "(`bash scripts/regenerate-plots.sh accuracy-vs-time`): each entry's nominal tolerance "
+        "against its audited error.\n"
+    )
+    print("| entry | nominal | rendered | audited max / mean / p95 (px) | max ÷ nominal |")
+    print("|---|---|---|---|---|")
+    for label, row in main.items():
+        nominal_px = None
+        for part in label.replace(",", " ").split():
+            if part.startswith(("tau_px=", "rho_threshold_px=")):
+                nominal_px = float(part.split("=")[1])
+        errors = row["error max / mean / mean of p95 (px)"]
+        largest = float(errors.split("/")[0])
+        ratio = f"{largest / nominal_px:.2f}" if nominal_px else "—"
+        shown = f"{nominal_px:g} px" if nominal_px else "(not a pixel tolerance)"
+        print(f"| {label} | {shown} | {row['rendered']} | {errors} | {ratio} |")
+    print()
+
+
+def sweep(name, section):
+    """A sweep's table across its points, the first under a heading starting with `section`."""
+    for found_section, header, rows in tables(report_path(name)):
+        if found_section.startswith(section):
+            print(f"From `plots/{name}/report.md` (`bash scripts/regenerate-plots.sh {name}`), "
+                  f"{found_section[0].lower() + found_section[1:]}:\n")
+            print("| " + " | ".join(short_point(h) for h in header) + " |")
+            print("|" + "---|" * len(header))
+            for row in rows:
+                print("| " + " | ".join(row[h] for h in header) + " |")
+            print()
+            return
+    raise OutputMissing(f"plots/{name}/report.md: no table under a heading starting with "
+                        f"{section!r}")
+
+
+def short_point(cell):
+    """A sweep point's column header by its first swept value, the field by its last key:
+    `flight.path.circle.frames_per_lap=190, speed_bounds…` → `frames_per_lap=190`."""
+    first = cell.split(", ")[0]
+    if "=" not in first:
+        return cell
+    field, value = first.split("=", 1)
+    return f"{field.split('.')[-1]}={value}"
+
+
+def pareto():
+    """The Pareto-front sentence of each study run's report.md."""
+    for name in ("accuracy-vs-time", "study-circle", "study-low-rough", "study-turning"):
+        path = report_path(name)
+        if not path.exists():
+            raise OutputMissing(f"plots/{name}/report.md: missing")
+        for line in path.read_text(encoding="utf-8").splitlines():
+            if line.startswith("On the accuracy-versus-time Pareto front"):
+                print(f"`plots/{name}/report.md`: {line}\n")
+
+
+def cell(experiment, entry, column, part=None):
+    """One cell of a run's comparison table (inline). `part` k picks the k-th of the figures a
+    cell joins with " / " (0 first)."""
+    value = main_cell(experiment, entry, column)
+    if part is not None:
+        pieces = [p.strip() for p in value.split("/")]
+        k = int(part)
+        if not 0 <= k < len(pieces):
+            raise OutputMissing(f"plots/{experiment}/report.md: {entry!r} {column!r} is "
+                                f"{value!r}, which has no part {k}")
+        value = pieces[k]
+    print(value, end="")
+
+
+GENERATORS = {
+    "study-circle": (lambda: equal_triangles("study-circle"),
+                     "the study's equal-triangle table on its circle (docs/study.md)"),
+    "study-low-rough": (lambda: equal_triangles("study-low-rough"),
+                        "the same on the low flight over rough terrain"),
+    "study-turning": (lambda: equal_triangles("study-turning"),
+                      "the same on the turning flight"),
+    "study-error-targets": (error_targets, "triangles each algorithm needs per error target"),
+    "study-nominal": (nominal, "nominal tolerance against audited error (accuracy-vs-time)"),
+    "study-speed": (lambda: (sweep("study-speed", "Median update time"),
+                             sweep("study-speed", "Mean triangles")),
+                    "the speed sweep: update time and triangles per point"),
+    "study-scaling": (lambda: (sweep("study-scaling", "Median update time"),
+                               sweep("study-scaling", "Memory")),
+                      "the terrain-size sweep: update time and memory per point"),
+    "study-pareto": (pareto, "the Pareto-front sentences of the study's runs"),
+    "cell": (cell, "cell EXPERIMENT ENTRY COLUMN [PART]: one figure of a run's comparison "
+                   "table, inline"),
+}
+
+
+class UnknownGenerator(Exception):
+    """A marker names a generator that does not exist, or gives it the wrong arguments."""
+
+
+def render(name, arguments):
+    """What generator `name` prints for `arguments`, as a string."""
+    if name not in GENERATORS:
+        raise UnknownGenerator(f"no generator {name!r} (known: {', '.join(GENERATORS)})")
+    function, _description = GENERATORS[name]
+    try:
+        inspect.signature(function).bind(*arguments)
+    except TypeError as error:
+        raise UnknownGenerator(f"generator {name!r} with arguments {arguments}: {error}")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        function(*arguments)
+    return out.getvalue()

@@ -1,0 +1,133 @@
+//! The docs' generated figures (`scripts/doc-tables`): the committed docs hold exactly what the
+//! scripts print from the committed outputs, and a doc whose generated text differs by one digit
+//! fails the check, which names the doc, the line and the command; filling puts the figure back.
+//! The scripts are Python 3 (standard library only); `.ci/run` runs the same check on its own.
+
+mod common;
+
+use common::experiment::repository;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn doc_tables(arguments: &[&str]) -> Output {
+    let script = repository().join("scripts/doc-tables");
+    Command::new("python3")
+        .arg(&script)
+        .args(arguments)
+        .output()
+        .unwrap_or_else(|error| panic!("cannot run python3 {}: {error}", script.display()))
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A copy of `doc` (relative to the repository) in `folder` with the first digit after its
+/// first generated marker changed (d → d+1 mod 10), and the line of that digit.
+fn with_one_digit_changed(doc: &str, folder: &Path) -> (std::path::PathBuf, usize) {
+    let original = std::fs::read_to_string(repository().join(doc)).unwrap();
+    let marker = original
+        .find("<!-- scripts/doc-tables ")
+        .unwrap_or_else(|| panic!("{doc} has no generated text"));
+    let after_marker = marker + original[marker..].find("-->").unwrap() + 3;
+    let offset = after_marker
+        + original[after_marker..]
+            .find(|c: char| c.is_ascii_digit())
+            .unwrap();
+    let digit = original.as_bytes()[offset] - b'0';
+    let mut changed = original.clone();
+    changed.replace_range(
+        offset..offset + 1,
+        &char::from(b'0' + (digit + 1) % 10).to_string(),
+    );
+    let path = folder.join(Path::new(doc).file_name().unwrap());
+    std::fs::write(&path, changed).unwrap();
+    (path, original[..offset].matches('\n').count() + 1)
+}
+
+#[test]
+fn the_committed_docs_hold_what_the_scripts_print_from_the_committed_outputs() {
+    let output = doc_tables(&["--check"]);
+    assert!(
+        output.status.success(),
+        "scripts/doc-tables --check failed:\n{}{}",
+        text(&output.stdout),
+        text(&output.stderr)
+    );
+    assert!(text(&output.stdout).contains("match the committed outputs"));
+}
+
+#[test]
+fn one_digit_changed_in_a_generated_table_fails_the_check_and_filling_puts_it_back() {
+    let folder = tempfile::tempdir().unwrap();
+    for doc in ["docs/study.md", "docs/performance.md"] {
+        let (copy, line) = with_one_digit_changed(doc, folder.path());
+        let copy_argument = copy.to_str().unwrap();
+
+        let check = doc_tables(&["--check", "--doc", copy_argument]);
+        assert_eq!(
+            check.status.code(),
+            Some(1),
+            "{doc}: the check did not fail"
+        );
+        let message = text(&check.stderr);
+        assert!(
+            message.contains("differs from what it prints from the committed outputs"),
+            "{doc}: {message}"
+        );
+        // The message names the doc and the line of the marker, which is at or above the digit.
+        let named_line: usize = message
+            .split(&format!("{copy_argument}:"))
+            .nth(1)
+            .and_then(|rest| rest.split(':').next())
+            .and_then(|number| number.parse().ok())
+            .unwrap_or_else(|| panic!("{doc}: no file:line in {message}"));
+        assert!(
+            named_line <= line,
+            "{doc}: line {named_line} named, digit on {line}"
+        );
+
+        let fill = doc_tables(&["--doc", copy_argument]);
+        assert!(fill.status.success(), "{doc}: {}", text(&fill.stderr));
+        assert_eq!(
+            std::fs::read_to_string(&copy).unwrap(),
+            std::fs::read_to_string(repository().join(doc)).unwrap(),
+            "{doc}: filling did not restore the committed text"
+        );
+    }
+}
+
+#[test]
+fn a_marker_naming_no_generator_or_never_closed_is_refused_with_its_line() {
+    let folder = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "unknown.md",
+            "# A doc\n\nA figure: <!-- scripts/doc-tables no-such-table -->1<!-- /scripts/doc-tables -->.\n",
+            "unknown.md:3: `scripts/doc-tables no-such-table`: no generator 'no-such-table'",
+        ),
+        (
+            "unclosed.md",
+            "# A doc\n<!-- scripts/doc-tables study-circle -->\n| a |\n",
+            "unclosed.md:2: `study-circle` is never closed",
+        ),
+    ];
+    for (name, contents, expected) in cases {
+        let path = folder.path().join(name);
+        std::fs::write(&path, contents).unwrap();
+        let check = doc_tables(&["--check", "--doc", path.to_str().unwrap()]);
+        assert_eq!(check.status.code(), Some(1), "{name}");
+        assert!(
+            text(&check.stderr).contains(expected),
+            "{name}: {}",
+            text(&check.stderr)
+        );
+        let fill = doc_tables(&["--doc", path.to_str().unwrap()]);
+        assert_eq!(fill.status.code(), Some(1), "{name}: filling went on");
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            contents,
+            "{name}: written"
+        );
+    }
+}
