@@ -131,3 +131,15 @@ fn a_marker_naming_no_generator_or_never_closed_is_refused_with_its_line() {
         );
     }
 }
+
+#[test]
+fn a_marker_written_in_inline_code_is_text_and_not_a_marker() {
+    let folder = tempfile::tempdir().unwrap();
+    let path = folder.path().join("describes.md");
+    let contents = "Figures sit between `<!-- scripts/doc-tables NAME ARGUMENTS -->` and \
+                    `<!-- /scripts/doc-tables -->`.\n";
+    std::fs::write(&path, contents).unwrap();
+    let check = doc_tables(&["--check", "--doc", path.to_str().unwrap()]);
+    assert!(check.status.success(), "{}", text(&check.stderr));
+    assert!(text(&check.stdout).contains("0 generated span(s) in 1 doc(s)"));
+}

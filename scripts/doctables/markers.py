@@ -3,15 +3,18 @@
 A marked span opens with `<!-- scripts/doc-tables NAME ARGUMENTS -->` (the arguments as a shell
 would split them) and closes with `<!-- /scripts/doc-tables -->`. When the opening marker ends
 its line the span is a block: the text between the markers is whole lines. Otherwise it is
-inline: one figure inside a sentence, on the marker's line. Spans do not nest.
+inline: one figure inside a sentence, on the marker's line. Spans do not nest. A marker
+written inside inline code (right after a backtick, as the docs do when they describe the
+markers) is text, not a marker.
 """
 
 import re
 import shlex
 from dataclasses import dataclass
 
-OPEN = re.compile(r"<!-- scripts/doc-tables (.+?) -->")
-CLOSE = "<!-- /scripts/doc-tables -->"
+OPEN = re.compile(r"(?<!`)<!-- scripts/doc-tables (.+?) -->")
+CLOSE_TEXT = "<!-- /scripts/doc-tables -->"
+CLOSE = re.compile(r"(?<!`)" + re.escape(CLOSE_TEXT))
 
 
 class MarkerError(Exception):
@@ -47,9 +50,10 @@ def spans(text, where):
             raise MarkerError(f"{where}:{line}: a marker with no generator name")
         block = text.startswith("\n", opening.end())
         start = opening.end() + (1 if block else 0)
-        end = text.find(CLOSE, start)
-        if end < 0:
-            raise MarkerError(f"{where}:{line}: `{command}` is never closed by `{CLOSE}`")
+        closing = CLOSE.search(text, start)
+        if closing is None:
+            raise MarkerError(f"{where}:{line}: `{command}` is never closed by `{CLOSE_TEXT}`")
+        end = closing.start()
         inner_open = OPEN.search(text, start, end)
         if inner_open is not None:
             inner_line = text.count("\n", 0, inner_open.start()) + 1
@@ -62,7 +66,7 @@ def spans(text, where):
             raise MarkerError(f"{where}:{line}: inline `{command}`: its closing marker must be on "
                               "the same line")
         found.append(Span(line, command, words[0], words[1:], block, start, end))
-        position = end + len(CLOSE)
+        position = closing.end()
     return found
 
 
