@@ -1,7 +1,7 @@
 //! Hard cases of SPEC §9 for every algorithm: each test states the right answer (full
 //! resolution, the base mesh, identical meshes) and checks it, besides the absence of panics.
-//! Every mesh is also validated (closure and the triangle-count formula). `docs/robustness.md`
-//! lists every case with the test that covers it.
+//! Every mesh is also validated (closure, the triangle-count formula, the winding).
+//! `docs/robustness.md` lists every case with the test that covers it.
 
 mod common;
 
@@ -27,7 +27,7 @@ use roamsim::sim::algorithm::{Refinement, Stitching, StitchingConfig, StitchingM
 use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::flight::{Flight, speed_violations};
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
-use roamsim::sim::mesh::{MeshOutput, TriangleRole, VertexSet};
+use roamsim::sim::mesh::{MeshOutput, TriangleRole, VertexSet, Winding};
 use roamsim::sim::stats::FrameStats;
 use roamsim::sim::terrain::embed::{Fit, embed};
 use roamsim::sim::terrain::{Heightfield, SampleGrid, Spacing};
@@ -2431,4 +2431,109 @@ fn stitching_with_ten_kilometre_heights_millimetre_relief_and_padding() {
         let stitching = run_stitching(&millimetres, config, view_600(), &[far]);
         assert_all_at(&stitching, &config, 2.0, true);
     }
+}
+
+// ---- Every family: meshes as a GPU draws them.
+
+/// Every configuration of every family the hard cases run.
+fn every_configuration(tau_px: f64) -> Vec<AlgorithmConfig> {
+    let mut configs = with_rottger(tau_px);
+    configs.extend(every_block_algorithm(tau_px));
+    configs.extend(every_vanek(1.0));
+    configs.extend(every_stitching());
+    configs
+}
+
+/// A flight in from beyond the south-west corner, low over the terrain to beyond the north-east
+/// one, then a turn on the spot and a climb back: blocks and vertices refine as it nears and
+/// coarsen as it leaves, and the turn sweeps the frustum over everything, so splits, merges,
+/// level changes, morphing and culling all happen on the way.
+fn over_and_back(side_m: f64) -> Vec<Pose> {
+    let mut poses = Vec::new();
+    for k in 0..24 {
+        let t = f64::from(k) / 23.0;
+        let at = -0.6 * side_m + t * 2.2 * side_m;
+        poses.push(Pose {
+            position: DVec3::new(at, at, 60.0 - 40.0 * (1.0 - (2.0 * t - 1.0).abs())),
+            yaw: std::f64::consts::FRAC_PI_4,
+            pitch: -0.35,
+        });
+    }
+    let end = poses[23].position;
+    for k in 1..=8 {
+        poses.push(Pose {
+            position: end,
+            yaw: std::f64::consts::FRAC_PI_4 + f64::from(k) * std::f64::consts::PI / 8.0,
+            pitch: -0.35,
+        });
+    }
+    for k in 1..=8 {
+        let t = f64::from(k) / 8.0;
+        poses.push(Pose {
+            position: end * (1.0 - t) + DVec3::new(0.5 * side_m, 0.5 * side_m, 3000.0) * t,
+            yaw: std::f64::consts::FRAC_PI_4 + std::f64::consts::PI,
+            pitch: -0.8,
+        });
+    }
+    poses
+}
+
+#[test]
+fn every_drawn_triangle_of_every_algorithm_is_counter_clockwise_seen_from_above() {
+    // Read through the visitor, as a renderer with back-face culling would: each triangle with
+    // area in the plane (strip joins, collapsed triangles and skirts have none) must be
+    // counter-clockwise, z up, x east, y north. `checked_step` runs the validators, which check
+    // the same rule; this test does not rely on them.
+    let hierarchy = rough(33, 10.0, 5.0);
+    let view = view_600();
+    let poses = over_and_back(320.0);
+    let flight = Flight::from_poses(poses.clone()).unwrap();
+    let broken: Vec<u64> = speed_violations(&flight, SPEED)
+        .iter()
+        .map(|v| v.frame)
+        .collect();
+    let mut flat = 0u64;
+    for config in every_configuration(3.0) {
+        let mut algorithm = config.build(&hierarchy, &view, SPEED);
+        let mut counter_clockwise = 0u64;
+        let mut triangle_counts = Vec::new();
+        for (frame, pose) in poses.iter().enumerate() {
+            let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+            let frame = frame as u64;
+            let bounds_broken = frame == 0 || broken.contains(&frame);
+            let stats = checked_step(
+                &hierarchy,
+                algorithm.as_mut(),
+                frame,
+                &camera,
+                bounds_broken,
+                format!("{config:?}"),
+            );
+            triangle_counts.push(stats.triangles);
+            let mut index = 0;
+            algorithm.mesh().for_each_triangle(&hierarchy, |t| {
+                match Winding::of(&t.corners) {
+                    Winding::CounterClockwise => counter_clockwise += 1,
+                    Winding::Flat => flat += 1,
+                    Winding::Clockwise => panic!(
+                        "{config:?}, frame {frame}: triangle {index} ({:?}, group {}) is \
+                         clockwise: {:?}",
+                        t.info.role,
+                        t.info.group,
+                        t.corners.map(|c| c.position.grid_units())
+                    ),
+                }
+                index += 1;
+            });
+        }
+        assert!(counter_clockwise > 0, "{config:?}: nothing drawn");
+        triangle_counts.sort_unstable();
+        triangle_counts.dedup();
+        assert!(
+            triangle_counts.len() > 1,
+            "{config:?}: the flight should change the mesh, counts {triangle_counts:?}"
+        );
+    }
+    // The exception was exercised: strip joins, collapsed triangles and skirts were drawn.
+    assert!(flat > 0);
 }

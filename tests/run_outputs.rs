@@ -202,6 +202,79 @@ fn popping_mesh_exports_and_each_entrys_preprocessing_are_written_when_asked() {
     assert!(out.join("plots/popping.png").exists());
 }
 
+/// The faces of an exported PLY file: their corners' (x, y) in metres and their role.
+fn ply_faces(ply: &str) -> Vec<([(f64, f64); 3], u32)> {
+    let count = |element: &str| -> usize {
+        ply.lines()
+            .find_map(|l| l.strip_prefix(element))
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (n_vertices, n_faces) = (count("element vertex "), count("element face "));
+    let mut body = ply.split("end_header\n").nth(1).unwrap().lines();
+    let vertices: Vec<(f64, f64)> = (&mut body)
+        .take(n_vertices)
+        .map(|line| {
+            let xyz: Vec<f64> = line.split(' ').map(|v| v.parse().unwrap()).collect();
+            (xyz[0], xyz[1])
+        })
+        .collect();
+    let faces: Vec<_> = body
+        .map(|line| {
+            let fields: Vec<u32> = line.split(' ').map(|v| v.parse().unwrap()).collect();
+            assert_eq!(fields[0], 3, "{line}");
+            let corners = [1, 2, 3].map(|k| vertices[fields[k] as usize]);
+            (corners, fields[4])
+        })
+        .collect();
+    assert_eq!(faces.len(), n_faces);
+    faces
+}
+
+#[test]
+fn exported_meshes_keep_the_winding_every_face_with_area_counter_clockwise_from_above() {
+    // One entry of each family, exported at the last frame; the faces read back from the files
+    // in the order written, their signed areas in x–y computed from the written vertices.
+    let dir = tempfile::tempdir().unwrap();
+    let mut experiment = short_quickstart(3);
+    let families = ["wu", "geomipmap", "chunked", "vanek", "stitching-strips"];
+    experiment["algorithms"]
+        .as_array_mut()
+        .unwrap()
+        .retain(|a| families.contains(&a["name"].as_str().unwrap()));
+    experiment["outputs"] = serde_json::json!({"meshes": {"frames": [2], "entries": families}});
+    let path = save(dir.path(), "winding", &experiment);
+    let out = dir.path().join("out");
+    run_to(&path, &out, true);
+    let mut folders: Vec<_> = std::fs::read_dir(out.join("meshes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    folders.sort();
+    assert_eq!(folders.len(), 6, "{folders:?}");
+    for folder in folders {
+        let ply = std::fs::read_to_string(folder.join("frame-000002.ply")).unwrap();
+        let (mut with_area, mut flat) = (0, 0);
+        for (k, ([a, b, c], role)) in ply_faces(&ply).into_iter().enumerate() {
+            let area2 = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+            // Surface (0) and stitch (3) faces have area; skirts (1) and degenerate faces (2)
+            // have none and no winding.
+            if role == 0 || role == 3 {
+                assert!(area2 > 0.0, "{folder:?}, face {k}: signed area {area2}");
+                with_area += 1;
+            } else {
+                assert_eq!(area2, 0.0, "{folder:?}, face {k}: role {role}");
+                flat += 1;
+            }
+        }
+        assert!(
+            with_area > 0,
+            "{folder:?}: {flat} flat faces and none with area"
+        );
+    }
+}
+
 #[test]
 fn the_reference_rendered_count_is_below_its_total_when_culling() {
     let dir = tempfile::tempdir().unwrap();

@@ -10,7 +10,8 @@
 //! 1. every triangle's role is allowed by the policy ([`CrackPolicy::allows`]);
 //! 2. shapes: surface and stitch triangles have area in the plane; degenerate and skirt
 //!    triangles have none (a skirt is vertical; a degenerate triangle is collapsed or a strip
-//!    join);
+//!    join); every triangle with area is wound counter-clockwise seen from above (as a GPU
+//!    culls back faces, exact in fixed point: [`super::winding`]);
 //! 3. the surface tiles the domain, less the regions the algorithm declares culled
 //!    ([`TriangleList::culled_regions`]): the plane areas of the surface triangles and of the
 //!    culled regions add up to the domain's, exactly (fixed-point integers), and every grid
@@ -39,6 +40,7 @@ use super::output::MeshOutput;
 use super::position::{SubgridPoint, SurfacePoint};
 use super::raster::SampleRaster;
 use super::triangle_list::{CrackPolicy, TriangleList, TriangleRole};
+use super::winding::plane_area2;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::SUBGRID_UNITS_PER_CELL;
 use std::collections::HashMap;
@@ -60,6 +62,16 @@ pub enum TriangleListError {
     SurfaceWithoutArea { triangle: usize, role: TriangleRole },
     #[error("triangle {triangle} ({role:?}) should have no area in the plane but has")]
     FlatRoleWithArea { triangle: usize, role: TriangleRole },
+    #[error(
+        "triangle {triangle} ({role:?}, group {group}) is wound clockwise seen from above: signed \
+         area {signed_area_cells} cells²"
+    )]
+    Clockwise {
+        triangle: usize,
+        role: TriangleRole,
+        group: u32,
+        signed_area_cells: f64,
+    },
     #[error(
         "the surface triangles cover {surface_cells} cells² in the plane; the domain has {domain_cells}"
     )]
@@ -116,6 +128,7 @@ impl TriangleListValidator {
         let mut first_error = None;
         let mut surface_area2: i128 = 0;
         let mut triangle = 0;
+        let cell2 = (SUBGRID_UNITS_PER_CELL as f64).powi(2);
         mesh.for_each_triangle(hierarchy, |t| {
             let role = t.info.role;
             let area2 = plane_area2(&t.corners);
@@ -129,6 +142,13 @@ impl TriangleListValidator {
                 Some(TriangleListError::SurfaceWithoutArea { triangle, role })
             } else if !role.is_surface() && area2 != 0 {
                 Some(TriangleListError::FlatRoleWithArea { triangle, role })
+            } else if area2 < 0 {
+                Some(TriangleListError::Clockwise {
+                    triangle,
+                    role,
+                    group: t.info.group,
+                    signed_area_cells: area2 as f64 / 2.0 / cell2,
+                })
             } else {
                 None
             };
@@ -154,7 +174,6 @@ impl TriangleListValidator {
             .sum();
         let surface_area2 = surface_area2 + culled_area2;
         if surface_area2 != 2 * domain * domain {
-            let cell2 = (SUBGRID_UNITS_PER_CELL as f64).powi(2);
             return Err(TriangleListError::AreaMismatch {
                 surface_cells: surface_area2 as f64 / 2.0 / cell2,
                 domain_cells: (domain * domain) as f64 / cell2,
@@ -292,15 +311,6 @@ impl TriangleListValidator {
         });
         first_error.map_or(Ok(()), Err)
     }
-}
-
-/// Twice the signed area of the triangle's projection on the plane, fixed-point units².
-fn plane_area2(corners: &[SurfacePoint; 3]) -> i128 {
-    let [a, b, c] = corners.map(|p| {
-        let (x, y) = p.position.raw();
-        (i128::from(x), i128::from(y))
-    });
-    (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
 }
 
 fn edge_key(a: SurfacePoint, b: SurfacePoint) -> EdgeKey {
@@ -443,8 +453,8 @@ mod tests {
             validator.validate(&terrain(), &list, 1),
             Err(TriangleListError::AreaMismatch { .. })
         ));
-        // Same area, wrong place: the first triangle twice.
-        list.add_triangle([c[2], c[1], c[0]], surface(0));
+        // Same area, wrong place: the first triangle twice (its corners rotated).
+        list.add_triangle([c[1], c[2], c[0]], surface(0));
         assert!(matches!(
             validator.validate(&terrain(), &list, 2),
             Err(TriangleListError::Overlap { owners: 2, .. })
@@ -502,6 +512,56 @@ mod tests {
             validator.validate(&terrain(), &overlapping, 2),
             Err(TriangleListError::AreaMismatch { .. })
         ));
+    }
+
+    #[test]
+    fn a_clockwise_triangle_is_refused_with_its_index_role_group_and_signed_area() {
+        let mut validator = TriangleListValidator::new();
+        let square = |flip_second: bool| {
+            let mut list = TriangleList::new(&Lattice::new(2), CrackPolicy::Closed);
+            let c = [(0, 0), (4, 0), (4, 4), (0, 4)]
+                .map(|(i, j)| list.add_vertex(SubgridPoint::grid(i, j), 1.0));
+            list.add_triangle([c[0], c[1], c[2]], surface(0));
+            let second = if flip_second {
+                [c[0], c[3], c[2]]
+            } else {
+                [c[0], c[2], c[3]]
+            };
+            list.add_triangle(second, surface(7));
+            list
+        };
+        assert_eq!(validator.validate(&terrain(), &square(false), 2), Ok(()));
+        // The same two triangles, the same tiling, the second listed clockwise.
+        assert_eq!(
+            validator.validate(&terrain(), &square(true), 2),
+            Err(TriangleListError::Clockwise {
+                triangle: 1,
+                role: TriangleRole::Surface,
+                group: 7,
+                signed_area_cells: -8.0,
+            })
+        );
+    }
+
+    #[test]
+    fn flat_triangles_are_excepted_from_the_winding_rule() {
+        let mut validator = TriangleListValidator::new();
+        let mut list = TriangleList::new(&Lattice::new(2), CrackPolicy::Collapsed);
+        let c = [(0, 0), (4, 0), (4, 4), (0, 4)]
+            .map(|(i, j)| list.add_vertex(SubgridPoint::grid(i, j), 1.0));
+        list.add_triangle([c[0], c[1], c[2]], surface(0));
+        list.add_triangle([c[0], c[2], c[3]], surface(0));
+        let degenerate = TriangleInfo {
+            role: TriangleRole::Degenerate,
+            group: 0,
+            level: 0,
+        };
+        // A strip join (a repeated corner) and a triangle collapsed onto the diagonal, listed
+        // in an order that would be clockwise if they had area.
+        list.add_triangle([c[2], c[2], c[1]], degenerate);
+        let middle = list.add_vertex(SubgridPoint::grid(2, 2), 1.0);
+        list.add_triangle([c[0], c[2], middle], degenerate);
+        assert_eq!(validator.validate(&terrain(), &list, 4), Ok(()));
     }
 
     #[test]

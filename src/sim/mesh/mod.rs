@@ -11,7 +11,8 @@
 //! - The general form: [`TriangleList`] ([`triangle_list`]), positions ([`position`]) and
 //!   heights of its own, a role, group and level per triangle, a declared [`CrackPolicy`];
 //!   [`list_validate`] checks it.
-//! - [`check`]: what `--check` runs on either form.
+//! - [`check`]: what `--check` runs on either form; [`winding`]: the rule both validators hold
+//!   every drawn triangle to (counter-clockwise seen from above, flat ones excepted).
 //! - [`output`]: [`MeshOutput`], the one type algorithms hand the runner, and its triangle
 //!   visitor; [`raster`]: the rasterisers the audit and the validators share.
 
@@ -25,11 +26,13 @@ pub mod rebuilt;
 pub mod triangle_list;
 pub mod triangles;
 pub mod validate;
+pub mod winding;
 
 pub use morph::MorphedHeights;
 pub use output::{DrawnTriangle, LatticeMesh, MeshOutput};
 pub use position::{SUBGRID_BITS, SUBGRID_UNITS_PER_CELL, SubgridPoint, SurfacePoint};
 pub use triangle_list::{CrackPolicy, TriangleInfo, TriangleList, TriangleRole};
+pub use winding::Winding;
 
 use crate::sim::hierarchy::{GridPoint, Lattice};
 

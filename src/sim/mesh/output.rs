@@ -15,7 +15,9 @@
 //! the preview and mesh export all read meshes through it, whatever the form (the
 //! lowest common denominator of the two forms). A lattice mesh's triangles are visited in
 //! bintree order ([`super::triangles::for_each_triangle`]), all of role surface, group 0, level
-//! = depth in the bintree; a triangle list's in the order the algorithm added them.
+//! = depth in the bintree, corners (apex, left, right); a triangle list's in the order the
+//! algorithm added them, corners in the order it gave. Either way the corners are in drawing
+//! order, counter-clockwise seen from above ([`super::winding`]), as the validators check.
 //!
 //! What consumers may still do by form: the audit keeps its exact integer rasteriser for the
 //! lattice form (bit-identical figures since the first release) and uses the general one with

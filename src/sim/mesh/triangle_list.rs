@@ -196,7 +196,9 @@ impl TriangleList {
         self.add_vertex(position, z)
     }
 
-    /// Adds the triangle over vertices `corners` (any orientation).
+    /// Adds the triangle over vertices `corners`, in drawing order: counter-clockwise seen from
+    /// above when it has area in the plane (`super::winding`; the validator refuses the other
+    /// order, the list itself takes any).
     ///
     /// # Panics
     /// When a corner is not a vertex of the list.

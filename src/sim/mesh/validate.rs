@@ -2,11 +2,15 @@
 //! It checks the set only; triangle lists have their own validator (`list_validate`).
 //!
 //! A valid mesh holds the four corners, is closed under parents (every active vertex's parents
-//! are active), and its enumerated triangles number T = 2 + Σ parents. Tests call it after every
-//! frame; `roamsim run --check` calls it every frame too. O(active vertices + triangles).
+//! are active), its enumerated triangles number T = 2 + Σ parents, and each of them is wound
+//! counter-clockwise seen from above in the corner order the mesh visitor hands out (apex,
+//! left, right: [`super::winding`]). Tests call it after every frame; `roamsim run --check` calls
+//! it every frame too. O(active vertices + triangles): the winding is checked in the same
+//! enumeration that counts the triangles.
 
 use super::VertexSet;
-use super::triangles::count_triangles;
+use super::triangles::for_each_triangle;
+use super::winding::Winding;
 use crate::sim::hierarchy::{GridPoint, Lattice};
 
 /// The first thing found wrong with a mesh.
@@ -18,6 +22,16 @@ pub enum MeshError {
     NotClosed {
         vertex: GridPoint,
         parent: GridPoint,
+    },
+    #[error(
+        "triangle {triangle} (apex {apex:?}, left {left:?}, right {right:?}) is wound clockwise \
+         seen from above"
+    )]
+    Clockwise {
+        triangle: u64,
+        apex: GridPoint,
+        left: GridPoint,
+        right: GridPoint,
     },
     #[error("{enumerated} triangles enumerated, but 2 + Σ parents = {formula}")]
     CountMismatch { enumerated: u64, formula: u64 },
@@ -44,7 +58,23 @@ pub fn validate(lattice: &Lattice, set: &VertexSet) -> Result<u64, MeshError> {
         }
     }
     let formula = set.triangle_count(lattice);
-    let enumerated = count_triangles(lattice, set);
+    let mut enumerated = 0;
+    let mut first_clockwise = None;
+    for_each_triangle(lattice, set, |t| {
+        let corners = [t.apex, t.left, t.right].map(Into::into);
+        if first_clockwise.is_none() && Winding::of_points(corners) != Winding::CounterClockwise {
+            first_clockwise = Some(MeshError::Clockwise {
+                triangle: enumerated,
+                apex: t.apex,
+                left: t.left,
+                right: t.right,
+            });
+        }
+        enumerated += 1;
+    });
+    if let Some(error) = first_clockwise {
+        return Err(error);
+    }
     if enumerated != formula {
         return Err(MeshError::CountMismatch {
             enumerated,
@@ -90,6 +120,26 @@ mod tests {
             set.insert(id);
         }
         assert_eq!(validate(&lattice, &set), Ok(2 * 64));
+    }
+
+    #[test]
+    fn every_triangle_of_the_full_grid_is_counter_clockwise_and_a_flipped_one_would_be_refused() {
+        // The bintree's halving keeps each child in its parent's winding, so a full grid passes;
+        // the check itself is the one `validate` runs on every triangle it enumerates.
+        let lattice = Lattice::new(3);
+        let mut set = VertexSet::new(&lattice);
+        for id in 0..lattice.n_vertices() as u32 {
+            set.insert(id);
+        }
+        let mut n = 0;
+        for_each_triangle(&lattice, &set, |t| {
+            let corners = [t.apex, t.left, t.right].map(Into::into);
+            assert_eq!(Winding::of_points(corners), Winding::CounterClockwise);
+            let flipped = [t.apex, t.right, t.left].map(Into::into);
+            assert_eq!(Winding::of_points(flipped), Winding::Clockwise);
+            n += 1;
+        });
+        assert_eq!(validate(&lattice, &set), Ok(n));
     }
 
     #[test]

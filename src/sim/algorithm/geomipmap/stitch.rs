@@ -17,6 +17,12 @@
 //!   diagonal), role stitch. At a corner where both sides are stitched the corner cell is split
 //!   between the two strips along the diagonal from the corner to the first inner vertex.
 //!
+//! Every triangle is listed counter-clockwise seen from above (`sim::mesh::winding`): the
+//! regular cells as `block_lod::grid` splits them; a stitch triangle as (outer vertex, next
+//! outer, inner) or (outer, next inner, inner) on the south and east sides, where the inner
+//! polyline lies to the left of the border walked from its start corner, and with its last two
+//! corners swapped on the west and north sides, where it lies to the right.
+//!
 //! Heights: the patch's interior vertices morph with its own factor, its border vertices with
 //! the factor their side is drawn at, each odd vertex towards the line between its two even
 //! neighbours at the same step (`block_lod::grid`); a neighbour computes its shared border
@@ -178,6 +184,11 @@ pub(super) fn add_patch(
         // The regular diagonal runs from the cell's south-west corner: on the west and south
         // sides that is the border vertex, whose inner neighbour comes first.
         let inner_first = side == WEST || side == SOUTH;
+        // Walked from the start corner, the inner polyline lies to the left of the border on
+        // the south and east sides, to the right on the west and north sides: there a triangle
+        // (outer vertex, next outer, inner) runs counter-clockwise, here clockwise, and one
+        // that advances along the inner polyline the other way round.
+        let inner_on_the_right = side == WEST || side == NORTH;
         let point = |t: u32, inner: bool| -> (u32, u32) {
             let across = match (side, inner) {
                 (WEST, false) | (SOUTH, false) => 0,
@@ -215,7 +226,14 @@ pub(super) fn add_patch(
                 inner += 1;
                 [o, i, next]
             };
-            let corners = corners.map(|(a, b)| vertex(list, a, b));
+            // The vertices are added in the zip's order; the triangle is listed
+            // counter-clockwise.
+            let [first, second, third] = corners.map(|(a, b)| vertex(list, a, b));
+            let corners = if advance_outer == inner_on_the_right {
+                [first, third, second]
+            } else {
+                [first, second, third]
+            };
             list.add_triangle(corners, info(TriangleRole::Stitch));
         }
     }

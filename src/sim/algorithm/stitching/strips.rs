@@ -146,8 +146,8 @@ impl StripScratch {
 }
 
 /// Adds strip `arm` of split node `id`: its two rows' vertices and the bisector rule's
-/// triangles (role stitch; degenerate where two rounded vertices coincide). Returns (vertices,
-/// triangles) added.
+/// triangles (role stitch, counter-clockwise; degenerate where two rounded vertices coincide).
+/// Returns (vertices, triangles) added.
 #[allow(
     clippy::too_many_arguments,
     reason = "the strip's context, each needed once"

@@ -9,11 +9,14 @@
 //! edge's vertices are computed from its two ends and its spacing alone, always from the low end
 //! up, so every block and strip that tessellates the same edge gets bit-identical vertices.
 //!
+//! Every triangle is added counter-clockwise seen from above ([`add_triangle_or_degenerate`],
+//! `sim::mesh::winding`), strips' and P-blocks' too.
+//!
 //! What it is not: a record of which block is where (the quadtree, `tree.rs`) or of the strips
 //! (`strips.rs`), which reuse [`merge_rows`] to triangulate between two parallel rows.
 
 use crate::sim::mesh::{
-    SUBGRID_UNITS_PER_CELL, SubgridPoint, TriangleInfo, TriangleList, TriangleRole,
+    SUBGRID_UNITS_PER_CELL, SubgridPoint, TriangleInfo, TriangleList, TriangleRole, Winding,
 };
 use crate::sim::terrain::Heightfield;
 
@@ -149,24 +152,28 @@ pub fn add_resampled_vertex(list: &mut TriangleList, field: &Heightfield, x: i64
     list.add_vertex(point, resampled_height(field, x, y))
 }
 
-/// Adds triangle `corners` with `info`, its role degenerate instead when its plane area is zero
-/// (two vertices of a fractional tessellation rounded onto one point, as a GPU would draw them).
-/// Returns whether it kept its area.
+/// Adds triangle `corners` with `info`, counter-clockwise seen from above (its last two corners
+/// swapped when they run clockwise: the rule of `sim::mesh::winding`, which a tessellator's
+/// declared output winding keeps), its role degenerate instead when its plane area is zero
+/// (two vertices of a fractional tessellation rounded onto one point, as a GPU would draw them;
+/// its corners then stay as given). Returns whether it kept its area.
+///
+/// The triangles of [`merge_rows`] alternate between the two rows, so half of them run each
+/// way whatever the rows' order; the interior grid's and the P-blocks' are counter-clockwise as
+/// given. Orienting here, with the exact sign, covers every triangle the algorithm draws.
 pub fn add_triangle_or_degenerate(
     list: &mut TriangleList,
     corners: [u32; 3],
     info: TriangleInfo,
 ) -> bool {
-    let p = corners.map(|c| list.vertices()[c as usize].position.raw());
-    let area2 = i128::from(p[1].0 - p[0].0) * i128::from(p[2].1 - p[0].1)
-        - i128::from(p[1].1 - p[0].1) * i128::from(p[2].0 - p[0].0);
-    let role = if area2 == 0 {
-        TriangleRole::Degenerate
-    } else {
-        info.role
+    let points = corners.map(|c| list.vertices()[c as usize].position);
+    let (corners, role) = match Winding::of_points(points) {
+        Winding::CounterClockwise => (corners, info.role),
+        Winding::Clockwise => ([corners[0], corners[2], corners[1]], info.role),
+        Winding::Flat => (corners, TriangleRole::Degenerate),
     };
     list.add_triangle(corners, TriangleInfo { role, ..info });
-    area2 != 0
+    role != TriangleRole::Degenerate
 }
 
 /// Triangulates between two rows of vertices on parallel lines (each row: list indices with

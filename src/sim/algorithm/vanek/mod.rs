@@ -53,6 +53,11 @@
 //!   cell has a triangle with a vertex on each side, and moving both towards the corner
 //!   flattens it, where moving them away would leave a T-junction on its diagonal (tested on
 //!   every combination of neighbouring levels, `tests/vanek.rs`).
+//! - **Winding**: the paper's strip, read as a GPU reads a strip, is clockwise seen from above
+//!   in roamsim's frame (rows run north); roamsim keeps its indices and reads it with the
+//!   opposite parity, so every triangle with area is counter-clockwise like every other
+//!   algorithm's (`strip.rs`, `sim::mesh::winding`). Which triangles are drawn and their count
+//!   are the paper's.
 //! - **The strip's last two indices** (after the last row) are kept, as the paper's code emits
 //!   them: a patch at level k draws (2·(2^k + 1) + 2)·2^k − 2 triangles, 2·4^k of them surface
 //!   (less the collapsed ones).
@@ -335,11 +340,7 @@ impl<'h> Vanek<'h> {
         strip::degenerate_strip_into(m, m, &mut indices);
         self.strip_indices += indices.len() as u64;
         for (t, w) in indices.windows(3).enumerate() {
-            let [a, b, c] = if t % 2 == 0 {
-                [w[0], w[1], w[2]]
-            } else {
-                [w[1], w[0], w[2]]
-            };
+            let [a, b, c] = strip::strip_triangle(t, [w[0], w[1], w[2]]);
             let role = if a == b || b == c || a == c {
                 TriangleRole::Degenerate
             } else if area2(

@@ -11,6 +11,17 @@
 //! after the last row, where they make two. So a strip of (2n + 2)(m − 1) indices holds
 //! (2n + 2)(m − 1) − 2 triangles: 2(n − 1)(m − 1) cells' worth and 4(m − 1) − 2 joins.
 //!
+//! **Winding** ([`strip_triangle`]). A GPU reads triangle t of a strip as (v_t, v_t+1, v_t+2)
+//! when t is even and (v_t+1, v_t, v_t+2) when t is odd, so every triangle of a strip has its
+//! first one's winding (the joins keep the parity: four of them between two rows). The paper's
+//! first triangle is row 0's south-west, north-west and south-east corners: clockwise seen from
+//! above in roamsim's frame, whose rows run north (in a frame whose rows run south, as an image's
+//! do, the same indices run counter-clockwise). roamsim draws every triangle counter-clockwise
+//! (`sim::mesh::winding`), so it keeps the paper's indices (their count, their diagonals, the
+//! joins) and reads the strip with the opposite parity, even triangles (v_t+1, v_t, v_t+2) and
+//! odd ones (v_t, v_t+1, v_t+2), as a renderer does that draws the paper's buffer with its front
+//! face set to clockwise (`glFrontFace(GL_CW)`).
+//!
 //! Cost: O(indices); the algorithm builds one strip per patch level once and reuses it.
 
 /// Indices of the single strip with degenerate triangles over `m` rows and `n` columns
@@ -40,6 +51,18 @@ pub fn degenerate_strip_into(m: u32, n: u32, indices: &mut Vec<u32>) {
             indices.push((i + 2) * n - 1);
             indices.push((i + 2) * n - 1);
         }
+    }
+}
+
+/// Triangle `t` of a strip whose indices from position t are `window`, its corners in the order
+/// roamsim draws them: the GPU's order for a strip read with the opposite parity (see the
+/// module docs), counter-clockwise seen from above for [`degenerate_strip`].
+pub fn strip_triangle(t: usize, window: [u32; 3]) -> [u32; 3] {
+    let [a, b, c] = window;
+    if t.is_multiple_of(2) {
+        [b, a, c]
+    } else {
+        [a, b, c]
     }
 }
 
@@ -170,6 +193,28 @@ mod tests {
             assert_eq!(from_strip.len() as u64, 2 * cells, "{m} × {n}");
             let from_list = proper(triangle_list(m, n).chunks(3).map(|c| [c[0], c[1], c[2]]));
             assert_eq!(from_strip, from_list, "{m} × {n}");
+        }
+    }
+
+    #[test]
+    fn every_triangle_of_the_single_strip_with_area_is_drawn_counter_clockwise() {
+        for (m, n) in [(2, 2), (2, 5), (3, 3), (5, 3), (4, 6), (9, 9)] {
+            let strip = degenerate_strip(m, n);
+            // Vertex row·n + column sits at (column, row): x east, y north.
+            let at = |v: u32| (i64::from(v % n), i64::from(v / n));
+            let (mut ccw, mut flat) = (0, 0);
+            for (t, w) in strip.windows(3).enumerate() {
+                let [a, b, c] = strip_triangle(t, [w[0], w[1], w[2]]).map(at);
+                let area2 = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+                assert!(area2 >= 0, "{m} × {n}, triangle {t}: clockwise");
+                if area2 > 0 {
+                    ccw += 1;
+                } else {
+                    flat += 1;
+                }
+            }
+            assert_eq!(ccw, 2 * (m - 1) * (n - 1), "{m} × {n}");
+            assert_eq!(flat, 4 * (m - 1) - 2, "{m} × {n}");
         }
     }
 
