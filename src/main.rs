@@ -8,6 +8,16 @@
 //! for any error). An indicatif progress bar is drawn on stderr when stderr is a terminal;
 //! otherwise `edge::progress` writes plain lines, so that a batch job's log says how far it got.
 //!
+//! Stdout may be a pipe whose reader stops early (`roamsim info … | head`). Every line for stdout
+//! goes through a `Write` that returns its error; a broken pipe ends the command at once and
+//! quietly, with no message and exit status 141 (128 + SIGPIPE), as `cat`, `grep` or `seq` end when
+//! the signal kills them. Not 0, as ripgrep chooses: `validate` answers with its status, and a
+//! validation cut short must not read as "valid"; 141 is what a shell already shows for a reader
+//! that stopped. SIGPIPE itself stays ignored, as Rust leaves it, so no library call is needed. A
+//! `run` or `merge` prints only after its outputs are committed (renamed into place by
+//! `atomic_dir`), so a closed stdout cannot leave them half-written; progress and warnings go to
+//! stderr.
+//!
 //! `roamsim validate` keeps its name although the code calls what it does *checking*
 //! (`check_experiment`): in the code, "validate" means only the mesh and structure validators
 //! that `--check` runs.
@@ -29,7 +39,7 @@ use roamsim::edge::terrain_readers::{
 use roamsim::sim::terrain::Spacing;
 use roamsim::sim::terrain::embed::{Fit, embed};
 use roamsim::sim::terrain::fill::fill_voids;
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -194,12 +204,12 @@ enum Command {
 
 /// What `preview` and `render` answer in a build without the feature that draws.
 #[cfg(not(feature = "preview"))]
-fn needs_preview_feature(command: &str) -> Result<(), String> {
-    Err(format!(
+fn needs_preview_feature(command: &str) -> Result<(), Failure> {
+    Err(Failure::Error(format!(
         "`{command}` draws with wgpu, which this build leaves out: build with the `preview` \
          feature, e.g. `cargo run --release --features preview -- {command} EXPERIMENT …` \
          (README, \"Seeing the meshes\")"
-    ))
+    )))
 }
 
 /// Raw sample types, as the experiment format names them.
@@ -315,11 +325,43 @@ fn main() -> ExitCode {
             roles,
         }),
     };
+    // What is left in stdout's buffer is written now, where its error can still be seen.
+    let result = result.and_then(|()| std::io::stdout().flush().map_err(Failure::from));
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
+        Err(Failure::StdoutClosed) => ExitCode::from(CLOSED_STDOUT_STATUS),
+        Err(Failure::Error(message)) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE
+        }
+    }
+}
+
+/// The exit status when stdout is a closed pipe: 128 + SIGPIPE (13), what a shell reports for a
+/// program the signal ended (see the module doc).
+const CLOSED_STDOUT_STATUS: u8 = 128 + 13;
+
+/// Why a command stopped early.
+enum Failure {
+    /// An error for the user: `error: …` on stderr, exit status 1.
+    Error(String),
+    /// Stdout is a pipe whose reader has gone: stop quietly, exit [`CLOSED_STDOUT_STATUS`].
+    StdoutClosed,
+}
+
+impl From<String> for Failure {
+    fn from(message: String) -> Failure {
+        Failure::Error(message)
+    }
+}
+
+/// The only IO errors this file sees unconverted are those of writing to stdout.
+impl From<std::io::Error> for Failure {
+    fn from(error: std::io::Error) -> Failure {
+        if error.kind() == std::io::ErrorKind::BrokenPipe {
+            Failure::StdoutClosed
+        } else {
+            Failure::Error(format!("cannot write to stdout: {error}"))
         }
     }
 }
@@ -331,7 +373,7 @@ fn command_line() -> Vec<String> {
         .collect()
 }
 
-fn run(path: &Path, options: RunOptions) -> Result<(), String> {
+fn run(path: &Path, options: RunOptions) -> Result<(), Failure> {
     let started = Instant::now();
     let check = options.check_meshes;
     let outcome = if std::io::stderr().is_terminal() {
@@ -341,7 +383,8 @@ fn run(path: &Path, options: RunOptions) -> Result<(), String> {
     }
     .map_err(|e| e.to_string())?;
     if let Some(shard) = options.shard {
-        println!(
+        writeln!(
+            std::io::stdout(),
             "{}: shard {shard}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s){}\n\
              wrote {}/{}; when all {} shards are done: roamsim merge <the {} shard folders>",
             outcome.experiment_name,
@@ -358,14 +401,13 @@ fn run(path: &Path, options: RunOptions) -> Result<(), String> {
             SHARD_FILE,
             shard.count,
             shard.count,
-        );
+        )?;
         return Ok(());
     }
-    report_outcome(&outcome, started);
-    Ok(())
+    report_outcome(&outcome, started)
 }
 
-fn merge(shards: &[PathBuf], out: Option<PathBuf>) -> Result<(), String> {
+fn merge(shards: &[PathBuf], out: Option<PathBuf>) -> Result<(), Failure> {
     let started = Instant::now();
     let options = MergeOptions {
         out_dir: out,
@@ -373,13 +415,12 @@ fn merge(shards: &[PathBuf], out: Option<PathBuf>) -> Result<(), String> {
     };
     let outcome =
         merge_shards(shards, &options, &LineProgress::to_stderr()).map_err(|e| e.to_string())?;
-    println!("merged {} shard folder(s)", shards.len());
-    report_outcome(&outcome, started);
-    Ok(())
+    writeln!(std::io::stdout(), "merged {} shard folder(s)", shards.len())?;
+    report_outcome(&outcome, started)
 }
 
 /// The warnings and the end-of-run printout of a finished run or merge.
-fn report_outcome(outcome: &RunOutcome, started: Instant) {
+fn report_outcome(outcome: &RunOutcome, started: Instant) -> Result<(), Failure> {
     let check = outcome.check_meshes;
     if !outcome.speed_violation_frames.is_empty() {
         let frames = &outcome.speed_violation_frames;
@@ -395,7 +436,8 @@ fn report_outcome(outcome: &RunOutcome, started: Instant) {
     for flag in &outcome.goal_flags {
         eprintln!("warning: {flag} (report.md, \"Budgets and targets\")");
     }
-    println!(
+    writeln!(
+        std::io::stdout(),
         "{}: {} frames in {:.2} s on {} thread(s) (preprocessing {:.3} s){}",
         outcome.experiment_name,
         outcome.frames,
@@ -410,11 +452,16 @@ fn report_outcome(outcome: &RunOutcome, started: Instant) {
         } else {
             String::new()
         },
-    );
-    print!("{}", end_of_run_text(&outcome.out_dir, &outcome.points));
+    )?;
+    write!(
+        std::io::stdout(),
+        "{}",
+        end_of_run_text(&outcome.out_dir, &outcome.points)
+    )?;
+    Ok(())
 }
 
-fn check_experiment(path: &Path) -> Result<(), String> {
+fn check_experiment(path: &Path) -> Result<(), Failure> {
     let plan = experiment::plan(path).map_err(|e| e.to_string())?;
     for k in 0..plan.n_points() {
         let experiment = plan.load_point(k).map_err(|e| e.to_string())?;
@@ -429,32 +476,35 @@ fn check_experiment(path: &Path) -> Result<(), String> {
                 )
             })
             .unwrap_or_default();
-        println!(
+        writeln!(
+            std::io::stdout(),
             "{}{point}: valid — {} algorithm(s), {} frames, terrain {}² from {}",
             path.display(),
             experiment.algorithms.len(),
             experiment.flight.n_frames(),
             experiment.terrain.side,
             experiment.terrain.source
-        );
+        )?;
         if let Some(first) = experiment.below_ground_frames.first() {
-            println!(
+            writeln!(
+                std::io::stdout(),
                 "note: the eye is below the ground in {} frame(s) (first: frame {first})",
                 experiment.below_ground_frames.len()
-            );
+            )?;
         }
         if !experiment.violations.is_empty() {
-            println!(
+            writeln!(
+                std::io::stdout(),
                 "note: {} frame(s) break the speed or rotation bounds (first: frame {})",
                 experiment.violations.len(),
                 experiment.violations[0].frame
-            );
+            )?;
         }
     }
     Ok(())
 }
 
-fn info(path: &Path, raw: Option<RawLayout>) -> Result<(), String> {
+fn info(path: &Path, raw: Option<RawLayout>) -> Result<(), Failure> {
     let is_experiment = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
@@ -462,31 +512,40 @@ fn info(path: &Path, raw: Option<RawLayout>) -> Result<(), String> {
         return info_terrain_file(path, raw);
     }
     if raw.is_some() {
-        return Err(format!(
+        return Err(Failure::Error(format!(
             "{}: the --raw-… options describe a raw terrain file; an experiment declares its \
              terrain's layout in terrain.file.format",
             path.display()
-        ));
+        )));
     }
     let plan = experiment::plan(path).map_err(|e| e.to_string())?;
     for k in 0..plan.n_points() {
         if let Some(choice) = plan.choice(k) {
-            println!(
+            writeln!(
+                std::io::stdout(),
                 "sweep point {}/{}: {}",
                 k + 1,
                 plan.n_points(),
                 experiment::choice_label(choice)
-            );
+            )?;
         }
         let experiment = plan.load_point(k).map_err(|e| e.to_string())?;
-        print!("{}", describe_terrain(&experiment.terrain));
-        print!("{}", describe_preprocessing(experiment.field));
+        write!(
+            std::io::stdout(),
+            "{}",
+            describe_terrain(&experiment.terrain)
+        )?;
+        write!(
+            std::io::stdout(),
+            "{}",
+            describe_preprocessing(experiment.field)
+        )?;
     }
     Ok(())
 }
 
 /// A terrain file described as an experiment would load it with `fit: pad` and no options.
-fn info_terrain_file(path: &Path, raw: Option<RawLayout>) -> Result<(), String> {
+fn info_terrain_file(path: &Path, raw: Option<RawLayout>) -> Result<(), Failure> {
     let format = match raw {
         Some(layout) => TerrainFormat::Raw(layout),
         None => format_from_extension(path).map_err(|e| {
@@ -528,8 +587,8 @@ fn info_terrain_file(path: &Path, raw: Option<RawLayout>) -> Result<(), String> 
         height_min_m: lo,
         height_max_m: hi,
     };
-    print!("{}", describe_terrain(&report));
-    print!("{}", describe_preprocessing(field));
+    write!(std::io::stdout(), "{}", describe_terrain(&report))?;
+    write!(std::io::stdout(), "{}", describe_preprocessing(field))?;
     Ok(())
 }
 
@@ -538,7 +597,7 @@ fn preview(
     experiment: PathBuf,
     algorithms: Vec<String>,
     quit_after_frames: Option<u64>,
-) -> Result<(), String> {
+) -> Result<(), Failure> {
     use roamsim::edge::preview::window::{PreviewRequest, run_preview};
     let summary = run_preview(&PreviewRequest {
         experiment,
@@ -546,21 +605,24 @@ fn preview(
         quit_after_frames,
     })
     .map_err(|e| e.to_string())?;
-    println!(
+    writeln!(
+        std::io::stdout(),
         "drew {} frame(s) on {}; the replay reached flight frame {}",
-        summary.frames_drawn, summary.adapter, summary.last_frame
-    );
+        summary.frames_drawn,
+        summary.adapter,
+        summary.last_frame
+    )?;
     Ok(())
 }
 
 #[cfg(feature = "preview")]
-fn render(request: roamsim::edge::preview::headless::RenderRequest) -> Result<(), String> {
+fn render(request: roamsim::edge::preview::headless::RenderRequest) -> Result<(), Failure> {
     let frames =
         roamsim::edge::preview::headless::render_experiment(&request).map_err(|e| e.to_string())?;
     for frame in &frames {
-        println!("{}", frame.path.display());
+        writeln!(std::io::stdout(), "{}", frame.path.display())?;
         for caption in &frame.captions {
-            println!("  {caption}");
+            writeln!(std::io::stdout(), "  {caption}")?;
         }
     }
     Ok(())

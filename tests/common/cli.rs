@@ -13,6 +13,19 @@ pub fn roamsim(args: &[&str], cwd: &Path) -> Output {
         .expect("the roamsim binary runs")
 }
 
+/// Runs the binary with its stdout a pipe whose reader has already gone (`roamsim … | head`
+/// after `head` has quit): its first write to stdout fails with a broken pipe.
+pub fn roamsim_into_closed_pipe(args: &[&str], cwd: &Path) -> Output {
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    Command::new(env!("CARGO_BIN_EXE_roamsim"))
+        .args(args)
+        .current_dir(cwd)
+        .stdout(writer)
+        .output()
+        .expect("the roamsim binary runs")
+}
+
 pub fn succeeds(args: &[&str], cwd: &Path) {
     let output = roamsim(args, cwd);
     assert!(

@@ -3,7 +3,9 @@
 //! per frame and the accuracy-versus-time Pareto plot (SPEC §7, when the audit ran), popping per
 //! frame (when it was measured), and Wu's b and Röttger's c per frame (when such an entry ran).
 //! Per-frame plots draw one line per algorithm label. This file chooses what is plotted;
-//! `plots` draws it.
+//! `plots` draws it. Every series and point carries its entry's algorithm and its variant
+//! counted over the whole run, so that an entry has the same colour in every plot, also in one
+//! that leaves other entries out (`base_b`, `desired_resolution_c`).
 //!
 //! Every per-frame plot but Röttger's c marks the frames that broke the speed or rotation
 //! bounds. Triangles and update times always take a logarithmic y axis (entries differ by orders
@@ -13,8 +15,8 @@
 
 use super::columns::{RunColumns, value};
 use super::plots::{
-    LineChart, Marker, PlotError, ScatterChart, ScatterPoint, Series, write_line_chart,
-    write_scatter_chart,
+    LineChart, Marker, PlotError, ScatterChart, ScatterPoint, Series, variants_in_order,
+    write_line_chart, write_scatter_chart,
 };
 use super::warm_up::summarised_runs;
 use crate::sim::algorithm::columns::rottger::DESIRED_RESOLUTION_C;
@@ -25,7 +27,7 @@ use std::path::Path;
 /// What the standard plots of a run are drawn from.
 pub struct RunPlotInputs<'a> {
     pub runs: &'a [RunColumns<'a>],
-    /// Each run's algorithm name (`wu`, `roam`, …): the accuracy plot's colour groups.
+    /// Each run's algorithm name (`wu`, `roam`, …): the colour of its series and points.
     pub names: &'a [&'a str],
     pub audited: bool,
     /// Frames that broke the speed or rotation bounds: marked on every per-frame plot.
@@ -52,6 +54,7 @@ const LOG_AXIS_ABOVE_RATIO: f64 = 10.0;
 /// by more than ten times.
 pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotError> {
     let runs = inputs.runs;
+    let looks = Looks::new(inputs.names);
     let marked: Vec<f64> = inputs
         .speed_violation_frames
         .iter()
@@ -59,13 +62,16 @@ pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotErr
         .collect();
     let series_of = |column: &str, scale: f64| -> Vec<Series> {
         runs.iter()
-            .map(|run| Series {
-                label: run.label.to_string(),
-                points: run
-                    .frames
-                    .iter()
-                    .filter_map(|f| value(run, f, column).map(|v| (f.frame as f64, v * scale)))
-                    .collect(),
+            .enumerate()
+            .map(|(run_idx, run)| {
+                looks.series(
+                    run_idx,
+                    run.label.to_string(),
+                    run.frames
+                        .iter()
+                        .filter_map(|f| value(run, f, column).map(|v| (f.frame as f64, v * scale)))
+                        .collect(),
+                )
             })
             .collect()
     };
@@ -111,8 +117,8 @@ pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotErr
         &series_of("update_ns", 1e-3),
         true,
     )?;
-    write_base_plot(dir, runs, &marked, inputs.horizontal_m_per_frame)?;
-    write_desired_resolution_plot(dir, runs)?;
+    write_base_plot(dir, runs, &looks, &marked, inputs.horizontal_m_per_frame)?;
+    write_desired_resolution_plot(dir, runs, &looks)?;
     if inputs.audited {
         let summarised = summarised_runs(runs, inputs.warm_up_frames);
         write_accuracy_vs_time(dir, &summarised, inputs.names)?;
@@ -153,6 +159,32 @@ pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotErr
     Ok(())
 }
 
+/// Each run's algorithm and variant (its place among the run's entries of that algorithm), which
+/// fix its colour in every plot.
+struct Looks<'a> {
+    names: &'a [&'a str],
+    variants: Vec<usize>,
+}
+
+impl<'a> Looks<'a> {
+    fn new(names: &'a [&'a str]) -> Looks<'a> {
+        Looks {
+            names,
+            variants: variants_in_order(names),
+        }
+    }
+
+    /// The series of the run at `run_idx`.
+    fn series(&self, run_idx: usize, label: String, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            label,
+            points,
+            algorithm: self.names.get(run_idx).copied().unwrap_or("").to_string(),
+            variant: self.variants.get(run_idx).copied().unwrap_or(0),
+        }
+    }
+}
+
 /// Whether the series' means over their positive values differ by more than
 /// [`LOG_AXIS_ABOVE_RATIO`].
 fn differ_by_orders(series: &[Series]) -> bool {
@@ -173,13 +205,18 @@ fn differ_by_orders(series: &[Series]) -> bool {
 fn write_base_plot(
     dir: &Path,
     runs: &[RunColumns],
+    looks: &Looks,
     marked: &[f64],
     horizontal_m_per_frame: f64,
 ) -> Result<(), PlotError> {
     let metres = |b: f64| b * horizontal_m_per_frame;
     let mut series = Vec::new();
     let mut figures = Vec::new();
-    for run in runs.iter().filter(|r| r.extra_columns.contains(&BASE_B)) {
+    for (run_idx, run) in runs
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.extra_columns.contains(&BASE_B))
+    {
         let points: Vec<(f64, f64)> = run
             .frames
             .iter()
@@ -191,10 +228,7 @@ fn write_base_plot(
         };
         let min = values.iter().copied().fold(f64::INFINITY, f64::min);
         figures.push((min, summary.max, summary.mean));
-        series.push(Series {
-            label: run.label.to_string(),
-            points,
-        });
+        series.push(looks.series(run_idx, run.label.to_string(), points));
     }
     if series.is_empty() {
         return Ok(());
@@ -245,21 +279,28 @@ fn write_base_plot(
 
 /// Röttger's c per frame for every run that reports it (log scale: the controller moves it by
 /// factors).
-fn write_desired_resolution_plot(dir: &Path, runs: &[RunColumns]) -> Result<(), PlotError> {
+fn write_desired_resolution_plot(
+    dir: &Path,
+    runs: &[RunColumns],
+    looks: &Looks,
+) -> Result<(), PlotError> {
     let series: Vec<Series> = runs
         .iter()
-        .filter(|r| r.extra_columns.contains(&DESIRED_RESOLUTION_C))
-        .map(|run| Series {
-            label: run.label.to_string(),
-            points: run
-                .frames
-                .iter()
-                .filter_map(|f| {
-                    value(run, f, DESIRED_RESOLUTION_C)
-                        .filter(|c| *c > 0.0)
-                        .map(|c| (f.frame as f64, c.log10()))
-                })
-                .collect(),
+        .enumerate()
+        .filter(|(_, r)| r.extra_columns.contains(&DESIRED_RESOLUTION_C))
+        .map(|(run_idx, run)| {
+            looks.series(
+                run_idx,
+                run.label.to_string(),
+                run.frames
+                    .iter()
+                    .filter_map(|f| {
+                        value(run, f, DESIRED_RESOLUTION_C)
+                            .filter(|c| *c > 0.0)
+                            .map(|c| (f.frame as f64, c.log10()))
+                    })
+                    .collect(),
+            )
         })
         .filter(|s| !s.points.is_empty())
         .collect();
@@ -312,7 +353,7 @@ fn write_accuracy_vs_time(
         dir,
         "accuracy_vs_time",
         &ScatterChart {
-            title: "What accuracy costs in time (Pareto front in red, labelled)",
+            title: "What accuracy costs in time (Pareto front in black, labelled)",
             x_label: "median update time per frame (µs, log scale)",
             y_label: "audited projected error, p95 (px)",
             points: &points,

@@ -9,7 +9,7 @@
 //! value, or against the terrain size when the points' terrains differ). Pure: text and values
 //! out; the session writes them.
 
-use super::plots::{LineChart, PlotError, Series, write_line_chart};
+use super::plots::{LineChart, PlotError, Series, variants_in_order, write_line_chart};
 use super::report_md::Row;
 use crate::edge::experiment::{SweepChoice, choice_label};
 use serde_json::{Map, Value, json};
@@ -118,13 +118,21 @@ fn finite(value: f64) -> Option<f64> {
 
 /// Entry labels in first-seen order over the points.
 fn labels(run: &SweepRun) -> Vec<String> {
-    let mut labels: Vec<String> = Vec::new();
+    labelled_entries(run)
+        .into_iter()
+        .map(|(label, _)| label)
+        .collect()
+}
+
+/// Entry labels in first-seen order over the points, each with its algorithm.
+fn labelled_entries(run: &SweepRun) -> Vec<(String, String)> {
+    let mut entries: Vec<(String, String)> = Vec::new();
     for entry in run.points.iter().flat_map(|p| &p.entries) {
-        if !labels.contains(&entry.label) {
-            labels.push(entry.label.clone());
+        if !entries.iter().any(|(label, _)| *label == entry.label) {
+            entries.push((entry.label.clone(), entry.name.clone()));
         }
     }
-    labels
+    entries
 }
 
 fn entry<'a>(point: &'a SweepPoint, label: &str) -> Option<&'a EntryFigures> {
@@ -259,20 +267,26 @@ fn figure_text(value: f64) -> String {
 /// Writes `sweep_update_time` and `sweep_bytes_per_sample` (PNG and SVG) into `dir`.
 pub fn write_sweep_plots(dir: &Path, run: &SweepRun) -> Result<(), PlotError> {
     let (x_label, xs) = x_axis(run);
+    let entries = labelled_entries(run);
+    let algorithms: Vec<&str> = entries.iter().map(|(_, name)| name.as_str()).collect();
+    let variants = variants_in_order(&algorithms);
     let series_of = |figure: &dyn Fn(&EntryFigures) -> f64| -> Vec<Series> {
-        labels(run)
-            .into_iter()
-            .map(|label| Series {
+        entries
+            .iter()
+            .zip(&variants)
+            .map(|((label, algorithm), &variant)| Series {
                 points: run
                     .points
                     .iter()
                     .zip(&xs)
                     .filter_map(|(point, &x)| {
-                        let y = figure(entry(point, &label)?);
+                        let y = figure(entry(point, label)?);
                         y.is_finite().then_some((x, y))
                     })
                     .collect(),
-                label,
+                label: label.clone(),
+                algorithm: algorithm.clone(),
+                variant,
             })
             .collect()
     };

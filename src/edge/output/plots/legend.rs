@@ -2,6 +2,7 @@
 //! (`docs/output-formats.md`, "plots/": legend labels wrap onto more rows and are never cut; a
 //! marker label or a title too wide is). It writes no label's words: the callers do.
 
+use super::palette::{Dash, dash_pieces};
 use super::{
     IMAGE_SIZE, LEGEND_BORDER_COLOR, LEGEND_FONT_SIZE, LEGEND_MAX_TEXT_WIDTH, LEGEND_PADDING,
     LEGEND_ROW_HEIGHT, LEGEND_SWATCH_WIDTH, PANEL_GAP, RenderTarget, text_style,
@@ -36,14 +37,16 @@ pub(super) fn spread_apart(wanted: &[i32], min_gap: i32, limits: &Range<i32>) ->
 pub(super) struct LegendEntry {
     pub(super) text: String,
     pub(super) color: RGBColor,
+    /// The swatch's dash pattern: the series' own.
+    pub(super) dash: Dash,
 }
 
-/// The legend box: one row per entry, a colour swatch then the label; a label wider than the
+/// The legend box: one row per entry, a colour swatch (dashed as its series) then the label; a label wider than the
 /// legend wraps at spaces onto rows of its own without a swatch (a single word too wide
 /// for a row is cut). Zero width when empty.
 pub(super) struct Legend {
-    /// Rows: the text, and the swatch colour on an entry's first row only.
-    entries: Vec<(String, Option<RGBColor>)>,
+    /// Rows: the text, and the swatch on an entry's first row only.
+    entries: Vec<(String, Option<(RGBColor, Dash)>)>,
     /// Total width including the gap before it.
     pub(super) width: i32,
     box_width: i32,
@@ -63,17 +66,17 @@ impl Legend {
         }
         let style = text_style(LEGEND_FONT_SIZE);
         // Each entry's rows: its label wrapped to the legend's width.
-        let mut wrapped: Vec<(Vec<String>, RGBColor)> = Vec::with_capacity(entries.len());
+        let mut wrapped: Vec<(Vec<String>, (RGBColor, Dash))> = Vec::with_capacity(entries.len());
         for entry in &entries {
             let mut lines = Vec::new();
             for line in wrap_text(root, &entry.text, &style, LEGEND_MAX_TEXT_WIDTH)? {
                 lines.push(fit_text(root, &line, &style, LEGEND_MAX_TEXT_WIDTH)?);
             }
-            wrapped.push((lines, entry.color));
+            wrapped.push((lines, (entry.color, entry.dash)));
         }
         // Entries whose rows do not fit in the image height are summarised in a last row.
         let max_rows = ((IMAGE_SIZE.1 as i32 - 140) / LEGEND_ROW_HEIGHT).max(1) as usize;
-        let mut rows: Vec<(String, Option<RGBColor>)> = Vec::new();
+        let mut rows: Vec<(String, Option<(RGBColor, Dash)>)> = Vec::new();
         for (k, (lines, color)) in wrapped.iter().enumerate() {
             let room_after = if k + 1 < wrapped.len() { 1 } else { 0 };
             if rows.len() + lines.len() + room_after > max_rows {
@@ -113,17 +116,17 @@ impl Legend {
             LEGEND_BORDER_COLOR.stroke_width(1),
         ))?;
         let style = text_style(LEGEND_FONT_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
-        for (row_idx, (text, color)) in self.entries.iter().enumerate() {
+        for (row_idx, (text, swatch)) in self.entries.iter().enumerate() {
             let row_center = top + LEGEND_PADDING + 9 + LEGEND_ROW_HEIGHT * row_idx as i32;
             let swatch_left = left + LEGEND_PADDING;
-            if let Some(color) = color {
-                root.draw(&PathElement::new(
-                    [
-                        (swatch_left, row_center),
-                        (swatch_left + LEGEND_SWATCH_WIDTH, row_center),
-                    ],
-                    color.stroke_width(3),
-                ))?;
+            if let Some((color, dash)) = swatch {
+                let ends = [
+                    (swatch_left, row_center),
+                    (swatch_left + LEGEND_SWATCH_WIDTH, row_center),
+                ];
+                for piece in dash_pieces(&ends, *dash) {
+                    root.draw(&PathElement::new(piece, color.stroke_width(3)))?;
+                }
             }
             root.draw(&Text::new(
                 text.as_str(),

@@ -5,6 +5,7 @@
 
 use super::decimation::drawable_runs;
 use super::legend::{Legend, LegendEntry, fit_text, spread_apart};
+use super::palette::{Dash, Stroke, dash_pieces, stroke};
 use super::scatter::with_a_whole_decade;
 use super::ticks::log_tick_label;
 use super::ticks::{
@@ -12,8 +13,7 @@ use super::ticks::{
 };
 use super::{
     Drawing, LineChart, MARKED_X_COLOR, MARKER_COLOR, MARKER_FONT_SIZE, MARKER_MAX_TEXT_WIDTH,
-    Marker, PALETTE, PANEL_GAP, RenderTarget, X_MARGIN, Y_MARGIN, draw_no_data_note, draw_title,
-    text_style,
+    Marker, PANEL_GAP, RenderTarget, X_MARGIN, Y_MARGIN, draw_no_data_note, draw_title, text_style,
 };
 use plotters::coord::Shift;
 use plotters::coord::combinators::BindKeyPoints;
@@ -44,7 +44,8 @@ pub(super) struct LinePlan<'a> {
 
 pub(super) struct PlannedSeries<'a> {
     label: &'a str,
-    color: RGBColor,
+    /// Its algorithm's colour, shaded and dashed by its variant.
+    stroke: Stroke,
     /// The label of an earlier series this one hides (see [`coincidence`]), and whether the
     /// points are exactly the same.
     same_as: Option<(&'a str, bool)>,
@@ -114,7 +115,7 @@ impl<'a> LinePlan<'a> {
                     .map(|(earlier, exact)| (earlier.label.as_str(), exact));
                 PlannedSeries {
                     label: &series.label,
-                    color: PALETTE[series_idx % PALETTE.len()],
+                    stroke: stroke(&series.algorithm, series.variant),
                     same_as,
                     runs: drawable_runs(&points, &x_range),
                 }
@@ -156,13 +157,15 @@ impl<'a> LinePlan<'a> {
                     ),
                     (false, None) => series.label.to_string(),
                 },
-                color: series.color,
+                color: series.stroke.color,
+                dash: series.stroke.dash,
             })
             .collect();
         if !self.marked_x.is_empty() && !self.marked_x_label.is_empty() {
             entries.push(LegendEntry {
                 text: format!("{} ({})", self.marked_x_label, self.marked_x.len()),
                 color: MARKED_X_COLOR,
+                dash: Dash::Solid,
             });
         }
         entries
@@ -325,12 +328,15 @@ impl LinePlan<'_> {
         for series in &self.series {
             for run in &series.runs {
                 // A run whose points all coincide has no length to draw: show it as a dot.
+                let color = series.stroke.color;
                 if run.iter().all(|point| *point == run[0]) {
-                    chart.draw_series([Circle::new(run[0], 3, series.color.filled())])?;
+                    chart.draw_series([Circle::new(run[0], 3, color.filled())])?;
                 } else {
                     let pixels: Vec<(i32, i32)> =
                         run.iter().map(|point| chart.backend_coord(point)).collect();
-                    target.draw_wide_line(root, &pixels, series.color)?;
+                    for piece in dash_pieces(&pixels, series.stroke.dash) {
+                        target.draw_wide_line(root, &piece, color)?;
+                    }
                 }
             }
         }

@@ -35,14 +35,26 @@
 //! label and no dot (`label_placement.rs`), joined to its point by a grey leader line when it had
 //! to move away.
 //!
+//! Colour is a function of the algorithm, never of a series' position: each of the ten
+//! algorithms has a hue of its own (at least 25° from any other; none is grey or black, which draw
+//! markers, grid and the Pareto front), so an algorithm has the same colour in every plot of a
+//! run and across runs, whatever else a plot shows. The entries of one algorithm are told apart
+//! by their variant (their order among the run's entries of that algorithm, counted by the
+//! caller over the whole run): lightness steps of the hue (base, darker, lighter, darkest), then
+//! from the fifth entry on the same steps dashed, then dotted; a scatter point also takes a
+//! marker shape per variant. Shades come before dashes because per-frame lines zigzag from frame
+//! to frame and break a dash pattern up (`palette.rs`).
+//!
 //! The parts: `line.rs` (the line chart's plan and drawing), `decimation.rs` (breaks and the
-//! decimation of long series), `scatter.rs` (the scatter chart), `ticks.rs` (ranges, tick labels,
+//! decimation of long series), `palette.rs` (colours, shades and dashes), `scatter.rs` (the
+//! scatter chart), `ticks.rs` (ranges, tick labels,
 //! axes) and `legend.rs` (legend, marker labels, text fitting); this file holds the public types,
 //! the shared style and the writing of both files.
 
 mod decimation;
 mod legend;
 mod line;
+mod palette;
 mod scatter;
 #[cfg(test)]
 mod tests;
@@ -59,11 +71,18 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+pub use palette::variants_in_order;
+
 /// One named line on a [`LineChart`]: `(x, y)` points joined in the order given.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    /// The entry's algorithm (`wu`, `roam`, …), which fixes the line's hue (`palette.rs`).
+    pub algorithm: String,
+    /// The entry's place among the run's entries of its algorithm ([`variants_in_order`]),
+    /// which picks a shade of that hue and, from the fifth on, a dash pattern.
+    pub variant: usize,
 }
 
 /// A horizontal reference line drawn across the chart, with a label (e.g. "max 54").
@@ -96,9 +115,11 @@ pub struct ScatterPoint {
     pub label: String,
     pub x: f64,
     pub y: f64,
-    /// The point's group (e.g. its algorithm). Empty for every point: one colour, every point
-    /// labelled. Otherwise each group has a colour and a legend row, each point of a group a
-    /// marker shape by its order in the group (its variant), and only front points are labelled.
+    /// The point's group: its algorithm, whose colour it takes (`palette.rs`). Empty for every
+    /// point: one colour, every point labelled. Otherwise each group has a legend row, each
+    /// point of a group a marker shape and a shade of the colour by its order in the group (its
+    /// variant: give every entry of a run a point, so that it is the variant of the run's line
+    /// plots), and only front points are labelled.
     pub group: String,
 }
 
@@ -129,8 +150,8 @@ pub struct PlotError {
 
 /// Writes `<dir>/<stem>.png` (1200×700) and `<dir>/<stem>.svg`; `dir` must exist.
 ///
-/// One colour per series from a fixed palette of twelve, in series order (it repeats from the
-/// thirteenth series on); a legend to the right of the plot lists the series labels (a label too
+/// Each series' colour is its algorithm's (the same in every chart), shaded, and from the fifth
+/// entry of an algorithm dashed, by its variant (`palette.rs`); a legend to the right of the plot lists the series labels (a label too
 /// long for the legend wraps onto more rows, never cut), and each marker is a dashed grey line
 /// with its label just right of the plot. A series whose points are those of an earlier one
 /// (exactly, or within about two pixels at every x) is drawn over it and says so in the legend
@@ -142,8 +163,8 @@ pub fn write_line_chart(dir: &Path, stem: &str, chart: &LineChart) -> Result<(),
 
 /// Writes `<dir>/<stem>.png` (1200×700) and `<dir>/<stem>.svg`; the front is drawn as a line
 /// through its points, which are highlighted. Without groups every point is labelled with its
-/// text; with groups, colours tell groups apart (a legend names them), marker shapes the
-/// variants within a group, and only the front's points carry labels, so that tens of points
+/// text; with groups, colours tell groups apart (each algorithm's own, a legend names them),
+/// marker shapes and shades the variants within a group, and only the front's points carry labels, so that tens of points
 /// stay readable.
 pub fn write_scatter_chart(dir: &Path, stem: &str, chart: &ScatterChart) -> Result<(), PlotError> {
     write_png_and_svg(dir, stem, &ScatterPlan::new(chart))
@@ -158,24 +179,6 @@ pub const DECIMATE_ABOVE_POINTS: usize = 10_000;
 
 /// The number of x columns a decimated series is reduced to: about one per pixel of plot width.
 pub const DECIMATION_COLUMNS: usize = 1200;
-
-/// Series colours, used in order and repeated: the Tableau-10 colours without grey (grey is kept
-/// for markers and grid lines) and without the pale yellow, which is hard to see on white, then
-/// four darker ones, so that the quickstart's ten entries never share a colour.
-const PALETTE: [RGBColor; 12] = [
-    RGBColor(0x1f, 0x77, 0xb4), // blue
-    RGBColor(0xff, 0x7f, 0x0e), // orange
-    RGBColor(0x2c, 0xa0, 0x2c), // green
-    RGBColor(0xd6, 0x27, 0x28), // red
-    RGBColor(0x94, 0x67, 0xbd), // purple
-    RGBColor(0x8c, 0x56, 0x4b), // brown
-    RGBColor(0xe3, 0x77, 0xc2), // pink
-    RGBColor(0x17, 0xbe, 0xcf), // cyan
-    RGBColor(0x00, 0x00, 0x00), // black
-    RGBColor(0x80, 0x80, 0x00), // olive
-    RGBColor(0x00, 0x4c, 0x6d), // dark teal
-    RGBColor(0xb8, 0x86, 0x0b), // dark gold
-];
 
 const IMAGE_SIZE: (u32, u32) = (1200, 700);
 const BYTES_PER_RGB_PIXEL: usize = 3;
@@ -201,8 +204,10 @@ const MARKER_COLOR: RGBColor = RGBColor(0x70, 0x70, 0x70);
 const GRID_BOLD_COLOR: RGBColor = RGBColor(0xdd, 0xdd, 0xdd);
 const GRID_LIGHT_COLOR: RGBColor = RGBColor(0xf0, 0xf0, 0xf0);
 const LEGEND_BORDER_COLOR: RGBColor = RGBColor(0xbb, 0xbb, 0xbb);
-const SCATTER_POINT_COLOR: RGBColor = PALETTE[0];
-const SCATTER_FRONT_COLOR: RGBColor = PALETTE[3];
+/// The points of an ungrouped scatter chart (a grouped one colours them by algorithm).
+const SCATTER_POINT_COLOR: RGBColor = RGBColor(0x1f, 0x77, 0xb4);
+/// The Pareto front's line and rings: black, the colour no algorithm has.
+const SCATTER_FRONT_COLOR: RGBColor = BLACK;
 const LEADER_COLOR: RGBColor = RGBColor(0xaa, 0xaa, 0xaa);
 /// The vertical bands of [`LineChart::marked_x`]: a pale red, behind the series.
 const MARKED_X_COLOR: RGBColor = RGBColor(0xf4, 0xb6, 0xb6);

@@ -4,15 +4,15 @@
 
 use super::super::label_placement::{DOT_RADIUS, PixelBox, place_labels};
 use super::legend::{Legend, LegendEntry};
+use super::palette::{Dash, algorithm_colour, stroke};
 use super::ticks::{
     AxisTexts, Bounds, TickFormat, configure_axes, is_plottable, log_tick_label, padded_range,
     y_label_area_width,
 };
 use super::{
-    Drawing, LEADER_COLOR, PALETTE, PANEL_GAP, POINT_LABEL_FONT_SIZE, RenderTarget,
-    SCATTER_FRONT_COLOR, SCATTER_LABEL_ROOM_X, SCATTER_LABEL_ROOM_Y, SCATTER_POINT_COLOR,
-    SCATTER_X_MARGIN, ScatterChart, ScatterPoint, TEXT_COLOR, Y_MARGIN, draw_no_data_note,
-    draw_title, text_style,
+    Drawing, LEADER_COLOR, PANEL_GAP, POINT_LABEL_FONT_SIZE, RenderTarget, SCATTER_FRONT_COLOR,
+    SCATTER_LABEL_ROOM_X, SCATTER_LABEL_ROOM_Y, SCATTER_POINT_COLOR, SCATTER_X_MARGIN,
+    ScatterChart, ScatterPoint, TEXT_COLOR, Y_MARGIN, draw_no_data_note, draw_title, text_style,
 };
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
@@ -48,6 +48,9 @@ pub(super) struct PlannedPoint<'a> {
     group: Option<usize>,
     variant: usize,
 }
+
+/// The shades of a group's variants, in order (`palette.rs`, repeated from the fifth on).
+const VARIANT_SHADES: [&str; 4] = ["base", "darker", "lighter", "darkest"];
 
 /// Marker shapes for a group's variants, in order (repeated from the sixth variant on).
 pub(super) const VARIANT_SHAPES: [&str; 5] =
@@ -146,25 +149,29 @@ impl<'a> ScatterPlan<'a> {
         let mut entries: Vec<LegendEntry> = self
             .groups
             .iter()
-            .enumerate()
-            .map(|(k, group)| LegendEntry {
+            .map(|group| LegendEntry {
                 text: group.to_string(),
-                color: PALETTE[k % PALETTE.len()],
+                color: algorithm_colour(group),
+                dash: Dash::Solid,
             })
             .collect();
         if !entries.is_empty() && self.max_variants > 1 {
             let shapes = VARIANT_SHAPES[..self.max_variants.min(VARIANT_SHAPES.len())].join(", ");
+            let shades = VARIANT_SHADES[..self.max_variants.min(VARIANT_SHADES.len())].join(", ");
             entries.push(LegendEntry {
                 text: format!(
-                    "marker: the entry's variant within its algorithm, in entry order ({shapes})"
+                    "marker and shade: the entry's variant within its algorithm, in entry order \
+                     ({shapes}; {shades})"
                 ),
                 color: WHITE,
+                dash: Dash::Solid,
             });
         }
         if !entries.is_empty() {
             entries.push(LegendEntry {
-                text: "ringed in red and labelled: on the front".to_string(),
+                text: "ringed in black and labelled: on the front".to_string(),
                 color: SCATTER_FRONT_COLOR,
+                dash: Dash::Solid,
             });
         }
         entries
@@ -245,7 +252,8 @@ impl<'a> ScatterPlan<'a> {
             for k in all {
                 let point = &self.points[k];
                 let pixel = chart.backend_coord(&point.position);
-                let color = PALETTE[point.group.unwrap_or(0) % PALETTE.len()];
+                let group = point.group.map_or("", |k| self.groups[k]);
+                let color = stroke(group, point.variant).color;
                 if point.on_front {
                     root.draw(&Circle::new(
                         pixel,

@@ -1,13 +1,26 @@
 //! Tests of the charts: files written, drawings of degenerate data, decimation, tick labels.
 
 use super::decimation::drawable_runs;
+use super::palette::{algorithm_colour, stroke};
 use super::ticks::{TickFormat, log_tick_label};
 use super::*;
 
+/// A series of the first `wu` entry.
 fn series(label: &str, points: Vec<(f64, f64)>) -> Series {
+    algorithm_series("wu", 0, label, points)
+}
+
+fn algorithm_series(
+    algorithm: &str,
+    variant: usize,
+    label: &str,
+    points: Vec<(f64, f64)>,
+) -> Series {
     Series {
         label: label.to_string(),
         points,
+        algorithm: algorithm.to_string(),
+        variant,
     }
 }
 
@@ -104,7 +117,9 @@ fn check_written_chart(png_path: &Path, svg_path: &Path, expected_texts: &[&str]
 #[test]
 fn two_series_and_a_marker_write_a_png_and_an_svg_with_their_text() {
     let dir = tempfile::tempdir().unwrap();
-    let roam = series(
+    let roam = algorithm_series(
+        "roam",
+        0,
         "ROAM",
         (0..500)
             .map(|f| (f as f64, 40.0 + (f as f64 / 30.0).sin() * 10.0))
@@ -136,7 +151,7 @@ fn two_series_and_a_marker_write_a_png_and_an_svg_with_their_text() {
         ],
     );
     // A legend swatch has well under 200 pixels; a line across the plot has thousands.
-    for colour in [PALETTE[0], PALETTE[1]] {
+    for colour in [algorithm_colour("roam"), algorithm_colour("wu")] {
         let n_pixels = png.n_pixels_of(colour);
         assert!(n_pixels > 1000, "{colour:?} covers only {n_pixels} pixels");
     }
@@ -154,7 +169,7 @@ fn a_series_of_one_repeated_point_is_drawn_as_a_dot() {
     let (png_path, svg_path) = write_line(dir.path(), "repeated", &[repeated], &[]).unwrap();
     let png = check_written_chart(&png_path, &svg_path, &["Test chart"]);
     assert!(
-        png.n_pixels_of(PALETTE[0]) > 10,
+        png.n_pixels_of(algorithm_colour("wu")) > 10,
         "the repeated point is invisible"
     );
 }
@@ -462,7 +477,9 @@ fn a_log_y_axis_shows_series_orders_of_magnitude_apart_and_skips_non_positive_va
         "big",
         (0..100).map(|f| (f as f64, 50_000.0 + f as f64)).collect(),
     );
-    let small = series(
+    let small = algorithm_series(
+        "roam",
+        0,
         "small",
         (0..100)
             .map(|f| (f as f64, 20.0 + (f % 7) as f64))
@@ -492,7 +509,7 @@ fn a_log_y_axis_shows_series_orders_of_magnitude_apart_and_skips_non_positive_va
     }
     // On a linear axis from 0 to 50 000 the small series would hug the bottom within a few
     // pixels; on the log axis its line is drawn well inside the plot.
-    assert!(png.n_pixels_of(PALETTE[1]) > 500);
+    assert!(png.n_pixels_of(algorithm_colour("roam")) > 500);
 }
 
 #[test]
@@ -632,7 +649,39 @@ fn a_grouped_scatter_colours_groups_shapes_variants_and_labels_only_the_front() 
         "points off the front are not labelled: {texts:?}"
     );
     let png = DecodedPng::read(&dir.path().join("grouped.png"));
-    for colour in [PALETTE[0], PALETTE[1], PALETTE[2]] {
+    // Each algorithm's colour, and a later variant's shade of it.
+    for colour in [
+        algorithm_colour("wu"),
+        algorithm_colour("roam"),
+        algorithm_colour("lindstrom"),
+        stroke("roam", 1).color,
+    ] {
         assert!(png.n_pixels_of(colour) > 100, "{colour:?}");
+    }
+}
+
+#[test]
+fn entries_of_one_algorithm_past_the_fourth_are_drawn_dashed_in_its_colour() {
+    let dir = tempfile::tempdir().unwrap();
+    let lines: Vec<Series> = (0..6)
+        .map(|variant| {
+            let y = 10.0 * variant as f64;
+            algorithm_series(
+                "chunked",
+                variant,
+                &format!("chunked {variant}"),
+                (0..200).map(|f| (f as f64, y)).collect(),
+            )
+        })
+        .collect();
+    let (png_path, svg_path) = write_line(dir.path(), "variants", &lines, &[]).unwrap();
+    let png = check_written_chart(&png_path, &svg_path, &["chunked 0", "chunked 5"]);
+    // The fifth entry has the first one's colour, dashed: fewer pixels, but a line's worth.
+    let solid = png.n_pixels_of(stroke("chunked", 0).color);
+    assert_eq!(stroke("chunked", 4).color, stroke("chunked", 0).color);
+    assert!(solid > 1500, "{solid} pixels");
+    for variant in 1..4 {
+        let colour = stroke("chunked", variant).color;
+        assert!(png.n_pixels_of(colour) > 1000, "variant {variant}");
     }
 }
