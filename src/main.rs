@@ -485,6 +485,14 @@ fn check_experiment(path: &Path) -> Result<(), Failure> {
             experiment.terrain.side,
             experiment.terrain.source
         )?;
+        if experiment.rotation_bound == experiment::BoundOrigin::Derived {
+            writeln!(
+                std::io::stdout(),
+                "note: no rotation bound declared: the flight's largest turn, {} rad a frame, is \
+                 used (speed_bounds.rotation_rad_per_frame)",
+                experiment.speed.rotation
+            )?;
+        }
         if let Some(first) = experiment.below_ground_frames.first() {
             writeln!(
                 std::io::stdout(),

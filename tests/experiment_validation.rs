@@ -5,7 +5,8 @@
 mod common;
 
 use common::experiment::{quickstart, save};
-use roamsim::edge::experiment::{ExperimentError, load};
+use roamsim::edge::experiment::{BoundOrigin, ExperimentError, load};
+use roamsim::sim::flight::largest_turn;
 use serde_json::{Value, json};
 
 /// Loads an edited quickstart and returns its problems as `field: problem` lines.
@@ -234,16 +235,43 @@ fn a_negative_rotation_bound_is_reported_with_its_path() {
 }
 
 #[test]
-fn an_experiment_without_a_rotation_bound_loads_with_the_bound_that_bounds_nothing() {
-    // Files written before the rotation bound existed: π, which every turn honours.
+fn an_experiment_without_a_rotation_bound_gets_its_flights_largest_turn() {
+    // The quickstart's circle, looking along its path, turns by the same angle every frame.
     let dir = tempfile::tempdir().unwrap();
     let mut experiment = quickstart();
     experiment["speed_bounds"]
         .as_object_mut()
         .unwrap()
         .remove("rotation_rad_per_frame");
-    let loaded = load(&save(dir.path(), "old", &experiment)).unwrap();
-    assert_eq!(loaded.speed.rotation, std::f64::consts::PI);
+    let loaded = load(&save(dir.path(), "undeclared", &experiment)).unwrap();
+    assert_eq!(loaded.rotation_bound, BoundOrigin::Derived);
+    assert_eq!(loaded.speed.rotation, largest_turn(&loaded.flight));
+    let lap = experiment["flight"]["path"]["circle"]["frames_per_lap"]
+        .as_f64()
+        .unwrap();
+    // Yawing by 2π/lap a frame, pitched 15° down: the look direction turns by
+    // 2·asin(cos 15° · sin(π/lap)), a little under the declared 0.0033.
+    let per_frame = 2.0 * (15f64.to_radians().cos() * (std::f64::consts::PI / lap).sin()).asin();
+    assert!(
+        (loaded.speed.rotation - per_frame).abs() < 1e-9 * per_frame,
+        "{} against {per_frame}",
+        loaded.speed.rotation
+    );
+    assert!(loaded.violations.iter().all(|v| !v.broken.rotation));
+}
+
+#[test]
+fn a_declared_rotation_bound_is_kept_as_declared() {
+    let dir = tempfile::tempdir().unwrap();
+    let experiment = quickstart();
+    let loaded = load(&save(dir.path(), "declared", &experiment)).unwrap();
+    assert_eq!(loaded.rotation_bound, BoundOrigin::Declared);
+    assert_eq!(
+        loaded.speed.rotation,
+        experiment["speed_bounds"]["rotation_rad_per_frame"]
+            .as_f64()
+            .unwrap()
+    );
 }
 
 #[test]

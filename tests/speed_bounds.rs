@@ -8,8 +8,9 @@
 
 mod common;
 
-use roamsim::edge::experiment::load;
+use roamsim::edge::experiment::{BoundOrigin, load};
 use roamsim::edge::session::{NoProgress, RunOptions, run_experiment};
+use roamsim::sim::flight::largest_turn;
 use serde_json::{Value, json};
 use std::path::Path;
 
@@ -241,4 +242,140 @@ fn a_turn_faster_than_the_rotation_bound_is_reported_as_a_rotation_violation() {
         json!({ "horizontal": 0, "vertical": 0, "rotation": 1 })
     );
     assert_eq!(flight["speed_violations"][0]["broken"], json!(["rotation"]));
+}
+
+/// A recorded flight of 40 frames 2 m apart, looking 20° down and turning left unevenly (by up
+/// to 1.5° a frame, some frames not at all): Wu refining in view with cone culling, and ROAM's
+/// deferral, both use the rotation bound. The experiment declares `rotation` when given.
+fn save_turning(dir: &Path, name: &str, rotation: Option<f64>) -> std::path::PathBuf {
+    let turns = [0.2, 1.5, 0.7, 0.0, 1.1];
+    let mut text = String::from("frame,x_m,y_m,z_m,yaw_deg,pitch_deg\n");
+    let mut yaw = 0.0;
+    for frame in 0..40 {
+        if frame > 0 {
+            yaw += turns[frame % turns.len()];
+        }
+        text.push_str(&format!("{frame},{},600,200,{yaw},-20\n", 300 + 2 * frame));
+    }
+    std::fs::write(dir.join("turning.csv"), text).unwrap();
+    let mut file = experiment(json!({ "path": { "recorded": { "path": "turning.csv" } } }));
+    if let Some(rotation) = rotation {
+        file["speed_bounds"]["rotation_rad_per_frame"] = json!(rotation);
+    }
+    file["algorithms"][0] = json!({ "name": "wu", "label": "wu", "tau_px": 2,
+                                    "refine": "in_view" });
+    file["effects"] = json!({ "culling": true });
+    file["outputs"]["meshes"] = json!({ "frames": [10, 25, 39] });
+    common::experiment::save(dir, name, &file)
+}
+
+/// Runs the experiment at `path` into `out` (one thread, meshes checked every frame).
+fn run_into(path: &Path, out: &Path) {
+    let options = RunOptions {
+        out_dir: Some(out.to_path_buf()),
+        check_meshes: true,
+        threads: Some(1),
+        command_line: None,
+        max_frames: None,
+        shard: None,
+        timing: Default::default(),
+    };
+    run_experiment(path, &options, &NoProgress).unwrap();
+}
+
+/// The bytes of every exported mesh under `out`, by path below it.
+fn meshes(out: &Path) -> Vec<(std::path::PathBuf, Vec<u8>)> {
+    common::cli::files(&out.join("meshes"))
+        .into_iter()
+        .map(|file| {
+            let bytes = std::fs::read(out.join("meshes").join(&file)).unwrap();
+            (file, bytes)
+        })
+        .collect()
+}
+
+#[test]
+fn an_undeclared_rotation_bound_is_the_flights_largest_turn_and_runs_as_if_declared() {
+    let dir = tempfile::tempdir().unwrap();
+    let undeclared = save_turning(dir.path(), "undeclared", None);
+    let loaded = load(&undeclared).unwrap();
+    assert_eq!(loaded.rotation_bound, BoundOrigin::Derived);
+    let turn = largest_turn(&loaded.flight);
+    assert_eq!(loaded.speed.rotation, turn);
+    // The largest yaw step is 1.5°; pitched 20° down, the look direction turns by
+    // 2·asin(cos 20° · sin 0.75°).
+    let expected = 2.0 * (20f64.to_radians().cos() * 0.75f64.to_radians().sin()).asin();
+    assert!((turn - expected).abs() < 1e-12, "{turn} against {expected}");
+    assert!(loaded.violations.is_empty(), "{:?}", loaded.violations);
+
+    let declared = save_turning(dir.path(), "declared", Some(turn));
+    let declared_loaded = load(&declared).unwrap();
+    assert_eq!(declared_loaded.rotation_bound, BoundOrigin::Declared);
+    assert_eq!(declared_loaded.speed, loaded.speed);
+
+    let (out_undeclared, out_declared) = (dir.path().join("a"), dir.path().join("b"));
+    run_into(&undeclared, &out_undeclared);
+    run_into(&declared, &out_declared);
+    assert_eq!(
+        common::cli::frames_without_timing(&out_undeclared.join("frames.csv")),
+        common::cli::frames_without_timing(&out_declared.join("frames.csv"))
+    );
+    let undeclared_meshes = meshes(&out_undeclared);
+    assert_eq!(undeclared_meshes.len(), 6, "two entries at three frames");
+    assert_eq!(undeclared_meshes, meshes(&out_declared));
+
+    let bounds = |out: &Path| {
+        let summary = common::cli::summary_without_timing(&out.join("summary.json"));
+        summary["flight"]["speed_bounds"].clone()
+    };
+    assert_eq!(
+        bounds(&out_undeclared),
+        json!({ "horizontal_m_per_frame": 40.0, "vertical_m_per_frame": 20.0,
+                "rotation_rad_per_frame": turn, "rotation_rad_per_frame_derived": true })
+    );
+    assert_eq!(
+        bounds(&out_declared),
+        json!({ "horizontal_m_per_frame": 40.0, "vertical_m_per_frame": 20.0,
+                "rotation_rad_per_frame": turn, "rotation_rad_per_frame_derived": false })
+    );
+    let report = |out: &Path| std::fs::read_to_string(out.join("report.md")).unwrap();
+    let sentence = format!(
+        "The rotation bound was not declared: the flight's largest turn, {turn} rad a frame, was \
+         used."
+    );
+    assert!(report(&out_undeclared).contains(&sentence));
+    assert!(!report(&out_declared).contains("was not declared"));
+}
+
+#[test]
+fn validate_names_a_derived_rotation_bound_and_its_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let undeclared = save_turning(dir.path(), "undeclared", None);
+    let turn = load(&undeclared).unwrap().speed.rotation;
+    let declared = save_turning(dir.path(), "declared", Some(turn));
+    let stdout = |path: &Path| {
+        let output = common::cli::roamsim(&["validate", path.to_str().unwrap()], dir.path());
+        assert!(output.status.success(), "{output:?}");
+        String::from_utf8(output.stdout).unwrap()
+    };
+    let line = format!(
+        "note: no rotation bound declared: the flight's largest turn, {turn} rad a frame, is used"
+    );
+    assert!(
+        stdout(&undeclared).contains(&line),
+        "{}",
+        stdout(&undeclared)
+    );
+    assert!(!stdout(&declared).contains("no rotation bound declared"));
+}
+
+#[test]
+fn a_flight_that_never_turns_gets_a_rotation_bound_of_zero() {
+    // Wu's view keys and ROAM's deferral then assume no turn, which the flight honours.
+    let dir = tempfile::tempdir().unwrap();
+    let path = save_with_log(dir.path(), &teleport_and_climb());
+    let loaded = load(&path).unwrap();
+    assert_eq!(loaded.rotation_bound, BoundOrigin::Derived);
+    assert_eq!(loaded.speed.rotation, 0.0);
+    assert!(loaded.violations.iter().all(|v| !v.broken.rotation));
 }

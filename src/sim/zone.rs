@@ -61,13 +61,14 @@ pub struct SpeedBound {
     /// Bound on the vertical displacement per frame, metres.
     pub vertical: f64,
     /// Bound on the angle between consecutive look directions, radians per frame. π bounds
-    /// nothing (two directions are never further apart): what experiments that do not declare a
-    /// rotation bound get.
+    /// nothing (two directions are never further apart); an experiment that declares no rotation
+    /// bound gets its flight's largest turn instead (`edge::experiment`'s load).
     pub rotation: f64,
 }
 
 impl SpeedBound {
-    /// The rotation bound of an experiment that declares none: π, which every turn honours.
+    /// A rotation bound that bounds nothing: π, which every turn honours (for callers that know
+    /// no flight, such as tests; experiments never get it by default).
     pub const NO_ROTATION_BOUND: f64 = std::f64::consts::PI;
 
     /// The longest the eye may move in one frame (the length of the displacement vector).

@@ -22,13 +22,12 @@ use super::problems::{ExperimentError, Problems};
 use crate::sim::audit::AuditSettings;
 use crate::sim::run::Effects;
 use crate::sim::view::ViewSettings;
-use crate::sim::zone::SpeedBound;
 use std::path::Path;
 
 /// What stage 2 makes of a parsed file: the checked settings and entries.
 pub(super) struct Checked {
     pub(super) view: ViewSettings,
-    pub(super) speed: SpeedBound,
+    pub(super) speed: DeclaredSpeedBounds,
     pub(super) algorithms: Vec<AlgorithmSpec>,
     pub(super) effects: Effects,
     pub(super) mesh_exports: Option<MeshExports>,
@@ -144,8 +143,18 @@ fn check_view(view: &ViewEntry, problems: &mut Problems) -> ViewSettings {
     }
 }
 
-/// `speed_bounds`: finite and at least 0; no rotation bound when none is given.
-fn check_speed_bounds(bounds: &SpeedBoundsEntry, problems: &mut Problems) -> SpeedBound {
+/// `speed_bounds` as the file declares them, checked. The rotation bound may be absent: load
+/// derives it from the flight (`load.rs`, [`DeclaredSpeedBounds::for_flight`]), which this stage
+/// has not built.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct DeclaredSpeedBounds {
+    pub(super) horizontal: f64,
+    pub(super) vertical: f64,
+    pub(super) rotation: Option<f64>,
+}
+
+/// `speed_bounds`: finite and at least 0; the rotation bound left absent when none is given.
+fn check_speed_bounds(bounds: &SpeedBoundsEntry, problems: &mut Problems) -> DeclaredSpeedBounds {
     problems.non_negative(
         "speed_bounds.horizontal_m_per_frame",
         bounds.horizontal_m_per_frame,
@@ -157,12 +166,10 @@ fn check_speed_bounds(bounds: &SpeedBoundsEntry, problems: &mut Problems) -> Spe
     if let Some(rotation) = bounds.rotation_rad_per_frame {
         problems.non_negative("speed_bounds.rotation_rad_per_frame", rotation);
     }
-    SpeedBound {
+    DeclaredSpeedBounds {
         horizontal: bounds.horizontal_m_per_frame,
         vertical: bounds.vertical_m_per_frame,
-        rotation: bounds
-            .rotation_rad_per_frame
-            .unwrap_or(SpeedBound::NO_ROTATION_BOUND),
+        rotation: bounds.rotation_rad_per_frame,
     }
 }
 

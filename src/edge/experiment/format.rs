@@ -155,7 +155,8 @@ pub struct ViewEntry {
 pub struct SpeedBoundsEntry {
     pub horizontal_m_per_frame: f64,
     pub vertical_m_per_frame: f64,
-    /// Bound on the turn of the look direction per frame; absent: π, which bounds nothing.
+    /// Bound on the turn of the look direction per frame; absent: the flight's largest turn
+    /// (derived at load).
     #[serde(default)]
     pub rotation_rad_per_frame: Option<f64>,
 }

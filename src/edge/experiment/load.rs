@@ -3,8 +3,21 @@
 //! Also the runnable [`Experiment`] this produces. Not the checks of the file's meaning (stage 2,
 //! `check.rs`), which have all passed before anything here runs; reading stops at the first
 //! problem.
+//!
+//! **An undeclared rotation bound is the flight's own largest turn.** An experiment without
+//! `speed_bounds.rotation_rad_per_frame` gets, once its flight is built, the largest angle
+//! between consecutive look directions ([`largest_turn`], the angle the motion check measures;
+//! 0 for a flight that never turns), and [`Experiment::rotation_bound`] records that it was
+//! [`BoundOrigin::Derived`] so that summary.json, report.md and `validate` say so. It is derived
+//! whenever the file declares none, whether or not an entry uses it (Wu's view keys, ROAM's
+//! deferral): it is the flight's truth, so no frame breaks it, and entries that ignore the bound
+//! are unaffected. What it replaces, π, bounded nothing and made those entries re-test nearly
+//! everything every frame without saying so. A declared bound stays a promise, checked every
+//! frame. The horizontal and vertical bounds are required by the format and never derived. The
+//! turn is the whole flight's as the file has it: `--frames` shortens the flight afterwards, so
+//! a shortened run's first frames are those of the whole run.
 
-use super::check::MeshExports;
+use super::check::{DeclaredSpeedBounds, MeshExports};
 use super::entries::AlgorithmSpec;
 use super::format::{
     AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry,
@@ -18,7 +31,7 @@ use crate::edge::terrain_readers::{
     read_terrain,
 };
 use crate::sim::flight::{
-    Altitude, Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint,
+    Altitude, Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, largest_turn,
 };
 use crate::sim::run::Effects;
 use crate::sim::terrain::embed::{Fit, embed};
@@ -44,7 +57,10 @@ pub struct Experiment {
     pub fovy_deg: f64,
     /// `limits.max_triangles`: a frame of any entry with more triangles stops the run.
     pub max_triangles: u64,
+    /// The motion bounds the algorithms assume and the flight is checked against.
     pub speed: SpeedBound,
+    /// Whether `speed.rotation` was declared or derived from the flight (the module docs).
+    pub rotation_bound: BoundOrigin,
     pub flight: Flight,
     pub flight_kind: &'static str,
     /// The flight's length as the file has it, before any `--frames` shortening.
@@ -63,6 +79,31 @@ pub struct Experiment {
     pub mesh_exports: Option<MeshExports>,
     /// The point of the experiment's top-level sweep this is (`None` without a sweep).
     pub sweep_point: Option<SweepChoice>,
+}
+
+/// Where a motion bound of an [`Experiment`] comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoundOrigin {
+    /// The experiment file declares it: a promise the flight is checked against.
+    Declared,
+    /// The file declares none: the flight's own largest figure, which no frame breaks.
+    Derived,
+}
+
+impl DeclaredSpeedBounds {
+    /// The bounds for `flight`: a missing rotation bound becomes its largest turn.
+    pub(super) fn for_flight(self, flight: &Flight) -> (SpeedBound, BoundOrigin) {
+        let (rotation, origin) = match self.rotation {
+            Some(rotation) => (rotation, BoundOrigin::Declared),
+            None => (largest_turn(flight), BoundOrigin::Derived),
+        };
+        let speed = SpeedBound {
+            horizontal: self.horizontal,
+            vertical: self.vertical,
+            rotation,
+        };
+        (speed, origin)
+    }
 }
 
 impl Experiment {

@@ -34,7 +34,7 @@ mod tune;
 pub use check::MeshExports;
 pub use entries::{AlgorithmSpec, tuned_spec};
 pub use format::FORMAT_VERSION;
-pub use load::{Experiment, TerrainReport};
+pub use load::{BoundOrigin, Experiment, TerrainReport};
 pub use parameters::KNOWN_ALGORITHMS;
 pub use plan::{Plan, check_bytes, load, plan};
 pub use problems::{ExperimentError, FieldProblem};

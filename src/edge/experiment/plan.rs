@@ -184,7 +184,8 @@ impl Plan {
                 ),
             )));
         }
-        let violations = speed_violations(&flight, checked.speed);
+        let (speed, rotation_bound) = checked.speed.for_flight(&flight);
+        let violations = speed_violations(&flight, speed);
         let below_ground_frames = flight.frames_below_ground(&field);
         let experiment = Experiment {
             name: parsed.name.clone(),
@@ -196,7 +197,8 @@ impl Plan {
             view: checked.view,
             fovy_deg: parsed.view.fovy_deg,
             max_triangles: checked.max_triangles,
-            speed: checked.speed,
+            speed,
+            rotation_bound,
             flight_kind: path_kind(&parsed.flight.path),
             frames_in_file: flight.n_frames(),
             flight,

@@ -15,7 +15,7 @@ use super::goal_check::{
 use super::summary_json::Preprocessing;
 use super::tuning::{TuningRecord, write_tuned_entries};
 use super::warm_up::{Settling, settling, summarised_runs, warm_up_paragraph};
-use crate::edge::experiment::Experiment;
+use crate::edge::experiment::{BoundOrigin, Experiment};
 use crate::sim::stats::{pareto_front, summarise};
 use std::fmt::Write;
 
@@ -122,6 +122,14 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
             ""
         },
     );
+    if experiment.rotation_bound == BoundOrigin::Derived {
+        let _ = writeln!(
+            out,
+            "The rotation bound was not declared: the flight's largest turn, {} rad a frame, was \
+             used.\n",
+            experiment.speed.rotation
+        );
+    }
     if let Some(first) = experiment.below_ground_frames.first() {
         let _ = writeln!(
             out,

@@ -7,7 +7,7 @@ use super::columns::{RunColumns, numeric_columns, value};
 use super::goal_check::check_goal;
 use super::tuning::TuningRecord;
 use super::warm_up::{SETTLED_WITHIN, settling, summarised_runs};
-use crate::edge::experiment::Experiment;
+use crate::edge::experiment::{BoundOrigin, Experiment};
 use crate::sim::algorithm::columns::wu::BASE_B;
 use crate::sim::flight::BrokenBounds;
 use crate::sim::stats::summarise;
@@ -236,6 +236,8 @@ pub fn summary_json(
                 "horizontal_m_per_frame": experiment.speed.horizontal,
                 "vertical_m_per_frame": experiment.speed.vertical,
                 "rotation_rad_per_frame": experiment.speed.rotation,
+                "rotation_rad_per_frame_derived":
+                    experiment.rotation_bound == BoundOrigin::Derived,
             },
             "speed_violation_count": experiment.violations.len(),
             "speed_violation_count_by_bound": {

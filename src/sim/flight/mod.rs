@@ -15,7 +15,7 @@ mod path;
 mod speed;
 
 pub use path::{Altitude, FlightPath, Interpolation, Look, Waypoint};
-pub use speed::{BrokenBounds, SpeedViolation, speed_violations};
+pub use speed::{BrokenBounds, SpeedViolation, largest_turn, speed_violations};
 
 use crate::sim::terrain::Heightfield;
 use crate::sim::view::Pose;

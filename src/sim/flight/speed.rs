@@ -7,8 +7,11 @@
 //! The horizontal step is the Euclidean length of the eye's move in the plane, the vertical step
 //! its absolute change in z, the turn the angle between consecutive look directions. Frame 0 has
 //! no previous frame and is never listed. The runner hands each frame its [`BrokenBounds`].
+//! [`largest_turn`] measures the same turn over a whole flight: the rotation bound of an
+//! experiment that declares none.
 
 use super::Flight;
+use crate::sim::view::Pose;
 use crate::sim::zone::SpeedBound;
 
 /// Which of the motion bounds a frame broke (what an algorithm sees in its frame input).
@@ -81,9 +84,7 @@ pub fn speed_violations(flight: &Flight, bound: SpeedBound) -> Vec<SpeedViolatio
             let d = pair[1].position - pair[0].position;
             let horizontal = d.truncate().length();
             let vertical = d.z.abs();
-            let (from, to) = (pair[0].forward(), pair[1].forward());
-            // atan2 of sine and cosine: accurate for the tiny angles of a smooth flight.
-            let rotation = from.cross(to).length().atan2(from.dot(to));
+            let rotation = turn(&pair[0], &pair[1]);
             let broken = BrokenBounds {
                 horizontal: horizontal > bound.horizontal,
                 vertical: vertical > bound.vertical,
@@ -98,4 +99,22 @@ pub fn speed_violations(flight: &Flight, bound: SpeedBound) -> Vec<SpeedViolatio
             })
         })
         .collect()
+}
+
+/// The largest turn of the look direction between consecutive frames, radians: the angle the
+/// motion check compares with the rotation bound, so no frame of `flight` breaks a rotation bound
+/// of this value. 0 for a flight that never turns (or has one frame).
+pub fn largest_turn(flight: &Flight) -> f64 {
+    flight
+        .poses()
+        .windows(2)
+        .map(|pair| turn(&pair[0], &pair[1]))
+        .fold(0.0, f64::max)
+}
+
+/// The angle between two poses' look directions, radians.
+fn turn(from: &Pose, to: &Pose) -> f64 {
+    let (from, to) = (from.forward(), to.forward());
+    // atan2 of sine and cosine: accurate for the tiny angles of a smooth flight.
+    from.cross(to).length().atan2(from.dot(to))
 }

@@ -47,7 +47,9 @@
 //! `speed_bounds.rotation_rad_per_frame` ([`super::Roam::new`]; tests may pass their own through
 //! [`super::Roam::with_motion_bound`]); a frame whose camera turned by more than θ since the
 //! previous one, or that the runner reports as breaking a bound, revalidates. An experiment that
-//! declares no rotation bound gives none, and every turn recomputes everything.
+//! declares no rotation bound gets its flight's largest turn (derived at load; 0 for a flight
+//! that never turns, so any turn revalidates). Only π (`SpeedBound::NO_ROTATION_BOUND`) gives
+//! none, and every turn then recomputes everything.
 
 use super::bintree::TriangleKey;
 use super::priority::Wedgie;

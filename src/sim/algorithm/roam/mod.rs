@@ -47,13 +47,14 @@
 //!   recomputed only when its time-dependent bound could reach the crossover (τ, or a band around
 //!   the moving crossover of a target), scheduled on a ring of per-frame lists by a closed-form
 //!   frame count; the meshes are exactly those of full recomputation. The bound uses the speed
-//!   bound v = √(v_h² + v_v²) metres per frame and, when the experiment declares one
-//!   (`speed_bounds.rotation_rad_per_frame`, taken by [`Roam::new`]; tests may pass their own
-//!   [`MotionBound`] to [`Roam::with_motion_bound`]), a rotation bound θ radians per frame. A
-//!   frame that broke the speed
-//!   bounds, that turned by more than θ, or (without θ) whose orientation changed at all, and the
-//!   first frame, recompute everything (`revalidations`); without θ such a frame schedules
-//!   nothing, so a turning camera costs what no deferral costs;
+//!   bound v = √(v_h² + v_v²) metres per frame and a rotation bound θ radians per frame
+//!   (`speed_bounds.rotation_rad_per_frame`, or when undeclared the flight's largest turn, taken
+//!   by [`Roam::new`]; π gives none; tests may pass their own [`MotionBound`] to
+//!   [`Roam::with_motion_bound`]). A frame that broke the speed bounds, that turned by more
+//!   than θ (the rotation of the camera's whole frame, which may exceed the look direction's
+//!   turn the runner checks: then a revalidation, never a wrong deferral), or (without θ) whose
+//!   orientation changed at all, and the first frame, recompute everything (`revalidations`);
+//!   without θ such a frame schedules nothing, so a turning camera costs what no deferral costs;
 //! - culling flags (§7.1, `cull.rs`): per-half-space IN flags and OUT / ALL-IN / DONT-KNOW
 //!   labels, updated each frame by a traversal that stops at triangles whose OUT or ALL-IN label
 //!   still holds, and inherited by the children of a split; `Out` triangles get priority 0;
@@ -305,8 +306,9 @@ pub struct Roam<'h> {
 }
 
 impl<'h> Roam<'h> {
-    /// `roam` with the experiment's speed and rotation bounds (an experiment that declares no
-    /// rotation bound, π, gives the deferral none: every turn then recomputes everything).
+    /// `roam` with the experiment's speed and rotation bounds (a rotation bound of π gives the
+    /// deferral none: every turn then recomputes everything; an experiment that declares none
+    /// gets its flight's largest turn at load, not π).
     pub fn new(hierarchy: &'h Hierarchy, config: RoamConfig, speed: SpeedBound) -> Roam<'h> {
         let motion = MotionBound {
             metres_per_frame: speed.horizontal.hypot(speed.vertical),

@@ -27,9 +27,10 @@
 //! relative 10⁻⁹ of the distance) so that rounding never decides; a node whose state cannot
 //! change sooner than that is looked at again then, and not before. These are the view keys the
 //! queues use beside the life keys; they are valid only while both bounds hold, so a frame that
-//! breaks either revalidates them. An experiment that declares no rotation bound gets π
-//! (`SpeedBound::NO_ROTATION_BOUND`), which every turn honours: such files run unchanged, and the
-//! view keys then defer little.
+//! breaks either revalidates them. An experiment that declares no rotation bound gets its
+//! flight's largest turn (derived at load), which no frame breaks; a flight that never turns gets
+//! ω = 0, and the margins and keys are those of the eye's motion alone. π
+//! (`SpeedBound::NO_ROTATION_BOUND`) bounds nothing, and the view keys then defer little.
 //!
 //! **Owned triangles.** Each mesh triangle lies in exactly one smallest active block (or, while
 //! the root is inactive, in none: the two base triangles). [`owned_triangles`] counts a block's
