@@ -167,13 +167,14 @@ pub fn add_triangle_or_degenerate(
     info: TriangleInfo,
 ) -> bool {
     let points = corners.map(|c| list.vertices()[c as usize].position);
-    let (corners, role) = match Winding::of_points(points) {
+    let winding = Winding::of_points(points);
+    let (corners, role) = match winding {
         Winding::CounterClockwise => (corners, info.role),
         Winding::Clockwise => ([corners[0], corners[2], corners[1]], info.role),
         Winding::Flat => (corners, TriangleRole::Degenerate),
     };
     list.add_triangle(corners, TriangleInfo { role, ..info });
-    role != TriangleRole::Degenerate
+    winding != Winding::Flat
 }
 
 /// Triangulates between two rows of vertices on parallel lines (each row: list indices with
