@@ -128,7 +128,7 @@ type DrawnSignature = ([(i64, i64); 3], usize, u32, u32);
 #[derive(Debug, PartialEq)]
 struct BlockDecisions {
     triangles: Vec<DrawnSignature>,
-    counts: [u64; 6],
+    counts: [u64; 5],
     heights: Vec<[f64; 3]>,
 }
 
@@ -186,7 +186,6 @@ fn block_decisions(
                     stats.merges,
                     stats.vertices_inserted,
                     stats.vertices_deleted,
-                    stats.vertices_changed.unwrap_or(u64::MAX),
                 ],
                 heights,
             }

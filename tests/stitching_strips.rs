@@ -303,8 +303,6 @@ fn statistics_count_blocks_strips_p_blocks_and_the_factors() {
         } else {
             assert_eq!(column(P_BLOCKS), splits as f64);
             assert_eq!(column(M_BLOCKS_CULLED), 0.0);
-            // Strip and P-block vertices are what the CPU uploads.
-            assert!(stats.vertices_changed.is_some_and(|v| v > 0));
         }
     }
 }

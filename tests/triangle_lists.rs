@@ -118,7 +118,6 @@ fn skirted_patches_pass_every_check_and_the_audit_measures_their_cracks() {
         let [surface, skirt, degenerate, stitch] = counts.triangles_by_role;
         assert_eq!(surface + skirt + degenerate + stitch, stats.triangles);
         assert!(skirt > 0 && degenerate > 0 && stitch == 0, "{counts:?}");
-        assert_eq!(counts.draw_batches, 64, "one batch per patch: {counts:?}");
         assert!(stats.triangles_rendered < stats.triangles);
         let audit = stats.audit.unwrap();
         let coverage = audit.coverage.unwrap();
@@ -128,7 +127,6 @@ fn skirted_patches_pass_every_check_and_the_audit_measures_their_cracks() {
             "frame {}: patches of different steps meet with T-junctions",
             stats.frame
         );
-        assert!(stats.vertices_changed.is_some());
     }
     assert!(frames.iter().any(|f| f.mesh.unwrap().morphing_vertices > 0));
     assert!(

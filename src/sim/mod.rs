@@ -9,6 +9,7 @@
 
 pub mod algorithm;
 pub mod audit;
+pub mod draw;
 pub mod flight;
 pub mod hierarchy;
 pub mod mesh;

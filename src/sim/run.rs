@@ -28,6 +28,7 @@
 use crate::sim::algorithm::chunked::detail::DetailField;
 use crate::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
 use crate::sim::audit::{AuditSettings, Auditor};
+use crate::sim::draw::check::{DrawMismatch, check_buffers_draw_mesh};
 use crate::sim::flight::{Flight, SpeedViolation};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::MeshOutput;
@@ -78,6 +79,8 @@ pub struct RunError {
 pub enum CheckError {
     #[error("mesh check failed: {0}")]
     Mesh(#[from] MeshCheckError),
+    #[error("buffer check failed: {0}")]
+    Buffers(#[from] DrawMismatch),
     #[error(
         "mesh check failed: the algorithm declares {declared} extra columns but filled {filled}"
     )]
@@ -217,6 +220,11 @@ impl<'a> FrameRunner<'a> {
         let start = Instant::now();
         algorithm.update(&input, &mut stats);
         stats.update_ns = start.elapsed().as_nanos() as u64;
+        let draw = algorithm.prepare_draw();
+        stats.frame_ns = start.elapsed().as_nanos() as u64;
+        stats.upload_bytes = draw.upload_bytes;
+        stats.draw_calls = draw.draw_calls;
+        stats.triangles_submitted = draw.triangles_submitted;
         if let Some(limit) = inputs.max_triangles
             && stats.triangles > limit
         {
@@ -279,6 +287,7 @@ fn check_frame(
     stats: &FrameStats,
 ) -> Result<(), CheckError> {
     checker.check(hierarchy, mesh, algorithm.triangle_count())?;
+    check_buffers_draw_mesh(algorithm.buffers(), mesh, hierarchy)?;
     let declared = algorithm.extra_columns().len();
     if stats.extra.len() != declared {
         return Err(CheckError::ExtraColumns {

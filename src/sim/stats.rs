@@ -9,9 +9,9 @@
 //! them is the edge's business.
 //!
 //! The mesh counts of the families beyond plain 4-8 meshes ([`MeshCounts`]) are filled by the
-//! runner from the mesh. *Vertices changed* (what a renderer would upload again) is the
-//! algorithm's own count, since only it knows which vertex is which from frame to frame; plain
-//! 4-8 algorithms leave it empty, their `vertices_inserted` and `vertices_deleted` saying it.
+//! runner from the mesh. What a frame costs a GPU (`upload_bytes`, `draw_calls`,
+//! `triangles_submitted`) comes from the buffers each algorithm keeps (`crate::sim::draw`),
+//! the same way for every algorithm.
 
 /// Error statistics over the samples of one frame, in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,14 +77,12 @@ pub struct PoppingFrame {
 }
 
 /// What the mesh families beyond plain 4-8 meshes are counted by (the runner reads them off the
-/// mesh): triangles by role, draw batches, morphing vertices.
+/// mesh): triangles by role, morphing vertices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MeshCounts {
     /// Surface, skirt, degenerate and stitch triangles, in the order of
     /// [`crate::sim::mesh::TriangleRole::ALL`].
     pub triangles_by_role: [u64; 4],
-    /// Maximal runs of consecutive triangles of one group (one draw call each).
-    pub draw_batches: u64,
     /// Vertices drawn at a morphed height.
     pub morphing_vertices: u64,
 }
@@ -105,12 +103,18 @@ pub struct FrameStats {
     pub metric_evaluations: u64,
     /// Wall-clock time of the algorithm's update, in nanoseconds.
     pub update_ns: u64,
+    /// Wall-clock time from the new camera to drawable buffers (the update, then the
+    /// algorithm's buffer upkeep: `LodAlgorithm::prepare_draw`), in nanoseconds: the study's
+    /// time axis.
+    pub frame_ns: u64,
+    /// Bytes written into GPU buffers this frame (vertices, indices, per-draw data).
+    pub upload_bytes: u64,
+    /// Draw calls issued this frame.
+    pub draw_calls: u64,
+    /// Triangles the draw calls submit, degenerate ones included.
+    pub triangles_submitted: u64,
     /// Values of the algorithm's extra columns, in the order it declares them.
     pub extra: Vec<f64>,
-    /// Vertices whose position or height changed since the previous frame (what a renderer
-    /// would upload again): filled by algorithms that draw triangle lists or morph; `None`
-    /// where it does not apply.
-    pub vertices_changed: Option<u64>,
     /// Filled by the runner from the mesh, for triangle lists and morphed 4-8 meshes.
     pub mesh: Option<MeshCounts>,
     /// The audit against the source height field.

@@ -19,6 +19,8 @@
 
 use glam::DVec3;
 use roamsim::sim::algorithm::{FrameInput, LodAlgorithm};
+use roamsim::sim::draw::emit::RebuiltBuffers;
+use roamsim::sim::draw::{DrawCounts, GpuBuffers};
 use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
 use roamsim::sim::mesh::{
     CrackPolicy, MeshOutput, MorphedHeights, SubgridPoint, TriangleInfo, TriangleList,
@@ -60,9 +62,7 @@ pub struct Patches<'h> {
     levels: Vec<(u32, f64)>,
     previous_levels: Vec<(u32, f64)>,
     list: TriangleList,
-    /// Per patch: its morphing vertices this frame (for the changed-vertex count).
-    morphing_per_patch: Vec<u64>,
-    vertices_per_patch: Vec<u64>,
+    draw: RebuiltBuffers,
 }
 
 impl<'h> Patches<'h> {
@@ -82,8 +82,7 @@ impl<'h> Patches<'h> {
             levels: vec![(u32::MAX, 0.0); n],
             previous_levels: vec![(u32::MAX, 0.0); n],
             list: TriangleList::new(lattice, policy),
-            morphing_per_patch: vec![0; n],
-            vertices_per_patch: vec![0; n],
+            draw: RebuiltBuffers::new(),
         }
     }
 
@@ -137,8 +136,6 @@ impl<'h> Patches<'h> {
             (Borders::Collapsed, Some(s)) if s > step => s,
             _ => step,
         });
-        let mut morphing = 0;
-        let first_vertex = self.list.vertices().len();
         let mut index = vec![0u32; ((n + 1) * (n + 1)) as usize];
         for b in 0..=n {
             for a in 0..=n {
@@ -169,7 +166,6 @@ impl<'h> Patches<'h> {
                         let high = hierarchy.height(GridPoint::new(i + di, j + dj));
                         let coarse = 0.5 * (f64::from(low) + f64::from(high));
                         let z = f64::from(sample) + morph * (coarse - f64::from(sample));
-                        morphing += 1;
                         self.list.add_morphing_vertex(position, z as f32)
                     } else {
                         self.list.add_vertex(position, sample)
@@ -238,8 +234,6 @@ impl<'h> Patches<'h> {
             self.list
                 .add_triangle([top_a, bottom_b, bottom_a], info(TriangleRole::Skirt));
         }
-        self.morphing_per_patch[patch] = morphing;
-        self.vertices_per_patch[patch] = (self.list.vertices().len() - first_vertex) as u64;
     }
 }
 
@@ -274,25 +268,28 @@ impl LodAlgorithm for Patches<'_> {
                 self.build_patch(px, py);
             }
         }
-        let (mut finer, mut coarser, mut changed) = (0, 0, 0);
-        for (patch, (now, before)) in self.levels.iter().zip(&self.previous_levels).enumerate() {
-            if now.0 != before.0 {
-                changed += self.vertices_per_patch[patch];
-                if now.0 < before.0 {
-                    finer += 1;
-                } else {
-                    coarser += 1;
-                }
-            } else if now.1 != before.1 {
-                changed += self.morphing_per_patch[patch];
+        let (mut finer, mut coarser) = (0, 0);
+        for (now, before) in self.levels.iter().zip(&self.previous_levels) {
+            if now.0 < before.0 {
+                finer += 1;
+            } else if now.0 > before.0 {
+                coarser += 1;
             }
         }
         stats.triangles = self.list.n_triangles();
         stats.splits = finer;
         stats.merges = coarser;
         stats.metric_evaluations = u64::from(self.patches * self.patches);
-        stats.vertices_changed = Some(changed);
         stats.extra.clear();
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::triangles(&self.list), self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
@@ -315,7 +312,7 @@ pub struct MorphingLattice<'h> {
     /// The vertices the next coarser uniform mesh lacks.
     finest: Vec<GridPoint>,
     morphed: MorphedHeights,
-    previous: MorphedHeights,
+    draw: RebuiltBuffers,
     /// Full morph beyond this distance, none nearer than `near_m`.
     near_m: f64,
     far_m: f64,
@@ -344,7 +341,7 @@ impl<'h> MorphingLattice<'h> {
             vertices,
             finest,
             morphed: MorphedHeights::new(),
-            previous: MorphedHeights::new(),
+            draw: RebuiltBuffers::new(),
             near_m,
             far_m,
         }
@@ -363,9 +360,7 @@ impl LodAlgorithm for MorphingLattice<'_> {
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let lattice = self.hierarchy.lattice();
         let field = self.hierarchy.field();
-        std::mem::swap(&mut self.morphed, &mut self.previous);
         self.morphed.clear();
-        let mut changed = 0;
         for &p in &self.finest {
             let position = field.position(p.i as usize, p.j as usize);
             let distance = position.distance(input.camera.eye);
@@ -376,11 +371,18 @@ impl LodAlgorithm for MorphingLattice<'_> {
                 let z = position.z - t * self.hierarchy.vertex_error(p);
                 self.morphed.set(id, z as f32);
             }
-            changed += u64::from(self.morphed.get(id) != self.previous.get(id));
         }
         stats.triangles = self.vertices.triangle_count(lattice);
-        stats.vertices_changed = Some(changed);
         stats.extra.clear();
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        let mesh = MeshOutput::morphed_lattice(&self.vertices, &self.morphed);
+        self.draw.prepare(mesh, self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
@@ -392,6 +394,6 @@ impl LodAlgorithm for MorphingLattice<'_> {
     }
 
     fn memory_bytes(&self) -> usize {
-        self.vertices.memory_bytes() + self.morphed.memory_bytes() + self.previous.memory_bytes()
+        self.vertices.memory_bytes() + self.morphed.memory_bytes()
     }
 }

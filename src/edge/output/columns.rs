@@ -24,6 +24,10 @@ pub const COMMON_COLUMNS: &[&str] = &[
     "vertices_deleted",
     "metric_evaluations",
     "update_ns",
+    "frame_ns",
+    "upload_bytes",
+    "draw_calls",
+    "triangles_submitted",
 ];
 
 /// What the families beyond plain 4-8 meshes are counted by, in order (present when some run's
@@ -33,9 +37,7 @@ pub const MESH_COLUMNS: &[&str] = &[
     "triangles_skirt",
     "triangles_degenerate",
     "triangles_stitch",
-    "draw_batches",
     "morphing_vertices",
-    "vertices_changed",
 ];
 
 /// Audit columns, in order.
@@ -82,7 +84,12 @@ pub const POPPING_COLUMNS: &[&str] = &[
 ];
 
 /// Columns whose values are wall-clock measurements (excluded from determinism comparisons).
-pub const TIMING_COLUMNS: &[&str] = &["update_ns", "strip_construction_ns", "detail_synthesis_ms"];
+pub const TIMING_COLUMNS: &[&str] = &[
+    "update_ns",
+    "frame_ns",
+    "strip_construction_ns",
+    "detail_synthesis_ms",
+];
 
 /// One algorithm's frames with the names of its extra columns.
 pub struct RunColumns<'a> {
@@ -96,7 +103,7 @@ pub fn numeric_columns<'a>(runs: &[RunColumns<'a>], audited: bool) -> Vec<&'a st
     let any_frame =
         |has: &dyn Fn(&FrameStats) -> bool| runs.iter().any(|r| r.frames.iter().any(has));
     let mut names: Vec<&'a str> = COMMON_COLUMNS.to_vec();
-    if any_frame(&|f| f.mesh.is_some() || f.vertices_changed.is_some()) {
+    if any_frame(&|f| f.mesh.is_some()) {
         names.extend_from_slice(MESH_COLUMNS);
     }
     for run in runs {
@@ -138,13 +145,15 @@ pub fn value(run: &RunColumns, frame: &FrameStats, column: &str) -> Option<f64> 
         "vertices_deleted" => count(frame.vertices_deleted),
         "metric_evaluations" => count(frame.metric_evaluations),
         "update_ns" => count(frame.update_ns),
+        "frame_ns" => count(frame.frame_ns),
+        "upload_bytes" => count(frame.upload_bytes),
+        "draw_calls" => count(frame.draw_calls),
+        "triangles_submitted" => count(frame.triangles_submitted),
         "triangles_surface" => mesh.map(|m| m.triangles_by_role[0] as f64),
         "triangles_skirt" => mesh.map(|m| m.triangles_by_role[1] as f64),
         "triangles_degenerate" => mesh.map(|m| m.triangles_by_role[2] as f64),
         "triangles_stitch" => mesh.map(|m| m.triangles_by_role[3] as f64),
-        "draw_batches" => mesh.map(|m| m.draw_batches as f64),
         "morphing_vertices" => mesh.map(|m| m.morphing_vertices as f64),
-        "vertices_changed" => frame.vertices_changed.map(|n| n as f64),
         _ if column.starts_with("audit_detail_") => audit_value(
             frame.audit_detail.as_ref(),
             &column.replacen("audit_detail_", "audit_", 1),
@@ -225,7 +234,6 @@ mod tests {
         let listed = [FrameStats {
             mesh: Some(MeshCounts {
                 triangles_by_role: [10, 4, 2, 0],
-                draw_batches: 3,
                 morphing_vertices: 1,
             }),
             ..FrameStats::default()

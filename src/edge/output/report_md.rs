@@ -331,7 +331,7 @@ fn write_popping(out: &mut String, runs: &[RunColumns]) {
     );
 }
 
-/// Triangles by role, draw batches, holes and cracks, for entries that draw triangle lists or
+/// Triangles by role, morphing vertices, holes and cracks, for entries that draw triangle lists or
 /// morph.
 fn write_triangle_lists(out: &mut String, runs: &[RunColumns]) {
     let listed: Vec<&RunColumns> = runs
@@ -343,20 +343,18 @@ fn write_triangle_lists(out: &mut String, runs: &[RunColumns]) {
     }
     let _ = writeln!(
         out,
-        "\n## Meshes beyond the 4-8 family\n\n| entry | surface | skirt | degenerate | stitch | draw batches | morphing vertices | vertices changed | holes | crack samples | crack gap max (m) | left open by skirts max (m) |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "\n## Meshes beyond the 4-8 family\n\n| entry | surface | skirt | degenerate | stitch | morphing vertices | holes | crack samples | crack gap max (m) | left open by skirts max (m) |\n|---|---|---|---|---|---|---|---|---|---|"
     );
     for run in listed {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             run.label.replace('|', "\\|"),
             cell(mean_of(run, "triangles_surface"), 0),
             cell(mean_of(run, "triangles_skirt"), 0),
             cell(mean_of(run, "triangles_degenerate"), 0),
             cell(mean_of(run, "triangles_stitch"), 0),
-            cell(mean_of(run, "draw_batches"), 1),
             cell(mean_of(run, "morphing_vertices"), 0),
-            cell(mean_of(run, "vertices_changed"), 0),
             cell(max_of(run, "audit_holes"), 0),
             cell(mean_of(run, "audit_crack_samples"), 1),
             cell(max_of(run, "audit_crack_gap_max_m"), 3),
@@ -409,10 +407,8 @@ mod tests {
             triangles: 16,
             mesh: Some(MeshCounts {
                 triangles_by_role: [10, 4, 2, 0],
-                draw_batches: 3,
                 morphing_vertices: 5,
             }),
-            vertices_changed: Some(frame * 2),
             audit: Some(AuditFrame {
                 samples_in_view: 100,
                 projected: None,

@@ -111,7 +111,8 @@ impl TimingPasses<'_> {
                 run_algorithm_with(&clean, &spec.label, fresh.as_mut(), &mut |outcome, _| {
                     progress.frame_done(outcome.stats.frame);
                 })?;
-            pass_times.push(same_counts_timed(&spec.label, frames, &timed)?);
+            same_counts(&spec.label, frames, &timed)?;
+            pass_times.push(timed.iter().map(|f| (f.update_ns, f.frame_ns)).collect());
             pass_frames.push(timed);
         }
         let facts = take_pass_times(frames, &pass_times, experiment.warm_up_frames);
@@ -120,13 +121,9 @@ impl TimingPasses<'_> {
     }
 }
 
-/// A timing pass's update times, when it drew the measured pass's triangle counts frame by
-/// frame (else the run stops: an algorithm must decide alike on every pass).
-fn same_counts_timed(
-    label: &str,
-    measured: &[FrameStats],
-    timed: &[FrameStats],
-) -> Result<Vec<u64>, RunError> {
+/// Whether a timing pass drew the measured pass's triangle counts frame by frame (else the run
+/// stops: an algorithm must decide alike on every pass).
+fn same_counts(label: &str, measured: &[FrameStats], timed: &[FrameStats]) -> Result<(), RunError> {
     for (m, t) in measured.iter().zip(timed) {
         if m.triangles != t.triangles {
             return Err(RunError {
@@ -139,40 +136,71 @@ fn same_counts_timed(
             });
         }
     }
-    Ok(timed.iter().map(|f| f.update_ns).collect())
+    Ok(())
 }
 
-/// Puts each frame's median (nearest rank) over the timing passes into `frames`, and returns
-/// the facts of the spread: the median update time of each pass over the summarised frames
-/// (after `warm_up_frames`), and those medians' median, least and greatest, in µs.
+/// Puts each frame's median (nearest rank) over the timing passes into `frames` (`update_ns`
+/// and `frame_ns`, each pass's pair per frame), and returns the facts of the spread: the median
+/// update and frame time of each pass over the summarised frames (after `warm_up_frames`), and
+/// those medians' median, least and greatest, in µs.
 fn take_pass_times(
     frames: &mut [FrameStats],
-    pass_times: &[Vec<u64>],
+    pass_times: &[Vec<(u64, u64)>],
     warm_up_frames: u64,
 ) -> Vec<(&'static str, f64)> {
     let mut at_frame = Vec::with_capacity(pass_times.len());
+    let median = |at_frame: &mut Vec<u64>| {
+        at_frame.sort_unstable();
+        at_frame[at_frame.len().div_ceil(2) - 1]
+    };
     for (k, frame) in frames.iter_mut().enumerate() {
         at_frame.clear();
-        at_frame.extend(pass_times.iter().map(|pass| pass[k]));
-        at_frame.sort_unstable();
-        frame.update_ns = at_frame[at_frame.len().div_ceil(2) - 1];
+        at_frame.extend(pass_times.iter().map(|pass| pass[k].0));
+        frame.update_ns = median(&mut at_frame);
+        at_frame.clear();
+        at_frame.extend(pass_times.iter().map(|pass| pass[k].1));
+        frame.frame_ns = median(&mut at_frame);
     }
     let skip = usize::try_from(warm_up_frames).unwrap_or(usize::MAX);
-    let medians: Vec<f64> = pass_times
-        .iter()
-        .filter_map(|pass| {
-            let summarised: Vec<f64> = pass.iter().skip(skip).map(|&ns| ns as f64).collect();
-            summarise(&summarised).map(|s| s.p50 / 1e3)
-        })
-        .collect();
-    match summarise(&medians) {
-        Some(spread) => vec![
-            ("update_p50_us_median_of_passes", spread.p50),
-            ("update_p50_us_least_of_passes", least(&medians)),
-            ("update_p50_us_greatest_of_passes", spread.max),
-        ],
-        None => Vec::new(),
+    let medians = |which: fn(&(u64, u64)) -> u64| -> Vec<f64> {
+        pass_times
+            .iter()
+            .filter_map(|pass| {
+                let summarised: Vec<f64> =
+                    pass.iter().skip(skip).map(|t| which(t) as f64).collect();
+                summarise(&summarised).map(|s| s.p50 / 1e3)
+            })
+            .collect()
+    };
+    let mut facts = Vec::new();
+    let names = [
+        (
+            [
+                "update_p50_us_median_of_passes",
+                "update_p50_us_least_of_passes",
+                "update_p50_us_greatest_of_passes",
+            ],
+            medians(|t| t.0),
+        ),
+        (
+            [
+                "frame_p50_us_median_of_passes",
+                "frame_p50_us_least_of_passes",
+                "frame_p50_us_greatest_of_passes",
+            ],
+            medians(|t| t.1),
+        ),
+    ];
+    for ([median_name, least_name, greatest_name], medians) in names {
+        if let Some(spread) = summarise(&medians) {
+            facts.extend([
+                (median_name, spread.p50),
+                (least_name, least(&medians)),
+                (greatest_name, spread.max),
+            ]);
+        }
     }
+    facts
 }
 
 /// The algorithm's own timing columns (parts of its update, such as the stitching strips'
@@ -238,20 +266,27 @@ mod tests {
         // Three passes; frame 0's times 5, 9, 7 → 7; the passes' medians over frames 1.. (one
         // warm-up frame): pass 0 {2000, 4000} → 2 µs, pass 1 {1000, 1000} → 1, pass 2
         // {3000, 5000} → 3.
+        // Each frame's time to drawable buffers is its update time plus 100 ns here.
+        let pass = |times: [u64; 3]| times.map(|t| (t, t + 100)).to_vec();
         let passes = [
-            vec![5, 2000, 4000],
-            vec![9, 1000, 1000],
-            vec![7, 3000, 5000],
+            pass([5, 2000, 4000]),
+            pass([9, 1000, 1000]),
+            pass([7, 3000, 5000]),
         ];
         let facts = take_pass_times(&mut frames, &passes, 1);
         let times: Vec<u64> = frames.iter().map(|f| f.update_ns).collect();
         assert_eq!(times, [7, 2000, 4000]);
+        let frame_times: Vec<u64> = frames.iter().map(|f| f.frame_ns).collect();
+        assert_eq!(frame_times, [107, 2100, 4100]);
         assert_eq!(
             facts,
             [
                 ("update_p50_us_median_of_passes", 2.0),
                 ("update_p50_us_least_of_passes", 1.0),
                 ("update_p50_us_greatest_of_passes", 3.0),
+                ("frame_p50_us_median_of_passes", 2.1),
+                ("frame_p50_us_least_of_passes", 1.1),
+                ("frame_p50_us_greatest_of_passes", 3.1),
             ]
         );
     }
@@ -278,9 +313,9 @@ mod tests {
     fn a_timing_pass_that_draws_other_counts_stops_the_run() {
         let measured = frames_with(&[10, 20, 30], &[1, 1, 1]);
         let same = frames_with(&[10, 20, 30], &[4, 5, 6]);
-        assert_eq!(same_counts_timed("a", &measured, &same), Ok(vec![4, 5, 6]));
+        assert_eq!(same_counts("a", &measured, &same), Ok(()));
         let other = frames_with(&[10, 21, 30], &[4, 5, 6]);
-        let error = same_counts_timed("a", &measured, &other).expect_err("diverged");
+        let error = same_counts("a", &measured, &other).expect_err("diverged");
         assert_eq!(error.frame, 1);
         assert!(
             error

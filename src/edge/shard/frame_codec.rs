@@ -24,8 +24,11 @@ pub fn encode_frame(stats: &FrameStats) -> Vec<u64> {
         vertices_deleted,
         metric_evaluations,
         update_ns,
+        frame_ns,
+        upload_bytes,
+        draw_calls,
+        triangles_submitted,
         extra,
-        vertices_changed,
         mesh,
         audit,
         audit_detail,
@@ -40,20 +43,20 @@ pub fn encode_frame(stats: &FrameStats) -> Vec<u64> {
         *vertices_deleted,
         *metric_evaluations,
         *update_ns,
+        *frame_ns,
+        *upload_bytes,
+        *draw_calls,
+        *triangles_submitted,
         extra.len() as u64,
     ];
     words.extend(extra.iter().map(|value| value.to_bits()));
-    push_option(&mut words, vertices_changed.as_ref(), |words, v| {
-        words.push(*v)
-    });
     push_option(&mut words, mesh.as_ref(), |words, mesh| {
         let MeshCounts {
             triangles_by_role,
-            draw_batches,
             morphing_vertices,
         } = mesh;
         words.extend(triangles_by_role);
-        words.extend([*draw_batches, *morphing_vertices]);
+        words.push(*morphing_vertices);
     });
     push_option(&mut words, audit.as_ref(), push_audit);
     push_option(&mut words, audit_detail.as_ref(), push_audit);
@@ -63,7 +66,7 @@ pub fn encode_frame(stats: &FrameStats) -> Vec<u64> {
 /// The frame the words encode; `None` when they are not a whole encoded frame.
 pub fn decode_frame(words: &[u64]) -> Option<FrameStats> {
     let mut reader = Reader { words, at: 0 };
-    let mut counts = [0u64; 9];
+    let mut counts = [0u64; 13];
     for count in &mut counts {
         *count = reader.word()?;
     }
@@ -74,11 +77,9 @@ pub fn decode_frame(words: &[u64]) -> Option<FrameStats> {
     let extra = (0..n_extra)
         .map(|_| reader.float())
         .collect::<Option<Vec<f64>>>()?;
-    let vertices_changed = reader.option(|r| r.word())?;
     let mesh = reader.option(|r| {
         Some(MeshCounts {
             triangles_by_role: [r.word()?, r.word()?, r.word()?, r.word()?],
-            draw_batches: r.word()?,
             morphing_vertices: r.word()?,
         })
     })?;
@@ -97,6 +98,10 @@ pub fn decode_frame(words: &[u64]) -> Option<FrameStats> {
         vertices_deleted,
         metric_evaluations,
         update_ns,
+        frame_ns,
+        upload_bytes,
+        draw_calls,
+        triangles_submitted,
     ] = counts;
     Some(FrameStats {
         frame,
@@ -108,8 +113,11 @@ pub fn decode_frame(words: &[u64]) -> Option<FrameStats> {
         vertices_deleted,
         metric_evaluations,
         update_ns,
+        frame_ns,
+        upload_bytes,
+        draw_calls,
+        triangles_submitted,
         extra,
-        vertices_changed,
         mesh,
         audit,
         audit_detail,
@@ -317,38 +325,37 @@ mod tests {
     }
 
     fn frame() -> impl Strategy<Value = FrameStats> {
-        let mesh = proptest::option::of((any::<[u64; 4]>(), any::<u64>(), any::<u64>()).prop_map(
-            |(roles, batches, morph)| MeshCounts {
+        let mesh = proptest::option::of((any::<[u64; 4]>(), any::<u64>()).prop_map(
+            |(roles, morph)| MeshCounts {
                 triangles_by_role: roles,
-                draw_batches: batches,
                 morphing_vertices: morph,
             },
         ));
         (
-            any::<[u64; 9]>(),
+            any::<[u64; 13]>(),
             proptest::collection::vec(any_float(), 0..6),
-            proptest::option::of(any::<u64>()),
             mesh,
             proptest::option::of(audit()),
             proptest::option::of(audit()),
         )
-            .prop_map(|(c, extra, vertices_changed, mesh, audit, audit_detail)| {
-                FrameStats {
-                    frame: c[0],
-                    triangles: c[1],
-                    triangles_rendered: c[2],
-                    splits: c[3],
-                    merges: c[4],
-                    vertices_inserted: c[5],
-                    vertices_deleted: c[6],
-                    metric_evaluations: c[7],
-                    update_ns: c[8],
-                    extra,
-                    vertices_changed,
-                    mesh,
-                    audit,
-                    audit_detail,
-                }
+            .prop_map(|(c, extra, mesh, audit, audit_detail)| FrameStats {
+                frame: c[0],
+                triangles: c[1],
+                triangles_rendered: c[2],
+                splits: c[3],
+                merges: c[4],
+                vertices_inserted: c[5],
+                vertices_deleted: c[6],
+                metric_evaluations: c[7],
+                update_ns: c[8],
+                frame_ns: c[9],
+                upload_bytes: c[10],
+                draw_calls: c[11],
+                triangles_submitted: c[12],
+                extra,
+                mesh,
+                audit,
+                audit_detail,
             })
     }
 

@@ -38,7 +38,7 @@ use std::path::{Path, PathBuf};
 /// The shard file's name inside a shard folder.
 pub const SHARD_FILE: &str = "shard.json";
 const FORMAT: &str = "roamsim shard";
-const FORMAT_VERSION: u32 = 1;
+const FORMAT_VERSION: u32 = 2;
 
 /// Which part of the work: the `index`-th (1-based) of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

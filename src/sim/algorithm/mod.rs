@@ -38,6 +38,7 @@ pub use stitching::{
 };
 pub use vanek::{LodCurve, LodRounding, PatchDistance, Vanek, VanekConfig};
 
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::MeshOutput;
 use crate::sim::stats::FrameStats;
@@ -65,6 +66,15 @@ pub trait LodAlgorithm {
     /// (`triangles`, splits, merges, vertices, metric evaluations, `extra`); the runner fills the
     /// rest (timing, culling, audit).
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats);
+    /// Brings the buffers a GPU draws up to date with the mesh `update` left, and issues this
+    /// frame's draw list; returns what the frame wrote into GPU buffers (in `update` and here)
+    /// and issued. The runner times `update` and this together as the frame's `frame_ns`: the
+    /// CPU work from a new camera to drawable buffers. Each algorithm keeps the representation
+    /// its paper draws (its module doc says which); the buffers must draw exactly
+    /// [`LodAlgorithm::mesh`] (`crate::sim::draw::check`).
+    fn prepare_draw(&mut self) -> DrawCounts;
+    /// The buffers as the GPU holds them after [`LodAlgorithm::prepare_draw`].
+    fn buffers(&self) -> &GpuBuffers;
     /// The current mesh, in whichever form the algorithm draws (see [`MeshOutput`]).
     fn mesh(&self) -> MeshOutput<'_>;
     /// The algorithm's own triangle count (validated against the mesh in checked runs).

@@ -26,6 +26,8 @@
 
 use super::wu::{Cone, ConeMotion, NodeSphere, Refinement, Sight};
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, NestingRule, VertexClass};
 use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
@@ -83,6 +85,8 @@ pub struct ReferenceConfig {
 
 /// The from-scratch reference. Per frame: O(nodes tested + active vertices).
 pub struct Reference<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     hierarchy: &'h Hierarchy,
     config: ReferenceConfig,
     theta: f64,
@@ -102,6 +106,7 @@ impl<'h> Reference<'h> {
         speed: SpeedBound,
     ) -> Reference<'h> {
         Reference {
+            draw: RebuiltBuffers::new(),
             hierarchy,
             config,
             theta: config.tau_px * view.pixel_angle(),
@@ -228,6 +233,15 @@ impl LodAlgorithm for Reference<'_> {
         stats.vertices_inserted = self.mesh.inserted_since_previous();
         stats.vertices_deleted = self.mesh.deleted_since_previous();
         stats.metric_evaluations = evaluations;
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::lattice(self.mesh.mesh()), self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

@@ -154,12 +154,10 @@ impl<'a> MeshOutput<'a> {
                 ..
             }) => Some(MeshCounts {
                 triangles_by_role: [triangles, 0, 0, 0],
-                draw_batches: 1,
                 morphing_vertices: morphed.len() as u64,
             }),
             MeshOutput::Triangles(list) => Some(MeshCounts {
                 triangles_by_role: TriangleRole::ALL.map(|role| list.role_count(role)),
-                draw_batches: list.draw_batches(),
                 morphing_vertices: list.morphing_vertices(),
             }),
         }

@@ -31,14 +31,6 @@ pub(super) fn triangles_per_chunk(cells: u32) -> u64 {
     2 * u64::from(cells) * u64::from(cells) + 8 * u64::from(cells)
 }
 
-/// Vertices of a chunk whose height depends on its morph factor: the odd grid vertices and the
-/// skirt bottoms below the odd border vertices.
-pub(super) fn morph_dependent_vertices(cells: u32) -> u64 {
-    let side = u64::from(cells) + 1;
-    let even = u64::from(cells / 2) + 1;
-    side * side - even * even + 2 * u64::from(cells)
-}
-
 /// Adds `chunk` (whose record is `record`) to `list`. `indices` is scratch space.
 pub(super) fn add_chunk<S: ChunkSource>(
     list: &mut TriangleList,
@@ -212,6 +204,5 @@ mod tests {
         assert_eq!(triangles_per_chunk(64), 8192 + 512);
         assert_eq!(vertices_per_chunk(64), 65 * 65 + 256);
         // 65² − 33² odd vertices, and half the 256 border vertices' bottoms.
-        assert_eq!(morph_dependent_vertices(64), 65 * 65 - 33 * 33 + 128);
     }
 }

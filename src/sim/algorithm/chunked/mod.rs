@@ -44,8 +44,6 @@
 //! - **Counters.** `splits`: chunks drawn last frame that are refined now; `merges`: chunks
 //!   drawn now that were refined last frame; `vertices_inserted`/`vertices_deleted`: the
 //!   vertices (grid and skirt bottoms) of chunks that started or stopped being drawn;
-//!   `vertices_changed`: those inserted plus the morph-dependent vertices of chunks drawn in
-//!   both frames whose morph factor changed (what a renderer would upload again);
 //!   `metric_evaluations`: chunks visited, over every selection pass of the frame (the target
 //!   search runs several). Columns: `chunks_drawn`, `chunks_culled`, `skirt_depth_max_m` (the
 //!   deepest skirt drawn), `order_inversions` (consecutive drawn chunks the second of which is
@@ -117,6 +115,8 @@ use super::block_lod::threshold::DetailThreshold;
 use super::block_lod::{BlockGoal, Projection};
 use super::columns::chunked as columns;
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
@@ -223,6 +223,8 @@ pub struct ChunkedConfig {
 
 /// The chunked quadtree. Per frame: O(chunks visited + drawn triangles); buffers are reused.
 pub struct Chunked<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     config: ChunkedConfig,
     lambda: f64,
     tree: ChunkTree<'h>,
@@ -280,6 +282,7 @@ impl<'h> Chunked<'h> {
             leaf_error,
         );
         Chunked {
+            draw: RebuiltBuffers::new(),
             config,
             lambda: view.pixels_per_unit(),
             detail: detail_config
@@ -530,10 +533,10 @@ impl LodAlgorithm for Chunked<'_> {
         let was_drawn = |id: ChunkId, list: &[(ChunkId, u64)]| {
             list.binary_search_by(|(other, _)| other.cmp(&id)).ok()
         };
-        let (mut entered, mut left, mut morph_moved, mut splits, mut merges) = (0, 0, 0, 0, 0);
-        for &(id, morph) in &self.drawn_sorted {
+        let (mut entered, mut left, mut splits, mut merges) = (0, 0, 0, 0);
+        for &(id, _) in &self.drawn_sorted {
             match was_drawn(id, &self.previous_drawn) {
-                Some(k) => morph_moved += u64::from(self.previous_drawn[k].1 != morph),
+                Some(_) => {}
                 None => {
                     entered += 1;
                     merges += u64::from(self.previous_refined.binary_search(&id).is_ok());
@@ -555,8 +558,6 @@ impl LodAlgorithm for Chunked<'_> {
         stats.merges = merges;
         stats.vertices_inserted = entered * per_chunk;
         stats.vertices_deleted = left * per_chunk;
-        stats.vertices_changed =
-            Some(entered * per_chunk + morph_moved * mesh::morph_dependent_vertices(cells));
         stats.metric_evaluations = search_visits + self.selection.visited;
         stats.extra = vec![
             self.selection.drawn.len() as f64,
@@ -593,6 +594,15 @@ impl LodAlgorithm for Chunked<'_> {
                 loading.memory_bytes() as f64,
             ]);
         }
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::triangles(&self.list), self.tree.hierarchy())
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

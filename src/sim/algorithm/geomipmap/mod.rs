@@ -33,8 +33,7 @@
 //!   stitches included, fits.
 //! - **Counters.** `splits` / `merges`: patches drawn finer / coarser than last frame;
 //!   `vertices_inserted` / `vertices_deleted`: the vertices of patches whose level or stitching
-//!   changed (all of the new and of the old triangulation); `vertices_changed`: those inserted
-//!   plus the morphing vertices of patches whose factors moved; `metric_evaluations`: level
+//!   changed (all of the new and of the old triangulation); `metric_evaluations`: level
 //!   tests (δ·C against d), over every pass of the frame. Columns:
 //!   `patches_refined_for_neighbours` (patches drawn finer than their criterion for the level
 //!   limit), `stitched_sides`, `patch_level_mean` (0 = full resolution), `tau_px`,
@@ -58,6 +57,8 @@ use super::block_lod::threshold::DetailThreshold;
 use super::block_lod::{BlockGoal, Projection};
 use super::columns::geomipmap as columns;
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
@@ -121,6 +122,8 @@ fn stitch_steps(grid: &PatchGrid, levels: &PatchLevels, patch: usize) -> [Option
 
 /// Geometrical mipmapping. Per frame: O(patches · levels + drawn triangles); buffers reused.
 pub struct Geomipmap<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     hierarchy: &'h Hierarchy,
     config: GeomipmapConfig,
     lambda: f64,
@@ -155,6 +158,7 @@ impl<'h> Geomipmap<'h> {
         let grid = PatchGrid::new(hierarchy, config.patch_level);
         let n = grid.n_patches();
         Geomipmap {
+            draw: RebuiltBuffers::new(),
             hierarchy,
             config,
             lambda: view.pixels_per_unit(),
@@ -326,7 +330,7 @@ impl LodAlgorithm for Geomipmap<'_> {
             });
         }
 
-        let (mut finer, mut coarser, mut inserted, mut deleted, mut moved) = (0, 0, 0, 0, 0);
+        let (mut finer, mut coarser, mut inserted, mut deleted) = (0, 0, 0, 0);
         for (now, before) in self.current.iter().zip(&self.previous) {
             let Some(now) = now else { continue };
             match before {
@@ -337,7 +341,6 @@ impl LodAlgorithm for Geomipmap<'_> {
                     finer += u64::from(now.shape[0] < before.shape[0]);
                     coarser += u64::from(now.shape[0] > before.shape[0]);
                 }
-                Some(before) if before.morph != now.morph => moved += now.morphing_vertices,
                 Some(_) => {}
             }
         }
@@ -354,7 +357,6 @@ impl LodAlgorithm for Geomipmap<'_> {
         stats.merges = coarser;
         stats.vertices_inserted = inserted;
         stats.vertices_deleted = deleted;
-        stats.vertices_changed = Some(inserted + moved);
         stats.metric_evaluations = search_tests + tests;
         stats.extra = vec![
             refined_for_neighbours as f64,
@@ -363,6 +365,15 @@ impl LodAlgorithm for Geomipmap<'_> {
             self.tau_px,
             f64::from(u8::from(self.target_unreachable)),
         ];
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::triangles(&self.list), self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

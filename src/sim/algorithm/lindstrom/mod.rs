@@ -80,6 +80,8 @@ pub use validate::BlockTreeError;
 
 use super::columns::lindstrom as columns;
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{Hierarchy, NestingRule};
 use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
@@ -121,6 +123,8 @@ pub struct LindstromConfig {
 /// Lindstrom's algorithm. Per frame: O(nodes visited + vertices evaluated + mesh); the
 /// per-frame buffers (stack, level lists, meshes, active lists) are reused.
 pub struct Lindstrom<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     hierarchy: &'h Hierarchy,
     config: LindstromConfig,
     lambda: f64,
@@ -151,6 +155,7 @@ impl<'h> Lindstrom<'h> {
         let nested_errors = hierarchy.nested_vertex_errors(config.nesting);
         let blocks = BlockTree::new(hierarchy, &nested_errors, config.block_level);
         Lindstrom {
+            draw: RebuiltBuffers::new(),
             hierarchy,
             config,
             lambda: view.pixels_per_unit(),
@@ -235,6 +240,15 @@ impl LodAlgorithm for Lindstrom<'_> {
             counts.blocks_changed as f64,
             counts.interval_probes as f64,
         ];
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::lattice(self.mesh.mesh()), self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

@@ -104,6 +104,8 @@ pub use validate::{BintreeError, PriorityCheck};
 
 use self::core::{Core, FrameCounters};
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{Hierarchy, NestingRule};
 use crate::sim::mesh::MeshOutput;
 use crate::sim::mesh::VertexSet;
@@ -297,6 +299,8 @@ fn rotation_angle(from: Orientation, to: Orientation) -> f64 {
 /// for the flags; strips add O(1) per split, merge or culling change (a strip reversal
 /// O(its length)). Without deferral every queued priority is recomputed each frame.
 pub struct Roam<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     core: Core<'h>,
     /// The orientation priorities were last computed for (deferral).
     orientation: Option<Orientation>,
@@ -340,6 +344,7 @@ impl<'h> Roam<'h> {
             }
         }
         Roam {
+            draw: RebuiltBuffers::new(),
             core,
             orientation: None,
             needs_full_recomputation: true,
@@ -462,6 +467,17 @@ impl LodAlgorithm for Roam<'_> {
         stats.extra = core.extras(columns(&core.config, true));
     }
 
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw.prepare(
+            MeshOutput::lattice(self.core.bintree.mesh()),
+            self.core.hierarchy,
+        )
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
+    }
+
     fn mesh(&self) -> MeshOutput<'_> {
         MeshOutput::lattice(self.core.bintree.mesh())
     }
@@ -482,6 +498,8 @@ impl Roam<'_> {
 /// O(splits) plus O(grid/64) for the inserted/deleted counts, plus O(1) per split for flags and
 /// strips when those are on.
 pub struct RoamRebuild<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     core: Core<'h>,
     previous_mesh: VertexSet,
 }
@@ -500,6 +518,7 @@ impl<'h> RoamRebuild<'h> {
         let core = Core::new(hierarchy, config, motion, false, &placeholder);
         let previous_mesh = core.bintree.mesh().clone();
         RoamRebuild {
+            draw: RebuiltBuffers::new(),
             core,
             previous_mesh,
         }
@@ -567,6 +586,17 @@ impl LodAlgorithm for RoamRebuild<'_> {
             .count() as u64;
         stats.metric_evaluations = counters.evaluations;
         stats.extra = core.extras(columns(&core.config, false));
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw.prepare(
+            MeshOutput::lattice(self.core.bintree.mesh()),
+            self.core.hierarchy,
+        )
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

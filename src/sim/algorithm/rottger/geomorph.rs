@@ -26,14 +26,11 @@
 //! hash-map inserts), with no state to keep consistent between frames. An incremental map would
 //! save nothing here: every frame's blends are new, since f moves with the eye. The audit,
 //! popping, culling and `triangles`' geometry all read the morphed surface through the output.
-//! The previous frame's map is kept too, to count the vertices whose drawn height changed
-//! ([`drawn_changes`], the runner's `vertices_changed`).
 
 use super::criterion::morph_factor;
 use super::matrix::QuadtreeMatrix;
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, VertexClass};
 use crate::sim::mesh::MorphedHeights;
-use crate::sim::mesh::rebuilt::RebuiltMesh;
 
 /// The blend byte a vertex is drawn with: a block centre's own, an edge midpoint's the smallest
 /// of its parents', 255 (its own height) for a corner. Meaningful for vertices of the mesh.
@@ -82,28 +79,4 @@ pub fn rebuild_morphed(
             morphed.set(id, morphed_height(hierarchy, p, byte) as f32);
         }
     }
-}
-
-/// The height vertex `id` is drawn at by a mesh with these morphed heights.
-fn drawn(hierarchy: &Hierarchy, morphed: &MorphedHeights, id: u32) -> f32 {
-    morphed
-        .get(id)
-        .unwrap_or_else(|| hierarchy.height(hierarchy.lattice().point(id)))
-}
-
-/// Vertices of this frame's mesh that a renderer would upload again: those not in the previous
-/// frame's mesh, and those drawn at another height than in the previous frame. O(active).
-pub fn drawn_changes(
-    hierarchy: &Hierarchy,
-    mesh: &RebuiltMesh,
-    morphed: &MorphedHeights,
-    previous: &MorphedHeights,
-) -> u64 {
-    mesh.active()
-        .iter()
-        .filter(|&&id| {
-            !mesh.previous().contains(id)
-                || drawn(hierarchy, morphed, id) != drawn(hierarchy, previous, id)
-        })
-        .count() as u64
 }

@@ -93,9 +93,7 @@
 //! traversal reached, clipped ones included), `subdivided` (blocks subdivided by the criterion),
 //! `forced_splits` (blocks subdivided only to keep the mesh conforming), `clipped_nodes`,
 //! `morphing_vertices` (vertices drawn below full blend with a non-zero error: those the mesh
-//! output gives a morphed height; 0 when geomorphing is off). With geomorphing,
-//! `vertices_changed` = vertices inserted since the previous frame plus those drawn at another
-//! height than in it (what a renderer would upload again); without, it is not filled.
+//! output gives a morphed height; 0 when geomorphing is off).
 //!
 //! Memory: the matrix (1 byte per grid point, reported as the run fact
 //! `matrix_bytes_per_sample`), two bits per grid point for the double-buffered mesh, the lists
@@ -132,6 +130,8 @@ pub use validate::RottgerStateError;
 
 use super::columns::rottger as columns;
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::rebuilt::RebuiltMesh;
 use crate::sim::mesh::{MeshOutput, MorphedHeights, VertexSet};
@@ -175,6 +175,8 @@ pub struct RottgerConfig {
 
 /// Röttger's algorithm. Per frame: O(blocks visited + mesh); buffers are reused.
 pub struct Rottger<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     hierarchy: &'h Hierarchy,
     config: RottgerConfig,
     matrix: QuadtreeMatrix,
@@ -186,10 +188,9 @@ pub struct Rottger<'h> {
     previous_load: Option<u64>,
     /// Centres of the blocks subdivided this frame, in the order they entered the mesh.
     subdivided: Vec<u32>,
-    /// With geomorphing: the heights of this frame's morphing vertices (the mesh output's),
-    /// and the previous frame's (for `vertices_changed`). Empty without.
+    /// With geomorphing: the heights of this frame's morphing vertices (the mesh output's).
+    /// Empty without.
     morphed: MorphedHeights,
-    previous_morphed: MorphedHeights,
     stack: Vec<(GridPoint, u32)>,
 }
 
@@ -212,6 +213,7 @@ impl<'h> Rottger<'h> {
         );
         let lattice = hierarchy.lattice();
         Rottger {
+            draw: RebuiltBuffers::new(),
             hierarchy,
             config,
             matrix: roughness::build_matrix(
@@ -225,7 +227,6 @@ impl<'h> Rottger<'h> {
             previous_load: None,
             subdivided: Vec::new(),
             morphed: MorphedHeights::new(),
-            previous_morphed: MorphedHeights::new(),
             stack: Vec::new(),
         }
     }
@@ -344,23 +345,14 @@ impl LodAlgorithm for Rottger<'_> {
             &self.subdivided,
             frustum.as_ref(),
         );
-        let vertices_changed = if self.config.geomorphing {
-            std::mem::swap(&mut self.morphed, &mut self.previous_morphed);
+        if self.config.geomorphing {
             geomorph::rebuild_morphed(
                 hierarchy,
                 &self.matrix,
                 self.mesh.active(),
                 &mut self.morphed,
             );
-            Some(geomorph::drawn_changes(
-                hierarchy,
-                &self.mesh,
-                &self.morphed,
-                &self.previous_morphed,
-            ))
-        } else {
-            None
-        };
+        }
         let morphing = self.morphed.len();
         if let Some(load) = self.config.load {
             self.previous_load = Some(match load.count {
@@ -376,7 +368,6 @@ impl LodAlgorithm for Rottger<'_> {
         stats.splits = stats.vertices_inserted;
         stats.merges = stats.vertices_deleted;
         stats.metric_evaluations = counts.evaluated;
-        stats.vertices_changed = vertices_changed;
         stats.extra = vec![
             self.desired_resolution,
             f64::from(u8::from(clamped)),
@@ -390,6 +381,21 @@ impl LodAlgorithm for Rottger<'_> {
             counts.clipped as f64,
             morphing as f64,
         ];
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw.prepare(
+            if self.config.geomorphing {
+                MeshOutput::morphed_lattice(self.mesh.mesh(), &self.morphed)
+            } else {
+                MeshOutput::lattice(self.mesh.mesh())
+            },
+            self.hierarchy,
+        )
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
@@ -409,7 +415,6 @@ impl LodAlgorithm for Rottger<'_> {
             + self.mesh.memory_bytes()
             + self.subdivided.capacity() * std::mem::size_of::<u32>()
             + self.morphed.memory_bytes()
-            + self.previous_morphed.memory_bytes()
             + self.stack.capacity() * std::mem::size_of::<(GridPoint, u32)>()
     }
 

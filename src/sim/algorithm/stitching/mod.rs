@@ -71,9 +71,7 @@
 //! - **Counters.** `splits` / `merges`: nodes split this frame and not the previous, and the
 //!   reverse; `vertices_inserted` / `vertices_deleted`: the vertices of every block, and of
 //!   every node's cross of strips and P-block, that differs from last frame's (positions or
-//!   heights; all of the new and all of the old); `vertices_changed`: the vertices built on the
-//!   CPU and uploaded every frame (strips and P-blocks: the GPU tessellates the blocks);
-//!   `metric_evaluations`: nodes whose ρ was computed. Columns:
+//!   heights; all of the new and all of the old); `metric_evaluations`: nodes whose ρ was computed. Columns:
 //!   `m_blocks`, `m_blocks_culled`, `p_blocks`, `strips`, `strips_culled`,
 //!   `tessellation_factor_mean` (over the M-blocks), the histogram of F
 //!   (`tessellation_factor_2_4` … `tessellation_factor_32_64`: blocks with F in [2, 4), …,
@@ -99,6 +97,8 @@ use super::block_lod::cull::box_outside_view;
 use super::block_lod::threshold::BlockBox;
 use super::columns::stitching as columns;
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{
     CrackPolicy, MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleInfo, TriangleList,
@@ -158,6 +158,8 @@ enum NodeState {
 
 /// The stitching-strips algorithm. Per frame: O(nodes + triangles); buffers reused.
 pub struct Stitching<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     hierarchy: &'h Hierarchy,
     config: StitchingConfig,
     tree: Tree,
@@ -244,6 +246,7 @@ impl<'h> Stitching<'h> {
         let finest = 1usize << tree.depth_max();
         let n = tree.n_nodes();
         Stitching {
+            draw: RebuiltBuffers::new(),
             hierarchy,
             config,
             tree,
@@ -722,7 +725,6 @@ impl LodAlgorithm for Stitching<'_> {
         self.vertices_before.extend_from_slice(vertices_now);
         stats.vertices_inserted = inserted;
         stats.vertices_deleted = deleted;
-        stats.vertices_changed = Some(self.frame.cpu_vertices);
         stats.metric_evaluations = evaluations;
         let mut extra = vec![
             factors.len() as f64,
@@ -735,6 +737,15 @@ impl LodAlgorithm for Stitching<'_> {
         extra.extend(histogram.iter().map(|&n| n as f64));
         extra.push(self.frame.strip_ns as f64);
         stats.extra = extra;
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::triangles(&self.list), self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

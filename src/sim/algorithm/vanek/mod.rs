@@ -64,7 +64,7 @@
 //! - **Counters.** `splits` / `merges`: patches at a higher / lower k than last frame;
 //!   `vertices_inserted` / `vertices_deleted`: the vertex buffers of patches whose level,
 //!   collapsed sides or culling changed (all of the new and of the old);
-//!   `vertices_changed`: those inserted; `metric_evaluations`: level computations, over every
+//!   `metric_evaluations`: level computations, over every
 //!   pass of the frame. Columns: `strip_indices` (indices sent, drawn patches),
 //!   `degenerate_triangles` (joins and collapsed), `collapsed_triangles`, `patches_culled`,
 //!   `patch_lod_mean` (the paper's k, n = full resolution, over every patch),
@@ -85,6 +85,8 @@ use super::block_lod::cull::box_outside_view;
 use super::block_lod::threshold::BlockBox;
 use super::columns::vanek as columns;
 use super::{FrameInput, LodAlgorithm};
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::{
     CrackPolicy, MeshOutput, SubgridPoint, TriangleInfo, TriangleList, TriangleRole,
@@ -135,6 +137,8 @@ struct PatchState {
 
 /// The Vaněk–Ježek patches. Per frame: O(patches + drawn indices); buffers reused.
 pub struct Vanek<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     hierarchy: &'h Hierarchy,
     config: VanekConfig,
     /// n, clamped.
@@ -190,6 +194,7 @@ impl<'h> Vanek<'h> {
         }
         let n = z_range.len();
         Vanek {
+            draw: RebuiltBuffers::new(),
             hierarchy,
             config,
             patch_level,
@@ -483,7 +488,6 @@ impl LodAlgorithm for Vanek<'_> {
         stats.merges = coarser;
         stats.vertices_inserted = inserted;
         stats.vertices_deleted = deleted;
-        stats.vertices_changed = Some(inserted);
         stats.metric_evaluations = evaluations;
         stats.extra = vec![
             self.strip_indices as f64,
@@ -494,6 +498,15 @@ impl LodAlgorithm for Vanek<'_> {
             self.multiplier,
             f64::from(u8::from(self.target_unreachable)),
         ];
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::triangles(&self.list), self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

@@ -85,6 +85,8 @@ mod validate;
 mod visibility;
 mod wheel;
 
+use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::{DrawCounts, GpuBuffers};
 pub use budget::initial_tau_px;
 pub(super) use cull::Cone;
 use visibility::SphereShape;
@@ -224,6 +226,8 @@ const COLUMNS_COUNT_TAU: &[&str] = column_list!(
 
 /// Wu's algorithm over one terrain.
 pub struct Wu<'h> {
+    /// The buffers a GPU draws this frame's mesh from.
+    draw: RebuiltBuffers,
     hierarchy: &'h Hierarchy,
     lattice: Lattice,
     nodes: Nodes,
@@ -270,6 +274,7 @@ impl<'h> Wu<'h> {
         let lattice = *hierarchy.lattice();
         let nodes = Nodes::new(hierarchy);
         Wu {
+            draw: RebuiltBuffers::new(),
             hierarchy,
             lattice,
             nodes,
@@ -815,6 +820,15 @@ impl LodAlgorithm for Wu<'_> {
         if self.recentres_tau() {
             stats.extra.push(self.tau_px);
         }
+    }
+
+    fn prepare_draw(&mut self) -> DrawCounts {
+        self.draw
+            .prepare(MeshOutput::lattice(&self.mesh), self.hierarchy)
+    }
+
+    fn buffers(&self) -> &GpuBuffers {
+        self.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
