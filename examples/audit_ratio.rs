@@ -58,6 +58,7 @@ fn main() {
             broken_bounds: BrokenBounds::NONE,
         };
         algorithm.update(&input, &mut FrameStats::default());
+        algorithm.prepare_draw();
     }
     let camera = camera_at(last);
     let settings = AuditSettings {

@@ -132,7 +132,7 @@ fn the_triangle_list_holds_every_triangle_of_the_mesh_once_with_the_runs_culling
         for k in 0..replay.n_lanes() {
             let lane = replay.lane(k).unwrap();
             let mut geometry = MeshGeometry::default();
-            geometry.rebuild(&scene.hierarchy, lane.mesh, lane.camera);
+            geometry.rebuild(&scene.hierarchy, lane.buffers, lane.mesh, lane.camera);
             let lattice = scene.hierarchy.lattice();
             assert_eq!(lane.stats.frame, frame);
             assert_eq!(
@@ -175,7 +175,7 @@ fn seen_from_above_the_drawn_triangles_are_exactly_the_frames_triangles() {
         for k in 0..replay.n_lanes() {
             let lane = replay.lane(k).unwrap();
             let mut geometry = MeshGeometry::default();
-            geometry.rebuild(&scene.hierarchy, lane.mesh, lane.camera);
+            geometry.rebuild(&scene.hierarchy, lane.buffers, lane.mesh, lane.camera);
             let (viewport, view_projection) = pane_camera(
                 &scene.hierarchy,
                 &lane,
@@ -232,7 +232,7 @@ fn from_the_flight_camera_each_pixel_shows_the_triangle_the_camera_projects_ther
         for k in 0..replay.n_lanes() {
             let lane = replay.lane(k).unwrap();
             let mut geometry = MeshGeometry::default();
-            geometry.rebuild(&scene.hierarchy, lane.mesh, lane.camera);
+            geometry.rebuild(&scene.hierarchy, lane.buffers, lane.mesh, lane.camera);
             let (viewport, view_projection) = pane_camera(
                 &scene.hierarchy,
                 &lane,
@@ -553,7 +553,12 @@ fn a_triangle_list_seen_from_above_shows_exactly_its_surface_triangles() {
     };
     patches_at_each_checked_frame(&mut |hierarchy, patches, outcome| {
         let mut geometry = MeshGeometry::default();
-        geometry.rebuild(hierarchy, patches.mesh(), &outcome.camera);
+        geometry.rebuild(
+            hierarchy,
+            patches.buffers(),
+            patches.mesh(),
+            &outcome.camera,
+        );
         let stats = &outcome.stats;
         let counts = stats.mesh.unwrap();
         assert_eq!(geometry.n_triangles(), stats.triangles);
@@ -613,7 +618,7 @@ fn from_the_flight_camera_each_pixel_of_a_triangle_list_lies_on_its_triangle() {
     patches_at_each_checked_frame(&mut |hierarchy, patches, outcome| {
         let camera = &outcome.camera;
         let mut geometry = MeshGeometry::default();
-        geometry.rebuild(hierarchy, patches.mesh(), camera);
+        geometry.rebuild(hierarchy, patches.buffers(), patches.mesh(), camera);
         let image = offscreen
             .render_triangle_ids(&Pane {
                 viewport: offscreen.viewport(),
@@ -663,7 +668,7 @@ fn roles_tell_skirts_and_degenerate_triangles_apart_by_colour() {
     let mut patches = Patches::new(hierarchy, patches_config());
     common::step(&mut patches, 0, &camera, true);
     let mut geometry = MeshGeometry::default();
-    geometry.rebuild(hierarchy, patches.mesh(), &camera);
+    geometry.rebuild(hierarchy, patches.buffers(), patches.mesh(), &camera);
     let viewport = offscreen.viewport();
     let side_view = flight_view_projection(&camera, camera.settings.aspect());
     let pane = |options, lines| pane_of(viewport, side_view, &geometry, lines, options);

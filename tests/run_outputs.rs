@@ -110,7 +110,7 @@ fn a_run_writes_every_output_with_the_documented_columns() {
     let triangles = &first["columns"]["triangles"];
     assert!(triangles["max"].as_f64().unwrap() >= triangles["p95"].as_f64().unwrap());
     assert!(triangles["mean"].as_f64().unwrap() > 2.0);
-    for plot in ["triangles", "update_time", "error"] {
+    for plot in ["triangles", "frame_time", "error"] {
         for extension in ["png", "svg"] {
             let file = out.join("plots").join(format!("{plot}.{extension}"));
             assert!(
@@ -589,8 +589,8 @@ fn a_terrain_sweep_runs_each_size_into_its_own_folder_and_compares_them_at_the_t
         ),
         "{report}"
     );
-    assert!(report.contains("Median update time"), "{report}");
-    for stem in ["sweep_update_time", "sweep_bytes_per_sample"] {
+    assert!(report.contains("Median time to a drawn frame"), "{report}");
+    for stem in ["sweep_frame_time", "sweep_bytes_per_sample"] {
         assert!(out.join(format!("plots/{stem}.png")).exists(), "{stem}");
     }
 }

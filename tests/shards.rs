@@ -1,6 +1,6 @@
 //! Sharded runs (`roamsim run --shard K/N`, `roamsim merge`; `docs/sharding.md`), through the
 //! binary as a batch system runs them: each shard in its own process. The merged outputs must
-//! equal one whole run's apart from timings and run metadata (frames.csv without `update_ns`,
+//! equal one whole run's apart from timings and run metadata (frames.csv without its timing columns,
 //! summary.json without its timing and run fields, the same files); a missing, duplicated or
 //! foreign shard, or an experiment changed since the shards ran, is refused with an error that
 //! names it, and writes nothing.

@@ -12,6 +12,7 @@ pub mod patches;
 
 use glam::DVec3;
 use roamsim::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
+use roamsim::sim::draw::check::check_buffers_draw_mesh;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
 use roamsim::sim::mesh::check::MeshChecker;
@@ -20,8 +21,8 @@ use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose, ViewSettings};
 use std::fmt::Display;
 
-/// One frame of `algorithm`: its update for frame `frame` seen from `camera` (what the runner
-/// times), and the statistics it filled. `bounds_broken`: every motion bound broke since the
+/// One frame of `algorithm`: its update for frame `frame` seen from `camera` and the upkeep of
+/// its GPU buffers (what the runner times), and the statistics it filled. `bounds_broken`: every motion bound broke since the
 /// previous frame (a teleport, or the first frame), so whatever was deferred is revalidated.
 pub fn step(
     algorithm: &mut dyn LodAlgorithm,
@@ -57,11 +58,16 @@ pub fn step_breaking(
         },
         &mut stats,
     );
+    let draw = algorithm.prepare_draw();
+    stats.upload_bytes = draw.upload_bytes;
+    stats.draw_calls = draw.draw_calls;
+    stats.triangles_submitted = draw.triangles_submitted;
     stats
 }
 
 /// [`step`], then what `roamsim run --check` runs after every frame: the mesh (either form)
-/// and the algorithm's own triangle count against it, and the statistics' count against both.
+/// and the algorithm's own triangle count against it, the statistics' count against both, and
+/// the triangles its GPU buffers draw against the mesh.
 /// Panics naming `context` and the frame.
 pub fn checked_step(
     hierarchy: &Hierarchy,
@@ -86,6 +92,9 @@ pub fn checked_step_breaking(
 ) -> FrameStats {
     let stats = step_breaking(algorithm, frame, camera, broken_bounds);
     if let Err(error) = MeshChecker::new().check(hierarchy, algorithm.mesh(), stats.triangles) {
+        panic!("{context}, frame {frame}: {error}");
+    }
+    if let Err(error) = check_buffers_draw_mesh(algorithm.buffers(), algorithm.mesh(), hierarchy) {
         panic!("{context}, frame {frame}: {error}");
     }
     assert_eq!(

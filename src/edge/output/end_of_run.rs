@@ -1,5 +1,5 @@
 //! What `roamsim run` prints when it has finished: per entry the figures a person looks at
-//! first (triangles, the audited error, update time, as `report.md`'s table has them), then
+//! first (triangles, the audited error, time to a drawn frame, as `report.md`'s table has them), then
 //! where the files are (README, "Commands"). A sweep prints one block per point. It returns
 //! the text and computes no figure; printing it is `main.rs`'s.
 //!
@@ -43,7 +43,7 @@ pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
             "triangles",
             "rendered",
             "error max / mean / mean of p95 (px)",
-            "update p50 / p95 (µs)"
+            "frame p50 / p95 (µs)"
         );
         if let Some(first) = point.below_ground_frames.first() {
             let _ = writeln!(
@@ -58,7 +58,7 @@ pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
             let error = row.error.map_or("—".to_string(), |(max, mean, p95)| {
                 format!("{max:.2} / {mean:.3} / {p95:.2}")
             });
-            let update = format!("{:.1} / {:.1}", row.update_p50_us, row.update_p95_us);
+            let update = format!("{:.1} / {:.1}", row.frame_p50_us, row.frame_p95_us);
             let _ = writeln!(
                 text,
                 "  {:<label_width$}  {:>9.0}  {:>9.0}  {:>35}  {:>21}",
@@ -93,8 +93,13 @@ mod tests {
                 triangles: 10_240.4,
                 rendered: 5_120.0,
                 error,
-                update_p50_us: 81.25,
-                update_p95_us: 140.0,
+                frame_p50_us: 81.25,
+                frame_p95_us: 140.0,
+                update_p50_us: 20.0,
+                update_p95_us: 30.0,
+                upload_bytes: 1200.0,
+                draw_calls: 1.0,
+                triangles_submitted: 10_240.0,
                 operations_per_frame: 3.0,
                 evaluations_per_operation: None,
             },
@@ -103,7 +108,7 @@ mod tests {
     }
 
     #[test]
-    fn the_printout_has_each_entrys_triangles_error_and_update_time_and_the_files() {
+    fn the_printout_has_each_entrys_triangles_error_and_frame_time_and_the_files() {
         let points = [PointFigures {
             choice: None,
             folder: String::new(),
@@ -115,7 +120,7 @@ mod tests {
         }];
         let text = end_of_run_text(Path::new("out/qs"), &points);
         let lines: Vec<&str> = text.lines().collect();
-        assert!(lines[0].contains("triangles") && lines[0].contains("update p50 / p95 (µs)"));
+        assert!(lines[0].contains("triangles") && lines[0].contains("frame p50 / p95 (µs)"));
         assert!(lines[1].starts_with("  wu τ=2px"), "{}", lines[1]);
         for figure in ["10240", "5120", "3.50 / 0.125 / 1.75", "81.2 / 140.0"] {
             assert!(

@@ -75,9 +75,13 @@ mod tests {
         assert_eq!(
             lines[0],
             "algorithm,frame,triangles,triangles_rendered,splits,merges,vertices_inserted,\
-             vertices_deleted,metric_evaluations,update_ns,base_b"
+             vertices_deleted,metric_evaluations,update_ns,frame_ns,upload_bytes,draw_calls,\
+             triangles_submitted,base_b"
         );
-        assert_eq!(lines[1], "\"wu, budget 6000\",0,10,0,0,0,0,0,0,0,-3");
-        assert_eq!(lines[2], "reference,0,12,0,0,0,0,0,0,0,");
+        assert_eq!(
+            lines[1],
+            "\"wu, budget 6000\",0,10,0,0,0,0,0,0,0,0,0,0,0,-3"
+        );
+        assert_eq!(lines[2], "reference,0,12,0,0,0,0,0,0,0,0,0,0,0,");
     }
 }

@@ -1,5 +1,5 @@
 //! The standard plots of a run (`docs/output-formats.md`, "plots/"): triangles per frame
-//! (rendered ones too, when culling made them differ), update time per frame, the audited error
+//! (rendered ones too, when culling made them differ), time to a drawn frame per frame, the audited error
 //! per frame and the accuracy-versus-time Pareto plot (SPEC §7, when the audit ran), popping per
 //! frame (when it was measured), and Wu's b and Röttger's c per frame (when such an entry ran).
 //! Per-frame plots draw one line per algorithm label. This file chooses what is plotted;
@@ -8,7 +8,7 @@
 //! that leaves other entries out (`base_b`, `desired_resolution_c`).
 //!
 //! Every per-frame plot but Röttger's c marks the frames that broke the speed or rotation
-//! bounds. Triangles and update times always take a logarithmic y axis (entries differ by orders
+//! bounds. Triangles and frame times always take a logarithmic y axis (entries differ by orders
 //! of magnitude), error and popping only when the entries' means differ by more than ten times
 //! (`LOG_AXIS_ABOVE_RATIO`). The Pareto plot, a summary, leaves out the warm-up frames; the
 //! per-frame plots keep them.
@@ -45,7 +45,7 @@ const VIOLATION_LABEL: &str = "frames breaking the speed bounds";
 /// Series whose positive means differ by more than this factor get a logarithmic y axis.
 const LOG_AXIS_ABOVE_RATIO: f64 = 10.0;
 
-/// Writes `triangles` and `update_time` (logarithmic y: entries differ by orders of magnitude),
+/// Writes `triangles` and `frame_time` (logarithmic y: entries differ by orders of magnitude),
 /// `triangles_rendered` (when culling made some frame's rendered count differ from its mesh),
 /// `error` and `accuracy_vs_time` (when audited), `popping` (when some frame measured it),
 /// `base_b` (when an algorithm reports Wu's base) and `desired_resolution_c` (when one reports
@@ -111,10 +111,10 @@ pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotErr
         )?;
     }
     line(
-        "update_time",
-        "Update time per frame",
-        "update time (µs, log scale)",
-        &series_of("update_ns", 1e-3),
+        "frame_time",
+        "Time to a drawn frame (update and buffer upkeep) per frame",
+        "frame time (µs, log scale)",
+        &series_of("frame_ns", 1e-3),
         true,
     )?;
     write_base_plot(dir, runs, &looks, &marked, inputs.horizontal_m_per_frame)?;
@@ -342,7 +342,7 @@ fn write_accuracy_vs_time(
             };
             ScatterPoint {
                 label: run.label.to_string(),
-                x: summarise(&column("update_ns")).map_or(f64::NAN, |s| s.p50 / 1e3),
+                x: summarise(&column("frame_ns")).map_or(f64::NAN, |s| s.p50 / 1e3),
                 y: summarise(&column("audit_projected_p95_px")).map_or(f64::NAN, |s| s.mean),
                 group: name.to_string(),
             }
@@ -354,7 +354,7 @@ fn write_accuracy_vs_time(
         "accuracy_vs_time",
         &ScatterChart {
             title: "What accuracy costs in time (Pareto front in black, labelled)",
-            x_label: "median update time per frame (µs, log scale)",
+            x_label: "median time to a drawn frame (µs, log scale)",
             y_label: "audited projected error, p95 (px)",
             points: &points,
             front: &front,

@@ -13,6 +13,10 @@ use crate::sim::flight::BrokenBounds;
 use crate::sim::stats::summarise;
 use serde_json::{Map, Value, json};
 
+/// The column every time figure of the outputs is read from (report.md's table and Pareto
+/// front, the plots, the terminal summary): the time from the new camera to drawable buffers.
+pub const TIME_AXIS: &str = "frame_ns";
+
 /// The summary of Wu's b in metres (b × the horizontal speed bound), beside `base_b`.
 pub const BASE_B_METRES: &str = "base_b_m";
 
@@ -187,6 +191,7 @@ pub fn summary_json(
     json!({
         "format_version": SUMMARY_FORMAT_VERSION,
         "roamsim_version": env!("CARGO_PKG_VERSION"),
+        "time_axis": TIME_AXIS,
         "run": record.to_json(meshes),
         "experiment": {
             "name": experiment.name,

@@ -1,9 +1,12 @@
 //! What the GPU draws, built on the CPU: one frame's mesh as a triangle list, the view frustum
 //! as lines, and the two cameras' matrices (the flight's, and an overview from above).
 //!
-//! Pure: no GPU, no IO, so it is tested without an adapter. The mesh is read through its
-//! triangle visitor ([`MeshOutput::for_each_triangle`]), whatever its form: corners at their
-//! drawn heights (morphed ones included), each triangle's role and level, and whether it meets
+//! Pure: no GPU, no IO, so it is tested without an adapter. The triangles are the ones the
+//! algorithm's own GPU buffers draw ([`GpuBuffers::for_each_triangle`]: the buffers the run
+//! timed, so what a user watches is what was timed), corners at their drawn heights (morphed
+//! ones included); each triangle's role and level are looked up in the frame's mesh
+//! ([`MeshOutput::for_each_triangle`], which `--check` holds equal to the buffers; a triangle
+//! with two equal corners, such as a strip's join, is drawn as degenerate), and whether it meets
 //! the view volume by the run's own culling test (`Camera::may_see_triangle`, the test behind
 //! `triangles_rendered`), so the culling view shows what the run counted. Positions are
 //! terrain-local metres in `f32`, which is what the screen needs; the simulation keeps its own
@@ -12,11 +15,13 @@
 //! the id pass can count what was drawn. Degenerate triangles have no area to draw: their edges
 //! are kept as lines, shown when roles are shown.
 
+use crate::sim::draw::GpuBuffers;
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::{MeshOutput, TriangleRole};
+use crate::sim::mesh::{MeshOutput, SurfacePoint, TriangleInfo, TriangleRole};
 use crate::sim::view::Camera;
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3, Mat4};
+use std::collections::HashMap;
 
 /// One corner of one triangle, as the vertex shader reads it.
 #[repr(C)]
@@ -52,19 +57,46 @@ pub struct MeshGeometry {
 }
 
 impl MeshGeometry {
-    /// Refills the triangle list from `mesh`; `camera` decides which triangles are in view.
-    pub fn rebuild(&mut self, hierarchy: &Hierarchy, mesh: MeshOutput, camera: &Camera) {
+    /// Refills the triangle list from the triangles `buffers` draw, with the role and level
+    /// `mesh` gives each; `camera` decides which triangles are in view.
+    pub fn rebuild(
+        &mut self,
+        hierarchy: &Hierarchy,
+        buffers: &GpuBuffers,
+        mesh: MeshOutput,
+        camera: &Camera,
+    ) {
         let spacing = hierarchy.field().spacing();
         self.vertices.clear();
         self.degenerate_lines.clear();
         self.max_level = 0;
+        let mut infos: HashMap<[(i64, i64, u32); 3], TriangleInfo> = HashMap::new();
         mesh.for_each_triangle(hierarchy, |triangle| {
-            let corners = triangle.corners.map(|c| c.local(spacing));
-            let level = triangle.info.level;
+            infos.insert(corner_key(triangle.corners), triangle.info);
+        });
+        let degenerate = TriangleInfo {
+            role: TriangleRole::Degenerate,
+            group: 0,
+            level: 0,
+        };
+        buffers.for_each_triangle(|drawn| {
+            let key = corner_key(drawn);
+            let repeated = key[0] == key[1] || key[1] == key[2] || key[0] == key[2];
+            let info = match infos.get(&key) {
+                Some(info) => *info,
+                None if repeated => degenerate,
+                None => TriangleInfo {
+                    role: TriangleRole::Surface,
+                    group: 0,
+                    level: 0,
+                },
+            };
+            let corners = drawn.map(|c| c.local(spacing));
+            let level = info.level;
             self.max_level = self.max_level.max(level);
             let in_view = f32::from(u8::from(camera.may_see_triangle(corners)));
             let normal = face_normal(corners).as_vec3().to_array();
-            let role = triangle.info.role;
+            let role = info.role;
             if role == TriangleRole::Degenerate {
                 for k in 0..3 {
                     for corner in [corners[k], corners[(k + 1) % 3]] {
@@ -108,6 +140,17 @@ impl MeshGeometry {
     pub fn degenerate_lines(&self) -> &[LineVertex] {
         &self.degenerate_lines
     }
+}
+
+/// A triangle's corners as a lookup key, rotated to start at the smallest corner (so that the
+/// mesh's and the buffers' triangles meet whichever corner they start at).
+fn corner_key(corners: [SurfacePoint; 3]) -> [(i64, i64, u32); 3] {
+    let points = corners.map(|c| {
+        let (x, y) = c.position.raw();
+        (x, y, c.z.to_bits())
+    });
+    let start = (0..3).min_by_key(|&k| points[k]).unwrap_or(0);
+    [0, 1, 2].map(|k| points[(start + k) % 3])
 }
 
 /// The unit normal of a triangle, oriented up (+z); a degenerate triangle gets +z.

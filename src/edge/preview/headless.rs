@@ -353,7 +353,7 @@ impl FramePanes {
         let areas = area.split_horizontally(n as u32);
         for (k, (&lane, pane_area)) in lanes.iter().zip(areas).enumerate() {
             let lane = replay.lane(lane)?;
-            self.geometries[k].rebuild(hierarchy, lane.mesh, lane.camera);
+            self.geometries[k].rebuild(hierarchy, lane.buffers, lane.mesh, lane.camera);
             let (viewport, view_projection) = pane_camera(hierarchy, &lane, pane_area, view);
             self.lines[k] = match view {
                 ViewChoice::Flight => Vec::new(),

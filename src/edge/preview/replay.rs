@@ -5,6 +5,7 @@
 
 use crate::edge::experiment::{self, Experiment, ExperimentError};
 use crate::sim::algorithm::LodAlgorithm;
+use crate::sim::draw::GpuBuffers;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::MeshOutput;
 use crate::sim::run::{FrameOutcome, FrameRunner, RunError, RunInputs};
@@ -95,6 +96,8 @@ struct Lane<'s> {
 pub struct LaneFrame<'a> {
     pub label: &'a str,
     pub mesh: MeshOutput<'a>,
+    /// The buffers the algorithm keeps for its GPU (what the preview draws).
+    pub buffers: &'a GpuBuffers,
     pub stats: &'a FrameStats,
     /// The camera the algorithm saw (terrain-local).
     pub camera: &'a Camera,
@@ -169,6 +172,7 @@ impl<'s> Replay<'s> {
         Some(LaneFrame {
             label: &self.scene.experiment.algorithms[lane.entry].label,
             mesh: lane.algorithm.mesh(),
+            buffers: lane.algorithm.buffers(),
             stats: &outcome.stats,
             camera: &outcome.camera,
             triangle_count: lane.algorithm.triangle_count(),
