@@ -11,6 +11,7 @@
 pub mod atomic_dir;
 pub mod columns;
 pub mod end_of_run;
+pub mod flight_csv;
 pub mod frames_csv;
 pub mod goal_check;
 pub mod label_placement;
