@@ -36,10 +36,11 @@ pub fn flight_csv(flight: &Flight, field: &Heightfield, bound: SpeedBound) -> St
     for (frame, pose) in flight.poses().iter().enumerate() {
         let p = pose.position;
         let xy = p.truncate();
-        let above_ground = field
-            .covers(xy)
-            .then(|| format_number(p.z - field.ground_height(xy)))
-            .unwrap_or_default();
+        let above_ground = if field.covers(xy) {
+            format_number(p.z - field.ground_height(xy))
+        } else {
+            String::new()
+        };
         let _ = write!(
             out,
             "{frame},{},{},{},{above_ground},{},{}",

@@ -23,6 +23,7 @@ use crate::edge::output::atomic_dir::StagedDir;
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::end_of_run::PointFigures;
 use crate::edge::output::flight_csv::flight_csv;
+use crate::edge::output::flight_map::{FlightOnMap, write_flight_map};
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::goal_check::{GoalCheck, check_goal};
 use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
@@ -269,6 +270,17 @@ fn write_outputs(
                 warm_up_frames: experiment.warm_up_frames,
             },
         )?;
+        let title = format!(
+            "The flight over {}: {} frames",
+            experiment.terrain.source,
+            experiment.flight.n_frames()
+        );
+        let flight = FlightOnMap {
+            flight: &experiment.flight,
+            view: experiment.view,
+            violations: &experiment.violations,
+        };
+        write_flight_map(&plots, &experiment.field, &title, Some(flight))?;
     }
     Ok(summarised_runs(&tables.runs, experiment.warm_up_frames)
         .iter()
