@@ -311,7 +311,8 @@ mod tests {
 
     #[test]
     fn labels_of_a_long_slow_flight_are_few_and_round() {
-        // 10 000 frames along 1 km: one label per 500 frames, 0 and the last among them.
+        // 10 000 frames along 1 km (860 px): a label every 1000 frames, 0 and the last among
+        // them; a footprint every 2000 (at most 8).
         let path: Vec<DVec2> = (0..10_000)
             .map(|f| DVec2::new(f as f64 * 0.1, 0.0))
             .collect();
@@ -322,7 +323,7 @@ mod tests {
         assert_eq!(labels.first().map(|l| l.0), Some(0));
         assert_eq!(labels.last().map(|l| l.0), Some(9_999));
         assert!(labels.len() as u64 <= MAX_LABELS + 1);
-        assert_eq!(footprint_step(10_000), 1000);
+        assert_eq!(footprint_step(10_000), 2000);
     }
 
     #[test]
