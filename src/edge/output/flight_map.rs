@@ -85,6 +85,12 @@ pub fn map_chart(field: &Heightfield, title: &str, flight: Option<FlightOnMap>) 
     let (width, depth) = field.extent();
     let terrain_low = origin;
     let terrain_high = origin + DVec2::new(width, depth);
+    let spacing = field.spacing();
+    let data_high = origin
+        + DVec2::new(
+            (field.data_columns() - 1) as f64 * spacing.dx,
+            (field.data_rows() - 1) as f64 * spacing.dy,
+        );
     let (mut low, mut high) = (terrain_low, terrain_high);
     let path: Vec<DVec2> = flight
         .map(|f| {
@@ -111,6 +117,7 @@ pub fn map_chart(field: &Heightfield, title: &str, flight: Option<FlightOnMap>) 
         title: title.to_string(),
         raster,
         terrain: [pair(terrain_low), pair(terrain_high)],
+        data: [pair(terrain_low), pair(data_high)],
         path: path.iter().map(|&p| pair(p)).collect(),
         frame_labels: Vec::new(),
         footprints: Vec::new(),

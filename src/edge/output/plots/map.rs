@@ -50,6 +50,9 @@ pub struct MapChart {
     pub raster: HeightRaster,
     /// The terrain's rectangle (south-west and north-east corners), outlined.
     pub terrain: [(f64, f64); 2],
+    /// The part of it that holds the file's data (the rest, north and east of it, is padding,
+    /// drawn paler).
+    pub data: [(f64, f64); 2],
     /// The eye's position at every frame, in order (empty without a flight).
     pub path: Vec<(f64, f64)>,
     /// Frames labelled along the path, with the eye's position there.
@@ -409,6 +412,28 @@ fn draw_over<DB: DrawingBackend>(
         }
     }
     let [(x0, y0), (x1, y1)] = chart.terrain;
+    let [_, (data_x1, data_y1)] = chart.data;
+    let pale = WHITE.mix(0.6).filled();
+    if data_x1 < x1 {
+        map.draw(&Rectangle::new(
+            [local((data_x1, y1)), local((x1, y0))],
+            pale,
+        ))?;
+    }
+    if data_y1 < y1 {
+        map.draw(&Rectangle::new(
+            [local((x0, y1)), local((data_x1.min(x1), data_y1))],
+            pale,
+        ))?;
+    }
+    if data_x1 < x1 || data_y1 < y1 {
+        let (px, py) = local((x1, y1));
+        map.draw(&Text::new(
+            "padding (pale)",
+            (px - 60, py + 80 + target.text_center_nudge(FONT_SIZE)),
+            style(FONT_SIZE).pos(Pos::new(HPos::Right, VPos::Center)),
+        ))?;
+    }
     let (a, b) = (local((x0, y1)), local((x1, y0)));
     map.draw(&Rectangle::new([a, b], AXIS_COLOR.stroke_width(1)))?;
     let mut path: Vec<(i32, i32)> = Vec::new();
