@@ -99,7 +99,7 @@ pub fn largest_steps(flight: &Flight) -> Option<LargestSteps> {
 }
 
 /// The angle between two poses' look directions, radians.
-pub(super) fn turn(from: &Pose, to: &Pose) -> f64 {
+fn turn(from: &Pose, to: &Pose) -> f64 {
     let (from, to) = (from.forward(), to.forward());
     // atan2 of sine and cosine: accurate for the tiny angles of a smooth flight.
     from.cross(to).length().atan2(from.dot(to))

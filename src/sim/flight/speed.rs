@@ -4,9 +4,9 @@
 //! the bounds its algorithms may assume). It reports and never corrects: what an algorithm does
 //! about a broken bound (revalidate its lives or its deferral) is the algorithm's.
 //!
-//! The horizontal step is the Euclidean length of the eye's move in the plane, the vertical step
-//! its absolute change in z, the turn the angle between consecutive look directions. Frame 0 has
-//! no previous frame and is never listed. The runner hands each frame its [`BrokenBounds`].
+//! The figures are each frame's step (`motion.rs`: the eye's horizontal and vertical move and the
+//! look direction's turn since the previous frame), so `flight.csv` and `validate` list the same
+//! frames. Frame 0 has no previous frame and is never listed. The runner hands each frame its [`BrokenBounds`].
 //! [`largest_turn`] measures the same turn over a whole flight: the rotation bound of an
 //! experiment that declares none.
 
