@@ -25,20 +25,14 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use roamsim::edge::experiment;
-use roamsim::edge::experiment::TerrainReport;
+use roamsim::edge::flight_motion::describe_flight_motion;
+use roamsim::edge::info_command::{InfoFailure, InfoRequest, RawKeys, TerrainFileKeys, run_info};
 use roamsim::edge::output::end_of_run::end_of_run_text;
 use roamsim::edge::progress::LineProgress;
 use roamsim::edge::session::{
     MergeOptions, ProgressSink, RunOptions, RunOutcome, Timing, merge_shards, run_experiment,
 };
 use roamsim::edge::shard::{SHARD_FILE, ShardSpec};
-use roamsim::edge::terrain_info::{describe_preprocessing, describe_terrain};
-use roamsim::edge::terrain_readers::{
-    RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension, read_terrain,
-};
-use roamsim::sim::terrain::Spacing;
-use roamsim::sim::terrain::embed::{Fit, embed};
-use roamsim::sim::terrain::fill::fill_voids;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -56,8 +50,10 @@ Examples:
       Assembles the three parts into the outputs of one whole run.
   roamsim validate experiments/quickstart.json
       Checks the experiment (and loads its terrain and flight) without running it.
-  roamsim info experiments/data/N48E009.hgt
-      Describes a terrain file and times its preprocessing.
+  roamsim info experiments/data/N48E009.hgt --map out/n48e009.png
+      Describes a terrain file, times its preprocessing and draws its map.
+  roamsim info alps.png --height-scale 0.1 --spacing-m 92.7
+      Reads a 16-bit PNG as an experiment with those terrain.file keys would.
   roamsim preview experiments/compare-circle.json
       (built with --features preview) Replays the flight in a window, two algorithms side by side.
   roamsim render experiments/quickstart.json --frames 0,200 --out out/render --camera overview
@@ -122,7 +118,8 @@ enum Command {
     /// Check an experiment file without running it; exits non-zero when it is invalid.
     #[command(after_help = EXAMPLES)]
     Validate { experiment: PathBuf },
-    /// Describe a terrain file or an experiment's terrain, with preprocessing time and memory.
+    /// Describe a terrain file or an experiment's terrain, with preprocessing time and memory;
+    /// with --map, draw it from above (the experiment's flight too).
     #[command(after_help = EXAMPLES)]
     Info {
         /// An experiment (.json) or a terrain file (.hgt, .png, .tif, .tiff, .asc, or a raw file
@@ -140,6 +137,37 @@ enum Command {
         /// A raw file's first row is the south edge (default: the north edge, as most are).
         #[arg(long, requires = "raw_sample")]
         raw_south_first: bool,
+        /// Metres per stored height unit (terrain.file.height_scale).
+        #[arg(long, value_name = "FACTOR", allow_negative_numbers = true)]
+        height_scale: Option<f64>,
+        /// Metres added to every height after scaling (terrain.file.height_offset_m).
+        #[arg(long, value_name = "M", allow_negative_numbers = true)]
+        height_offset_m: Option<f64>,
+        /// The stored value that marks a void (terrain.file.nodata).
+        #[arg(long, value_name = "VALUE", allow_negative_numbers = true)]
+        nodata: Option<f64>,
+        /// Grid spacing in metres, one number for both axes or DX,DY (terrain.file.spacing_m).
+        #[arg(long, value_name = "DX[,DY]", value_delimiter = ',', num_args = 1)]
+        spacing_m: Vec<f64>,
+        /// How the grid is fitted into (2^n+1)² samples (terrain.file.fit; default pad).
+        #[arg(long, value_enum)]
+        fit: Option<FitChoice>,
+        /// With --fit crop: the column and row the kept square starts at (terrain.file.crop_origin).
+        #[arg(long, value_name = "COLUMN,ROW", value_delimiter = ',', num_args = 1)]
+        crop_origin: Vec<usize>,
+        /// World position of sample (0, 0) at height 0 (terrain.file.origin_m).
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            value_delimiter = ',',
+            num_args = 1,
+            allow_negative_numbers = true
+        )]
+        origin_m: Vec<f64>,
+        /// Draw the terrain from above into FILE (.png or .svg): hillshade, heights, a scale in
+        /// metres, world coordinates; for an experiment, its flight over it.
+        #[arg(long, value_name = "FILE")]
+        map: Option<PathBuf>,
     },
     /// Replay an experiment's flight in a window: the meshes, their wireframe by level, the
     /// statistics in the title. Keys: Space pause · → step · A/B switch the left/right
@@ -224,16 +252,24 @@ enum RawSampleChoice {
 }
 
 impl RawSampleChoice {
-    fn sample(self) -> RawSample {
+    /// The sample's name in an experiment's terrain.file.format.raw.sample.
+    fn key(self) -> &'static str {
         match self {
-            RawSampleChoice::I16le => RawSample::I16Le,
-            RawSampleChoice::I16be => RawSample::I16Be,
-            RawSampleChoice::U16le => RawSample::U16Le,
-            RawSampleChoice::U16be => RawSample::U16Be,
-            RawSampleChoice::F32le => RawSample::F32Le,
-            RawSampleChoice::F32be => RawSample::F32Be,
+            RawSampleChoice::I16le => "i16le",
+            RawSampleChoice::I16be => "i16be",
+            RawSampleChoice::U16le => "u16le",
+            RawSampleChoice::U16be => "u16be",
+            RawSampleChoice::F32le => "f32le",
+            RawSampleChoice::F32be => "f32be",
         }
     }
+}
+
+/// terrain.file.fit.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FitChoice {
+    Pad,
+    Crop,
 }
 
 #[cfg(feature = "preview")]
@@ -278,17 +314,45 @@ fn main() -> ExitCode {
             raw_rows,
             raw_sample,
             raw_south_first,
+            height_scale,
+            height_offset_m,
+            nodata,
+            spacing_m,
+            fit,
+            crop_origin,
+            origin_m,
+            map,
         } => {
-            let raw = match (raw_columns, raw_rows, raw_sample) {
-                (Some(columns), Some(rows), Some(sample)) => Some(RawLayout {
-                    columns,
-                    rows,
-                    sample: sample.sample(),
-                    north_first: !raw_south_first,
+            let keys = TerrainFileKeys {
+                raw: raw_columns
+                    .zip(raw_rows)
+                    .zip(raw_sample)
+                    .map(|((columns, rows), sample)| RawKeys {
+                        columns,
+                        rows,
+                        sample: sample.key(),
+                        north_first: !raw_south_first,
+                    }),
+                height_scale,
+                height_offset_m,
+                nodata,
+                spacing_m,
+                fit: fit.map(|fit| match fit {
+                    FitChoice::Pad => "pad",
+                    FitChoice::Crop => "crop",
                 }),
-                _ => None,
+                crop_origin,
+                origin_m,
             };
-            info(&path, raw)
+            let request = InfoRequest {
+                path,
+                file_keys: keys,
+                map,
+            };
+            run_info(&request, &mut std::io::stdout()).map_err(|failure| match failure {
+                InfoFailure::Output(error) => Failure::from(error),
+                InfoFailure::Error(message) => Failure::Error(message),
+            })
         }
         #[cfg(not(feature = "preview"))]
         Command::Preview { .. } => needs_preview_feature("preview"),
@@ -500,103 +564,8 @@ fn check_experiment(path: &Path) -> Result<(), Failure> {
                 experiment.below_ground_frames.len()
             )?;
         }
-        if !experiment.violations.is_empty() {
-            writeln!(
-                std::io::stdout(),
-                "note: {} frame(s) break the speed or rotation bounds (first: frame {})",
-                experiment.violations.len(),
-                experiment.violations[0].frame
-            )?;
-        }
+        write!(std::io::stdout(), "{}", describe_flight_motion(&experiment))?;
     }
-    Ok(())
-}
-
-fn info(path: &Path, raw: Option<RawLayout>) -> Result<(), Failure> {
-    let is_experiment = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    if !is_experiment {
-        return info_terrain_file(path, raw);
-    }
-    if raw.is_some() {
-        return Err(Failure::Error(format!(
-            "{}: the --raw-… options describe a raw terrain file; an experiment declares its \
-             terrain's layout in terrain.file.format",
-            path.display()
-        )));
-    }
-    let plan = experiment::plan(path).map_err(|e| e.to_string())?;
-    for k in 0..plan.n_points() {
-        if let Some(choice) = plan.choice(k) {
-            writeln!(
-                std::io::stdout(),
-                "sweep point {}/{}: {}",
-                k + 1,
-                plan.n_points(),
-                experiment::choice_label(choice)
-            )?;
-        }
-        let experiment = plan.load_point(k).map_err(|e| e.to_string())?;
-        write!(
-            std::io::stdout(),
-            "{}",
-            describe_terrain(&experiment.terrain)
-        )?;
-        write!(
-            std::io::stdout(),
-            "{}",
-            describe_preprocessing(experiment.field)
-        )?;
-    }
-    Ok(())
-}
-
-/// A terrain file described as an experiment would load it with `fit: pad` and no options.
-fn info_terrain_file(path: &Path, raw: Option<RawLayout>) -> Result<(), Failure> {
-    let format = match raw {
-        Some(layout) => TerrainFormat::Raw(layout),
-        None => format_from_extension(path).map_err(|e| {
-            format!(
-                "{e} (for a raw file give --raw-columns, --raw-rows and --raw-sample, e.g. \
-                 --raw-columns 1025 --raw-rows 1025 --raw-sample i16le)"
-            )
-        })?,
-    };
-    let loaded = read_terrain(path, format, &ReadOptions::AS_STORED).map_err(|e| e.to_string())?;
-    let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
-    let (spacing, spacing_from) = match (loaded.spacing, &loaded.spacing_note) {
-        (Some(s), Some(note)) => (s, format!("file: {note}")),
-        (Some(s), None) => (s, "file".to_string()),
-        (None, note) => (
-            Spacing { dx: 1.0, dy: 1.0 },
-            format!(
-                "file: none usable{}; 1 m assumed here, an experiment must give spacing_m",
-                note.as_ref().map_or(String::new(), |n| format!(" ({n})"))
-            ),
-        ),
-    };
-    let (filled, fill) = fill_voids(loaded.grid).map_err(|e| format!("{}: {e}", path.display()))?;
-    let (field, embedded) =
-        embed(&filled, Fit::Pad, spacing).map_err(|e| format!("{}: {e}", path.display()))?;
-    let (lo, hi) = field.height_range();
-    let report = TerrainReport {
-        source: path.display().to_string(),
-        format: format.name().to_string(),
-        source_columns,
-        source_rows,
-        side: field.side(),
-        padded_columns: embedded.padded_columns,
-        padded_rows: embedded.padded_rows,
-        crop_origin: embedded.crop_origin,
-        voids_filled: fill.voids_filled,
-        spacing,
-        spacing_from,
-        height_min_m: lo,
-        height_max_m: hi,
-    };
-    write!(std::io::stdout(), "{}", describe_terrain(&report))?;
-    write!(std::io::stdout(), "{}", describe_preprocessing(field))?;
     Ok(())
 }
 

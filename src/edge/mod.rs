@@ -10,6 +10,8 @@
 
 pub mod experiment;
 pub mod flight_log;
+pub mod flight_motion;
+pub mod info_command;
 pub mod output;
 #[cfg(feature = "preview")]
 pub mod preview;

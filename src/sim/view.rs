@@ -179,6 +179,25 @@ impl Camera {
             .any(|inside| c.iter().all(|&p| inside(p) < -margin))
     }
 
+    /// The view volume seen from above: the convex hull, counter-clockwise, of its eight
+    /// corners (near and far planes) projected onto the horizontal plane, in the camera's
+    /// coordinates (world or local, as its pose was). What a map draws as the frustum's
+    /// footprint; it reaches out to the far plane, so a caller clips it to what it shows.
+    pub fn footprint(&self) -> Vec<DVec2> {
+        let (tx, ty) = (self.tan_half_fovx, self.tan_half_fovy);
+        let mut corners = Vec::with_capacity(8);
+        for depth in [self.settings.near, self.settings.far] {
+            for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let p = self.eye
+                    + self.forward * depth
+                    + self.right * (sx * tx * depth)
+                    + self.up * (sy * ty * depth);
+                corners.push(p.truncate());
+            }
+        }
+        convex_hull(corners)
+    }
+
     /// Conservative test of a triangle against the view volume: `false` only when all three
     /// corners are outside one of the six planes (so the triangle is surely outside).
     pub fn may_see_triangle(&self, corners: [DVec3; 3]) -> bool {
@@ -193,6 +212,36 @@ impl Camera {
             || all(&|p| p.y > p.z * ty)
             || all(&|p| -p.y > p.z * ty))
     }
+}
+
+/// The convex hull of `points`, counter-clockwise from the lowest-leftmost point (Andrew's
+/// monotone chain); collinear points are dropped.
+fn convex_hull(mut points: Vec<DVec2>) -> Vec<DVec2> {
+    points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let cross = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+    let mut hull: Vec<DVec2> = Vec::with_capacity(2 * points.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let ordered: Box<dyn Iterator<Item = &DVec2>> = if pass == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        for &p in ordered {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
 }
 
 #[cfg(test)]
@@ -226,6 +275,48 @@ mod tests {
         // +y is to the left when looking along +x.
         assert!(camera.to_camera(DVec3::new(10.0, 1.0, 0.0)).x < 0.0);
         assert!(camera.to_camera(DVec3::new(10.0, 0.0, 1.0)).y > 0.0);
+    }
+
+    #[test]
+    fn the_footprint_of_a_level_camera_is_the_trapezoid_between_its_near_and_far_planes() {
+        let settings = ViewSettings {
+            fovy: FRAC_PI_2,
+            near: 1.0,
+            far: 100.0,
+            ..settings()
+        };
+        let pose = Pose {
+            position: DVec3::new(0.0, 0.0, 50.0),
+            yaw: 0.0,
+            pitch: 0.0,
+        };
+        let footprint = Camera::new(&pose, settings).footprint();
+        let expected = [(1.0, -1.0), (100.0, -100.0), (100.0, 100.0), (1.0, 1.0)];
+        assert_eq!(footprint.len(), 4, "{footprint:?}");
+        for (corner, (x, y)) in footprint.iter().zip(expected) {
+            assert!(
+                (corner.x - x).abs() < 1e-9 && (corner.y - y).abs() < 1e-9,
+                "{footprint:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_footprint_of_a_camera_looking_down_surrounds_the_point_below_it() {
+        let pose = Pose {
+            position: DVec3::new(5.0, 7.0, 100.0),
+            yaw: 0.3,
+            pitch: -FRAC_PI_2,
+        };
+        let footprint = Camera::new(&pose, settings()).footprint();
+        let below = DVec2::new(5.0, 7.0);
+        let n = footprint.len();
+        assert_eq!(n, 4);
+        // Counter-clockwise: the point is left of every edge.
+        for k in 0..n {
+            let (a, b) = (footprint[k], footprint[(k + 1) % n]);
+            assert!((b - a).perp_dot(below - a) > 0.0, "{footprint:?}");
+        }
     }
 
     #[test]

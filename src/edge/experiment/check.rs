@@ -250,7 +250,7 @@ pub struct MeshExports {
     pub entries: Vec<usize>,
 }
 
-fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
+pub(super) fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
     match terrain {
         TerrainEntry::File(file) => {
             if let Some(scale) = file.height_scale

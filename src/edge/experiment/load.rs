@@ -171,9 +171,20 @@ pub(super) fn load_terrain(
     folder: &Path,
     entry: &TerrainEntry,
 ) -> Result<(Heightfield, TerrainReport), ExperimentError> {
+    load_terrain_assuming(experiment, folder, entry, None)
+}
+
+/// [`load_terrain`], with `assumed` as the spacing of a file that declares none and is read
+/// without `spacing_m` (where an experiment is refused: `roamsim info` describes such a file).
+pub(super) fn load_terrain_assuming(
+    experiment: &Path,
+    folder: &Path,
+    entry: &TerrainEntry,
+    assumed: Option<Spacing>,
+) -> Result<(Heightfield, TerrainReport), ExperimentError> {
     match entry {
         TerrainEntry::Synthetic(s) => generate_terrain(experiment, s),
-        TerrainEntry::File(file) => read_terrain_file(experiment, folder, file),
+        TerrainEntry::File(file) => read_terrain_file(experiment, folder, file, assumed),
     }
 }
 
@@ -228,6 +239,7 @@ fn read_terrain_file(
     experiment: &Path,
     folder: &Path,
     file: &TerrainFileEntry,
+    assumed: Option<Spacing>,
 ) -> Result<(Heightfield, TerrainReport), ExperimentError> {
     let path = folder.join(&file.path);
     let field_error =
@@ -251,7 +263,8 @@ fn read_terrain_file(
         nodata: file.nodata,
     };
     let loaded = read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
-    let (spacing, spacing_from) = grid_spacing(experiment, &path, file.spacing_m, &loaded)?;
+    let (spacing, spacing_from) =
+        grid_spacing(experiment, &path, (file.spacing_m, assumed), &loaded)?;
     let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
     let (filled, fill) =
         fill_voids(loaded.grid).map_err(|e| field_error(format!("{}: {e}", path.display())))?;
@@ -284,11 +297,11 @@ fn read_terrain_file(
 }
 
 /// The terrain file's grid spacing and where it came from: the experiment's `spacing_m` when it
-/// gives one, else the file's own (an error when the file declares none).
+/// gives one, else the file's own, else the `assumed` one (an error when there is none).
 fn grid_spacing(
     experiment: &Path,
     path: &Path,
-    given: Option<SpacingEntry>,
+    (given, assumed): (Option<SpacingEntry>, Option<Spacing>),
     loaded: &LoadedTerrain,
 ) -> Result<(Spacing, String), ExperimentError> {
     match (given, loaded.spacing) {
@@ -299,6 +312,17 @@ fn grid_spacing(
                 Some(note) => format!("file: {note}"),
                 None => "file".to_string(),
             },
+        )),
+        (None, None) if let Some(s) = assumed => Ok((
+            s,
+            format!(
+                "file: none usable{}; {} m assumed here, an experiment must give spacing_m",
+                loaded
+                    .spacing_note
+                    .as_ref()
+                    .map_or(String::new(), |n| format!(" ({n})")),
+                s.dx
+            ),
         )),
         (None, None) => {
             let why = match &loaded.spacing_note {

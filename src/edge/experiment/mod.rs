@@ -14,6 +14,7 @@
 //! 3. *Load* (the IO): `load.rs` reads or generates the terrain, reads a recorded flight, builds
 //!    the flight: the [`Experiment`].
 //!
+//! `terrain_alone.rs` runs stages 1 to 3 on a terrain entry alone (`roamsim info`'s options).
 //! `plan.rs` drives them: stages 1 and 2 for every point of the file at once ([`plan`], so every
 //! problem of every point is reported before any terrain is read), stage 3 for one point at a
 //! time ([`Plan::load_point`]). Nothing runs before all three have passed for a point. This file
@@ -29,6 +30,7 @@ mod parameters;
 mod plan;
 mod problems;
 mod sweep;
+mod terrain_alone;
 mod tune;
 
 pub use check::MeshExports;
@@ -39,4 +41,5 @@ pub use parameters::KNOWN_ALGORITHMS;
 pub use plan::{Plan, check_bytes, load, plan};
 pub use problems::{ExperimentError, FieldProblem};
 pub use sweep::{SweepChoice, choice_label};
+pub use terrain_alone::{ASSUMED_SPACING_M, load_terrain_file};
 pub use tune::{Tune, TuneTarget};

@@ -11,6 +11,8 @@
 pub mod atomic_dir;
 pub mod columns;
 pub mod end_of_run;
+pub mod flight_csv;
+pub mod flight_map;
 pub mod frames_csv;
 pub mod goal_check;
 pub mod label_placement;
@@ -18,6 +20,7 @@ pub mod mesh_ply;
 pub mod plots;
 pub mod report_md;
 pub mod run_plots;
+pub mod significant;
 pub mod summary_json;
 pub mod sweep_outputs;
 pub mod tuning;

@@ -4,6 +4,7 @@
 //! when the experiment asks for it). Replays only go forward; nothing here draws.
 
 use crate::edge::experiment::{self, Experiment, ExperimentError};
+use crate::edge::output::significant::{column_with_unit, three_significant};
 use crate::sim::algorithm::LodAlgorithm;
 use crate::sim::draw::GpuBuffers;
 use crate::sim::hierarchy::Hierarchy;
@@ -183,8 +184,9 @@ impl<'s> Replay<'s> {
 
 impl LaneFrame<'_> {
     /// The frame's statistics in a few short lines: label and frame; triangles (in view),
-    /// splits, merges; the algorithm's extra columns (Wu's base b among them), three a line; the
-    /// audited error when the experiment audits.
+    /// splits, merges; the algorithm's extra columns (Wu's base b among them), three a line, each
+    /// with three significant digits and its unit (`tau_px 49.4 px`); the audited error when the
+    /// experiment audits.
     pub fn caption_lines(&self) -> Vec<String> {
         let stats = self.stats;
         let mut lines = vec![
@@ -198,13 +200,14 @@ impl LaneFrame<'_> {
             .extra_columns
             .iter()
             .zip(&stats.extra)
-            .map(|(name, value)| format!("{name} {value}"))
+            .map(|(name, value)| column_with_unit(name, *value))
             .collect();
         lines.extend(extras.chunks(3).map(|chunk| chunk.join(" · ")));
         if let Some(error) = stats.audit.as_ref().and_then(|a| a.projected.as_ref()) {
             lines.push(format!(
-                "projected error p95 {:.2} px, max {:.2} px",
-                error.p95, error.max
+                "projected error p95 {} px, max {} px",
+                three_significant(error.p95),
+                three_significant(error.max)
             ));
         }
         lines

@@ -1,6 +1,6 @@
-//! Assembling a run's outputs (SPEC §8): each point's `frames.csv`, `summary.json`, `report.md`,
-//! exported meshes and plots written into the staged folder as the point is added, the sweep's
-//! own files at the top at the end, then the commit. Not the formats themselves (`edge::output`
+//! Assembling a run's outputs (SPEC §8): each point's `frames.csv`, `flight.csv`, `summary.json`,
+//! `report.md`, exported meshes and plots written into the staged folder as the point is added,
+//! the sweep's own files at the top at the end, then the commit. Not the formats themselves (`edge::output`
 //! writes each), nor the running of a point (`point.rs`).
 //!
 //! **One assembly for a run and a merge.** A whole run and `roamsim merge` feed the same
@@ -22,6 +22,8 @@ use crate::edge::experiment::{self, Experiment, Plan, SweepChoice, tuned_spec};
 use crate::edge::output::atomic_dir::StagedDir;
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::end_of_run::PointFigures;
+use crate::edge::output::flight_csv::flight_csv;
+use crate::edge::output::flight_map::{FlightOnMap, write_flight_map};
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::goal_check::{GoalCheck, check_goal};
 use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
@@ -234,8 +236,8 @@ impl<'r> PointTables<'r> {
     }
 }
 
-/// Writes one point's `frames.csv`, `summary.json`, `report.md` and plots into `dir` (inside the
-/// staged output folder); returns each entry's report figures.
+/// Writes one point's `frames.csv`, `flight.csv`, `summary.json`, `report.md` and plots into `dir`
+/// (inside the staged output folder); returns each entry's report figures.
 fn write_outputs(
     context: &OutputContext,
     results: &[AlgorithmResult],
@@ -247,6 +249,9 @@ fn write_outputs(
     std::fs::create_dir_all(dir).map_err(io_error(dir))?;
     let csv_path = dir.join("frames.csv");
     std::fs::write(&csv_path, frames_csv(&tables.runs, audited)).map_err(io_error(&csv_path))?;
+    let flight_path = dir.join("flight.csv");
+    let flight_text = flight_csv(&experiment.flight, &experiment.field, experiment.speed);
+    std::fs::write(&flight_path, flight_text).map_err(io_error(&flight_path))?;
     write_summary(context, results, &tables, dir)?;
     write_report(context, &tables, dir)?;
     write_meshes(experiment, results, dir)?;
@@ -265,6 +270,17 @@ fn write_outputs(
                 warm_up_frames: experiment.warm_up_frames,
             },
         )?;
+        let title = format!(
+            "The flight over {}: {} frames",
+            experiment.terrain.source,
+            experiment.flight.n_frames()
+        );
+        let flight = FlightOnMap {
+            flight: &experiment.flight,
+            view: experiment.view,
+            violations: &experiment.violations,
+        };
+        write_flight_map(&plots, &experiment.field, &title, Some(flight))?;
     }
     Ok(summarised_runs(&tables.runs, experiment.warm_up_frames)
         .iter()

@@ -11,9 +11,11 @@
 //! An eye below the ground is one of SPEC §9's hard cases, not an error: such a flight runs, and
 //! [`Flight::frames_below_ground`] lists the frames for the run to report.
 
+mod motion;
 mod path;
 mod speed;
 
+pub use motion::{FrameStep, Largest, LargestSteps, flight_steps, largest_steps};
 pub use path::{Altitude, FlightPath, Interpolation, Look, Waypoint};
 pub use speed::{BrokenBounds, SpeedViolation, largest_turn, speed_violations};
 

@@ -4,14 +4,14 @@
 //! the bounds its algorithms may assume). It reports and never corrects: what an algorithm does
 //! about a broken bound (revalidate its lives or its deferral) is the algorithm's.
 //!
-//! The horizontal step is the Euclidean length of the eye's move in the plane, the vertical step
-//! its absolute change in z, the turn the angle between consecutive look directions. Frame 0 has
-//! no previous frame and is never listed. The runner hands each frame its [`BrokenBounds`].
+//! The figures are each frame's step (`motion.rs`: the eye's horizontal and vertical move and the
+//! look direction's turn since the previous frame), so `flight.csv` and `validate` list the same
+//! frames. Frame 0 has no previous frame and is never listed. The runner hands each frame its [`BrokenBounds`].
 //! [`largest_turn`] measures the same turn over a whole flight: the rotation bound of an
 //! experiment that declares none.
 
 use super::Flight;
-use crate::sim::view::Pose;
+use super::motion::{flight_steps, largest_steps};
 use crate::sim::zone::SpeedBound;
 
 /// Which of the motion bounds a frame broke (what an algorithm sees in its frame input).
@@ -58,6 +58,19 @@ impl BrokenBounds {
     pub fn any(self) -> bool {
         self.speed() || self.rotation
     }
+
+    /// The names of the broken bounds, in the order horizontal, vertical, rotation (the words
+    /// `flight.csv` and `validate` use).
+    pub fn names(self) -> Vec<&'static str> {
+        [
+            (self.horizontal, "horizontal"),
+            (self.vertical, "vertical"),
+            (self.rotation, "rotation"),
+        ]
+        .into_iter()
+        .filter_map(|(broken, name)| broken.then_some(name))
+        .collect()
+    }
 }
 
 /// A frame that broke the motion bounds.
@@ -74,29 +87,17 @@ pub struct SpeedViolation {
     pub broken: BrokenBounds,
 }
 
-/// All frames whose change from the previous frame exceeds `bound`, in frame order.
+/// All frames whose change from the previous frame exceeds `bound`, in frame order: the
+/// [`flight_steps`] that break a bound.
 pub fn speed_violations(flight: &Flight, bound: SpeedBound) -> Vec<SpeedViolation> {
-    flight
-        .poses()
-        .windows(2)
-        .enumerate()
-        .filter_map(|(k, pair)| {
-            let d = pair[1].position - pair[0].position;
-            let horizontal = d.truncate().length();
-            let vertical = d.z.abs();
-            let rotation = turn(&pair[0], &pair[1]);
-            let broken = BrokenBounds {
-                horizontal: horizontal > bound.horizontal,
-                vertical: vertical > bound.vertical,
-                rotation: rotation > bound.rotation,
-            };
-            broken.any().then_some(SpeedViolation {
-                frame: k as u64 + 1,
-                horizontal,
-                vertical,
-                rotation,
-                broken,
-            })
+    flight_steps(flight, bound)
+        .filter(|step| step.broken.any())
+        .map(|step| SpeedViolation {
+            frame: step.frame,
+            horizontal: step.horizontal,
+            vertical: step.vertical,
+            rotation: step.turn,
+            broken: step.broken,
         })
         .collect()
 }
@@ -105,16 +106,5 @@ pub fn speed_violations(flight: &Flight, bound: SpeedBound) -> Vec<SpeedViolatio
 /// motion check compares with the rotation bound, so no frame of `flight` breaks a rotation bound
 /// of this value. 0 for a flight that never turns (or has one frame).
 pub fn largest_turn(flight: &Flight) -> f64 {
-    flight
-        .poses()
-        .windows(2)
-        .map(|pair| turn(&pair[0], &pair[1]))
-        .fold(0.0, f64::max)
-}
-
-/// The angle between two poses' look directions, radians.
-fn turn(from: &Pose, to: &Pose) -> f64 {
-    let (from, to) = (from.forward(), to.forward());
-    // atan2 of sine and cosine: accurate for the tiny angles of a smooth flight.
-    from.cross(to).length().atan2(from.dot(to))
+    largest_steps(flight).map_or(0.0, |largest| largest.turn.value.max(0.0))
 }

@@ -1,4 +1,5 @@
-//! Line and scatter charts, each written as a PNG (1200×700) and an SVG of the same drawing.
+//! Line and scatter charts, each written as a PNG (1200×700) and an SVG of the same drawing, and
+//! the map of a terrain and a flight over it (`map.rs`, 1200×1000).
 //!
 //! This is the only module that knows plotters. Callers hand over plain data ([`LineChart`],
 //! [`ScatterChart`]) and a directory; the module computes the axis ranges, lays out the title,
@@ -45,8 +46,8 @@
 //! marker shape per variant. Shades come before dashes because per-frame lines zigzag from frame
 //! to frame and break a dash pattern up (`palette.rs`).
 //!
-//! The parts: `line.rs` (the line chart's plan and drawing), `decimation.rs` (breaks and the
-//! decimation of long series), `palette.rs` (colours, shades and dashes), `scatter.rs` (the
+//! The parts: `line.rs` (the line chart's plan and drawing), `map.rs` (a terrain and a flight
+//! over it, seen from above), `decimation.rs` (breaks and the decimation of long series), `palette.rs` (colours, shades and dashes), `scatter.rs` (the
 //! scatter chart), `ticks.rs` (ranges, tick labels,
 //! axes) and `legend.rs` (legend, marker labels, text fitting); this file holds the public types,
 //! the shared style and the writing of both files.
@@ -54,6 +55,7 @@
 mod decimation;
 mod legend;
 mod line;
+mod map;
 mod palette;
 mod scatter;
 #[cfg(test)]
@@ -71,6 +73,9 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+pub use map::{
+    HeightRaster, MAP_SIDE_PX, MapChart, MapFormat, map_raster_size, write_map, write_map_file,
+};
 pub use palette::variants_in_order;
 
 /// One named line on a [`LineChart`]: `(x, y)` points joined in the order given.
