@@ -38,5 +38,5 @@ pub use load::{BoundOrigin, Experiment, TerrainReport};
 pub use parameters::KNOWN_ALGORITHMS;
 pub use plan::{Plan, check_bytes, load, plan};
 pub use problems::{ExperimentError, FieldProblem};
-pub use sweep::{SweepChoice, choice_label};
+pub use sweep::{SweepChoice, choice_label, point_document};
 pub use tune::{Tune, TuneTarget};

@@ -187,7 +187,7 @@ impl Plan {
         let (speed, rotation_bound) = checked.speed.for_flight(&flight);
         let violations = speed_violations(&flight, speed);
         let below_ground_frames = flight.frames_below_ground(&field);
-        let experiment = Experiment {
+        let mut experiment = Experiment {
             name: parsed.name.clone(),
             description: parsed.description.clone(),
             file: path.to_path_buf(),
@@ -211,6 +211,9 @@ impl Plan {
             warm_up_frames: parsed.outputs.warm_up_frames,
             sweep_point: point.choice.clone(),
         };
+        if let Some(n_frames) = parsed.flight.first_frames {
+            experiment.keep_first_frames(n_frames);
+        }
         experiment.check_warm_up().map_err(prefix_errors)?;
         Ok(experiment)
     }

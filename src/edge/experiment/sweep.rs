@@ -85,6 +85,15 @@ pub(super) struct ExperimentPoint {
     pub document: Value,
 }
 
+/// Point `k`'s document (its top-level sweep expanded away) of an experiment file's text, as the
+/// plan expanded it; `None` when the text is not JSON or has no point `k`. For outputs that write
+/// the experiment back (`tuned-experiment.json`).
+pub fn point_document(bytes: &[u8], k: usize) -> Option<Value> {
+    let document = serde_json::from_slice(bytes).ok()?;
+    let mut points = expand_experiment(document).ok()?;
+    (k < points.len()).then(|| points.swap_remove(k).document)
+}
+
 /// Fields a top-level sweep may not set: they identify the experiment or the sweep itself.
 const UNSWEEPABLE: &[&str] = &["format_version", "name", "sweep"];
 

@@ -20,5 +20,6 @@ pub mod report_md;
 pub mod run_plots;
 pub mod summary_json;
 pub mod sweep_outputs;
+pub mod tuned_experiment;
 pub mod tuning;
 pub mod warm_up;

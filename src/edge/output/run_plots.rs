@@ -1,7 +1,8 @@
 //! The standard plots of a run (`docs/output-formats.md`, "plots/"): triangles per frame
 //! (rendered ones too, when culling made them differ), update time per frame, the audited error
 //! per frame and the accuracy-versus-time Pareto plot (SPEC §7, when the audit ran), popping per
-//! frame (when it was measured), and Wu's b and Röttger's c per frame (when such an entry ran).
+//! frame (when it was measured), and Wu's b (when a `wu` entry has a budget) and Röttger's c per
+//! frame (when such an entry ran).
 //! Per-frame plots draw one line per algorithm label. This file chooses what is plotted;
 //! `plots` draws it. Every series and point carries its entry's algorithm and its variant
 //! counted over the whole run, so that an entry has the same colour in every plot, also in one
@@ -32,6 +33,9 @@ pub struct RunPlotInputs<'a> {
     pub audited: bool,
     /// Frames that broke the speed or rotation bounds: marked on every per-frame plot.
     pub speed_violation_frames: &'a [u64],
+    /// Whether each run shifts Wu's base b (a `wu` entry with a budget): `base_b` is drawn for
+    /// those only, and not at all when none does (b stays 0 without a budget).
+    pub shifts_base: &'a [bool],
     /// The horizontal speed bound (m/frame), the unit of Wu's b.
     pub horizontal_m_per_frame: f64,
     /// The first frames the summaries leave out (`outputs.warm_up_frames`): the accuracy plot,
@@ -48,7 +52,7 @@ const LOG_AXIS_ABOVE_RATIO: f64 = 10.0;
 /// Writes `triangles` and `update_time` (logarithmic y: entries differ by orders of magnitude),
 /// `triangles_rendered` (when culling made some frame's rendered count differ from its mesh),
 /// `error` and `accuracy_vs_time` (when audited), `popping` (when some frame measured it),
-/// `base_b` (when an algorithm reports Wu's base) and `desired_resolution_c` (when one reports
+/// `base_b` (when a `wu` entry has a budget) and `desired_resolution_c` (when one reports
 /// Röttger's c) as PNG and SVG into `dir`. Every per-frame plot marks the frames that broke the
 /// speed bounds; `error` and `popping` use a logarithmic y axis when their entries' means differ
 /// by more than ten times.
@@ -117,7 +121,7 @@ pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotErr
         &series_of("update_ns", 1e-3),
         true,
     )?;
-    write_base_plot(dir, runs, &looks, &marked, inputs.horizontal_m_per_frame)?;
+    write_base_plot(dir, inputs, &looks, &marked)?;
     write_desired_resolution_plot(dir, runs, &looks)?;
     if inputs.audited {
         let summarised = summarised_runs(runs, inputs.warm_up_frames);
@@ -204,18 +208,18 @@ fn differ_by_orders(series: &[Series]) -> bool {
 /// Several: the same figures in each legend label.
 fn write_base_plot(
     dir: &Path,
-    runs: &[RunColumns],
+    inputs: &RunPlotInputs,
     looks: &Looks,
     marked: &[f64],
-    horizontal_m_per_frame: f64,
 ) -> Result<(), PlotError> {
+    let (runs, horizontal_m_per_frame) = (inputs.runs, inputs.horizontal_m_per_frame);
     let metres = |b: f64| b * horizontal_m_per_frame;
     let mut series = Vec::new();
     let mut figures = Vec::new();
     for (run_idx, run) in runs
         .iter()
         .enumerate()
-        .filter(|(_, r)| r.extra_columns.contains(&BASE_B))
+        .filter(|(k, r)| inputs.shifts_base[*k] && r.extra_columns.contains(&BASE_B))
     {
         let points: Vec<(f64, f64)> = run
             .frames

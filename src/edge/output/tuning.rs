@@ -4,6 +4,7 @@
 //! `docs/experiment-format.md`, "Tuning to a target". It only reports: the search is
 //! `sim::tuning`'s.
 
+use super::report_md::section;
 use crate::edge::experiment::{Tune, TuneTarget};
 use crate::sim::stats::FrameStats;
 use crate::sim::tuning::Probe;
@@ -113,8 +114,9 @@ pub fn write_tuned_entries(out: &mut String, labels: &[&str], records: &[Option<
     }
     let _ = writeln!(
         out,
-        "\n**Tuned entries** (the parameter set by a search over probe runs, `tune` in the \
-         experiment; the probe mean is over the probe frames, the run's over every frame):\n"
+        "\n## {}\n\nThe parameter set by a search over probe runs (`tune` in the experiment); \
+         the probe mean is over the probe frames, the run's over every frame.\n",
+        section::TUNED_ENTRIES
     );
     let _ = writeln!(
         out,
