@@ -534,3 +534,55 @@ fn the_tuned_experiment_written_beside_the_outputs_reproduces_the_runs_counts() 
     assert_eq!(first.len(), 1 + 4 * 25);
     assert_eq!(first, again);
 }
+
+#[test]
+fn a_search_whose_parameter_stopped_mattering_stops_on_a_plateau_and_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    // The stitching strips cannot draw 0.3 px at any ρ on this flight: their blocks reach the
+    // highest tessellation factor first.
+    let mut value = experiment(json!([
+        {"name": "stitching-strips", "label": "strips @0.3px", "rho_threshold_px": 1,
+         "block_level": 4, "tune": {"audit_p95_px": 0.3, "probe_frames": 10}},
+    ]));
+    value["terrain"]["synthetic"]["level"] = 7.into();
+    value["flight"]["path"]["circle"]["centre_m"] = json!([1900, 1900]);
+    value["flight"]["path"]["circle"]["radius_m"] = 1000.into();
+    value["flight"]["frames"] = 20.into();
+    save(cwd, "plateau", &value);
+    let output = roamsim(&["run", "plateau.json", "--out", "out"], cwd);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let summary = summary(&cwd.join("out"));
+    let tuning = &entry(&summary, "strips @0.3px")["tuning"];
+    let plateau = &tuning["plateau"];
+    assert_eq!(tuning["reached"], false);
+    assert_eq!(plateau["probes"], 4, "{tuning}");
+    let probes = tuning["probes"].as_array().unwrap();
+    assert!(probes.len() < 24, "stopped before max_probes: {tuning}");
+    let [low, high] = [0, 1].map(|k| plateau["values"][k].as_f64().unwrap());
+    assert_eq!(high / low, 8.0, "three doublings");
+    let reason = plateau["reason"].as_str().unwrap();
+    assert!(
+        reason.contains("every M-block is in the highest tessellation factor's bin"),
+        "{reason}"
+    );
+    let warning = stderr
+        .lines()
+        .find(|l| l.starts_with("warning: strips @0.3px: tune did not reach"))
+        .unwrap_or_else(|| panic!("{stderr}"));
+    assert!(
+        warning.contains("it stopped on a plateau: rho_threshold_px from "),
+        "{warning}"
+    );
+    assert!(
+        warning.ends_with("(report.md, \"Tuned entries\")"),
+        "{warning}"
+    );
+    let report = std::fs::read_to_string(cwd.join("out/report.md")).unwrap();
+    assert!(
+        report.contains("**strips @0.3px: the search stopped on a plateau**"),
+        "{report}"
+    );
+    assert!(report.contains(reason), "{report}");
+}

@@ -34,7 +34,7 @@ use crate::edge::output::sweep_outputs::{
 use crate::edge::output::tuned_experiment::{
     FrozenRun, TUNED_EXPERIMENT_FILE, entry_as_run, relative_path, tuned_experiment,
 };
-use crate::edge::output::tuning::TuningRecord;
+use crate::edge::output::tuning::{TuningRecord, significant};
 use crate::edge::output::warm_up::summarised_runs;
 use crate::sim::algorithm::AlgorithmConfig;
 use sha2::{Digest, Sha256};
@@ -293,15 +293,21 @@ fn goal_flags(
         if let Some(tuning) = &result.tuning
             && !tuning.reached
         {
+            let plateau = tuning.plateau.as_ref().map_or(String::new(), |p| {
+                format!(
+                    "; it stopped on a plateau: {}",
+                    p.sentence(tuning.parameter, tuning.target)
+                )
+            });
             flags.push(format!(
-                "{point}{}: tune did not reach {} {} within {}: the closest probe gave {} at {} = {}{}",
+                "{point}{}: tune did not reach {} {} within {}: the closest probe gave {} at {} = {}{plateau}{}",
                 spec.label,
                 tuning.target.value(),
                 tuning.target.unit(),
                 tuning.tolerance,
-                tuning.probe_mean,
+                significant(tuning.probe_mean),
                 tuning.parameter,
-                tuning.value,
+                significant(tuning.value),
                 pointer(section::TUNED_ENTRIES)
             ));
         }
