@@ -48,6 +48,7 @@ pub struct Plan {
 
 struct PlannedPoint {
     choice: Option<SweepChoice>,
+    label: Option<String>,
     parsed: ExperimentFile,
     checked: Checked,
 }
@@ -79,7 +80,12 @@ fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
     })?;
     let mut problems = Vec::new();
     let mut planned = Vec::new();
-    for ExperimentPoint { choice, document } in points {
+    for ExperimentPoint {
+        choice,
+        label,
+        document,
+    } in points
+    {
         let prefix = choice
             .as_ref()
             .map(|c| format!("({}) ", choice_label(c)))
@@ -91,6 +97,7 @@ fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
         match checked {
             Ok((parsed, checked)) => planned.push(PlannedPoint {
                 choice,
+                label,
                 parsed,
                 checked,
             }),
@@ -146,6 +153,11 @@ impl Plan {
     /// The swept values of point `k` (`None` without a sweep).
     pub fn choice(&self, k: usize) -> Option<&SweepChoice> {
         self.points[k].choice.as_ref()
+    }
+
+    /// The short label of point `k` (the sweep's `"labels"`), if the sweep gives one.
+    pub fn label(&self, k: usize) -> Option<&str> {
+        self.points[k].label.as_deref()
     }
 
     /// Stage 3 for point `k`: reads or generates its terrain, builds its flight.

@@ -82,7 +82,67 @@ pub fn choice_label(choice: &[(String, Value)]) -> String {
 pub(super) struct ExperimentPoint {
     /// `None` when the experiment has no top-level sweep (its only point is itself).
     pub choice: Option<SweepChoice>,
+    /// The point's short name from the sweep's `"labels"`, if it gives them.
+    pub label: Option<String>,
     pub document: Value,
+}
+
+/// The key of a top-level sweep's list of point labels.
+const LABELS: &str = "labels";
+
+/// Longest point label (it names a folder).
+const MAX_LABEL_CHARS: usize = 64;
+
+/// The sweep's `"labels"`: one per point, in the points' order, each a safe folder name (ASCII
+/// letters, digits and `-_.+=`, not starting with `.`, at most [`MAX_LABEL_CHARS`]), no two alike.
+fn point_labels(labels: &Value, points: usize) -> Result<Vec<String>, FieldProblem> {
+    let problem = |field: String, problem: String| FieldProblem { field, problem };
+    let Some(list) = labels.as_array() else {
+        return Err(problem(
+            format!("sweep.{LABELS}"),
+            format!("expected a list of {points} point labels, one per point in the sweep's order"),
+        ));
+    };
+    if list.len() != points {
+        return Err(problem(
+            format!("sweep.{LABELS}"),
+            format!(
+                "{} labels: expected {points}, one per point of the sweep (in its order, the \
+                 first swept field varying slowest)",
+                list.len()
+            ),
+        ));
+    }
+    let mut seen: Vec<String> = Vec::new();
+    for (k, label) in list.iter().enumerate() {
+        let field = format!("sweep.{LABELS}[{k}]");
+        let Some(text) = label.as_str() else {
+            return Err(problem(field, format!("{label}: expected a string")));
+        };
+        let safe = !text.is_empty()
+            && text.chars().count() <= MAX_LABEL_CHARS
+            && !text.starts_with('.')
+            && text
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_.+=".contains(c));
+        if !safe {
+            return Err(problem(
+                field,
+                format!(
+                    "{text:?}: expected 1 to {MAX_LABEL_CHARS} ASCII letters, digits or -_.+= \
+                     not starting with '.' (the label names the point's folder)"
+                ),
+            ));
+        }
+        if let Some(earlier) = seen.iter().position(|s| s == text) {
+            return Err(problem(
+                field,
+                format!("{text:?} is already the label of point {earlier}: expected unique labels"),
+            ));
+        }
+        seen.push(text.to_string());
+    }
+    Ok(seen)
 }
 
 /// Point `k`'s document (its top-level sweep expanded away) of an experiment file's text, as the
@@ -107,6 +167,7 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
     let Some(sweep) = sweep else {
         return Ok(vec![ExperimentPoint {
             choice: None,
+            label: None,
             document,
         }]);
     };
@@ -121,6 +182,9 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
     };
     let mut axes: Vec<Vec<SweepChoice>> = Vec::new();
     for (key, values) in sweep {
+        if key == LABELS {
+            continue;
+        }
         if key == TOGETHER {
             axes.push(together_axis(values)?);
         } else {
@@ -142,12 +206,26 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
         ));
     }
     let points: usize = axes.iter().map(Vec::len).product();
+    if axes.is_empty() {
+        return Err(problem(
+            "sweep".into(),
+            format!("only {LABELS:?}: expected at least one swept field"),
+        ));
+    }
     if points > MAX_SWEEP_POINTS {
         return Err(problem(
             "sweep".into(),
             format!("{points} points: expected at most {MAX_SWEEP_POINTS}"),
         ));
     }
+    let mut labels = match sweep.get(LABELS) {
+        Some(labels) => point_labels(labels, points)?
+            .into_iter()
+            .map(Some)
+            .collect(),
+        None => vec![None; points],
+    }
+    .into_iter();
     product_of_options(&axes)
         .into_iter()
         .map(|choice| {
@@ -158,6 +236,7 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
             }
             Ok(ExperimentPoint {
                 choice: Some(choice),
+                label: labels.next().flatten(),
                 document: point,
             })
         })

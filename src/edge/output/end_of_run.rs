@@ -110,6 +110,7 @@ mod tests {
                 evaluations_per_operation: None,
             },
             bytes_per_sample: 6.8,
+            counters: Vec::new(),
         }
     }
 

@@ -1,8 +1,9 @@
 //! The standard plots of a run (`docs/output-formats.md`, "plots/"): triangles per frame
 //! (rendered ones too, when culling made them differ), update time per frame, the audited error
 //! per frame and the accuracy-versus-time Pareto plot (SPEC §7, when the audit ran), popping per
-//! frame (when it was measured), and Wu's b (when a `wu` entry has a budget) and Röttger's c per
-//! frame (when such an entry ran).
+//! frame (when it was measured), Wu's b (when a `wu` entry has a budget) and Röttger's c per
+//! frame (when such an entry ran), and the rendered triangles each entry tuned to an audited
+//! error target needed for it (`triangles_for_error_target`).
 //! Per-frame plots draw one line per algorithm label. This file chooses what is plotted;
 //! `plots` draws it. Every series and point carries its entry's algorithm and its variant
 //! counted over the whole run, so that an entry has the same colour in every plot, also in one
@@ -36,11 +37,27 @@ pub struct RunPlotInputs<'a> {
     /// Whether each run shifts Wu's base b (a `wu` entry with a budget): `base_b` is drawn for
     /// those only, and not at all when none does (b stays 0 without a budget).
     pub shifts_base: &'a [bool],
+    /// Each run tuned to an audited error target, with that target and its line
+    /// (`triangles_for_error_target`); `None` for the others.
+    pub error_targets: &'a [Option<ErrorTarget>],
     /// The horizontal speed bound (m/frame), the unit of Wu's b.
     pub horizontal_m_per_frame: f64,
     /// The first frames the summaries leave out (`outputs.warm_up_frames`): the accuracy plot,
     /// a summary, leaves them out too; per-frame plots keep them.
     pub warm_up_frames: u64,
+}
+
+/// An entry tuned to an audited error target (`"tune": {"audit_p95_px": …}`), as
+/// `triangles_for_error_target` draws it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ErrorTarget {
+    /// The target, px of audited p95.
+    pub target_px: f64,
+    /// Whether its search reached the target.
+    pub reached: bool,
+    /// Which line it is a point of: entries of one algorithm with the same parameters but the
+    /// tuned one share a line; the line's legend label.
+    pub line: String,
 }
 
 /// The legend text of the frames marked on per-frame plots.
@@ -122,6 +139,7 @@ pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotErr
         true,
     )?;
     write_base_plot(dir, inputs, &looks, &marked)?;
+    write_error_target_plot(dir, inputs)?;
     write_desired_resolution_plot(dir, runs, &looks)?;
     if inputs.audited {
         let summarised = summarised_runs(runs, inputs.warm_up_frames);
@@ -202,6 +220,80 @@ fn differ_by_orders(series: &[Series]) -> bool {
     let lo = means.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = means.iter().copied().fold(0.0, f64::max);
     means.len() > 1 && hi > LOG_AXIS_ABOVE_RATIO * lo
+}
+
+/// `triangles_for_error_target`: for the entries tuned to an audited error target, the mean
+/// rendered triangles per frame (warm-up left out, as the report's) against the target, a line
+/// per group of entries that differ only in the target (`ErrorTarget::line`), coloured by
+/// algorithm. A line whose search missed a target says so in its legend label. Not drawn when
+/// no entry is tuned to an error.
+fn write_error_target_plot(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotError> {
+    let summarised = summarised_runs(inputs.runs, inputs.warm_up_frames);
+    let mut lines: Vec<(String, &str, Vec<(f64, f64)>, Vec<f64>)> = Vec::new();
+    for ((target, run), name) in inputs
+        .error_targets
+        .iter()
+        .zip(&summarised)
+        .zip(inputs.names)
+    {
+        let Some(target) = target else { continue };
+        let rendered: Vec<f64> = run
+            .frames
+            .iter()
+            .filter_map(|f| value(run, f, "triangles_rendered"))
+            .collect();
+        let Some(mean) = summarise(&rendered).map(|s| s.mean) else {
+            continue;
+        };
+        let at = match lines.iter().position(|(line, ..)| *line == target.line) {
+            Some(at) => at,
+            None => {
+                lines.push((target.line.clone(), name, Vec::new(), Vec::new()));
+                lines.len() - 1
+            }
+        };
+        lines[at].2.push((target.target_px, mean));
+        if !target.reached {
+            lines[at].3.push(target.target_px);
+        }
+    }
+    if lines.is_empty() {
+        return Ok(());
+    }
+    let algorithms: Vec<&str> = lines.iter().map(|(_, name, ..)| *name).collect();
+    let series: Vec<Series> = lines
+        .iter()
+        .zip(variants_in_order(&algorithms))
+        .map(|((line, name, points, missed), variant)| {
+            let mut points = points.clone();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let missed: Vec<String> = missed.iter().map(|t| format!("{t}")).collect();
+            Series {
+                label: if missed.is_empty() {
+                    line.clone()
+                } else {
+                    format!("{line} (target not reached at {} px)", missed.join(", "))
+                },
+                points,
+                algorithm: name.to_string(),
+                variant,
+            }
+        })
+        .collect();
+    write_line_chart(
+        dir,
+        "triangles_for_error_target",
+        &LineChart {
+            title: "Rendered triangles each entry needed for its audited error target",
+            x_label: "audited p95 error target (px)",
+            y_label: "mean rendered triangles per frame (log scale)",
+            series: &series,
+            markers: &[],
+            log_y: true,
+            marked_x: &[],
+            marked_x_label: "",
+        },
+    )
 }
 
 /// b per frame for every run that has it. One run: its min, max and mean as marked lines.

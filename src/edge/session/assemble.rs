@@ -8,7 +8,8 @@
 //! a merged output cannot differ from a whole run's but in timings.
 //!
 //! **A folder per sweep point.** A sweep point's files go into its own sub-folder of the staging
-//! folder (`edge::output::atomic_dir`), named from its choice (`parameter=value` pairs joined by
+//! folder (`edge::output::atomic_dir`), named by its label (the sweep's `"labels"`, checked to
+//! be unique, safe folder names) or else from its choice (`parameter=value` pairs joined by
 //! `_`); the point of an experiment without a sweep writes at the top.
 //!
 //! **Goals judged over the summarised frames.** Whether an entry held its budget or target is
@@ -18,17 +19,17 @@
 
 use super::point::{AlgorithmResult, PointRun};
 use super::run::{RunFailure, RunOutcome, io_error};
-use crate::edge::experiment::{self, Experiment, Plan, SweepChoice, tuned_spec};
+use crate::edge::experiment::{self, Experiment, Plan, TuneTarget, tuned_spec};
 use crate::edge::output::atomic_dir::StagedDir;
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::end_of_run::PointFigures;
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::goal_check::{GoalCheck, check_goal};
 use crate::edge::output::report_md::{REPORT_FILE, ReportInputs, report_markdown, row, section};
-use crate::edge::output::run_plots::{RunPlotInputs, write_run_plots};
+use crate::edge::output::run_plots::{ErrorTarget, RunPlotInputs, write_run_plots};
 use crate::edge::output::summary_json::{Preprocessing, RunRecord, summary_json};
 use crate::edge::output::sweep_outputs::{
-    EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
+    EntryFigures, SweepPoint, SweepRun, counter_means, sweep_report_markdown, sweep_summary_json,
     write_sweep_plots,
 };
 use crate::edge::output::tuned_experiment::{
@@ -68,19 +69,28 @@ impl RunAssembly {
     /// Writes point `k`'s outputs into its folder under `top` and keeps its figures.
     pub(super) fn add_point(
         &mut self,
-        (k, plan_choice): (usize, Option<&SweepChoice>),
+        (k, plan): (usize, &Plan),
         experiment: &Experiment,
         point: PointRun,
         top: &Path,
     ) -> Result<(), RunFailure> {
-        let choice_label = plan_choice.map(|c| experiment::choice_label(c));
+        let plan_choice = plan.choice(k);
+        let point_label = plan.label(k);
+        let choice_label = plan_choice.map(|c| match point_label {
+            Some(label) => format!("{label}: {}", experiment::choice_label(c)),
+            None => experiment::choice_label(c),
+        });
         let context = OutputContext {
             experiment,
             preprocessing: &point.preprocessing,
             hierarchy_bytes: point.hierarchy_bytes,
             record: &self.record,
         };
-        let folder = plan_choice.map(|c| point_folder(c)).unwrap_or_default();
+        let folder = match (point_label, plan_choice) {
+            (Some(label), _) => label.to_string(),
+            (None, Some(choice)) => point_folder(choice),
+            (None, None) => String::new(),
+        };
         let point_dir = top.join(&folder);
         let figures = write_outputs(&context, &point.results, &point_dir)?;
         if point.results.iter().any(|r| r.tuning.is_some()) {
@@ -109,6 +119,7 @@ impl RunAssembly {
         if let Some(choice) = plan_choice {
             self.sweep_points.push(SweepPoint {
                 choice: choice.clone(),
+                label: point_label.map(str::to_string),
                 folder,
                 side: experiment.field.side(),
                 n_samples: experiment.field.n_samples(),
@@ -157,6 +168,64 @@ impl RunAssembly {
         staging.commit()?;
         Ok(outcome)
     }
+}
+
+/// Each entry tuned to an audited error target, with its target and its line in
+/// `triangles_for_error_target`: entries of one algorithm whose parameters but the tuned one are
+/// the same share a line, named by the algorithm, or by the first entry's label when several
+/// lines share an algorithm.
+fn error_targets(experiment: &Experiment, results: &[AlgorithmResult]) -> Vec<Option<ErrorTarget>> {
+    let keyed: Vec<Option<(String, &str, f64, bool, &str)>> = experiment
+        .algorithms
+        .iter()
+        .zip(results)
+        .map(|(spec, result)| {
+            let tune = spec.tune.as_ref()?;
+            let TuneTarget::AuditP95Px(target) = tune.target else {
+                return None;
+            };
+            let mut others = spec.parameters.clone();
+            if let Some(map) = others.as_object_mut() {
+                map.remove(tune.parameter);
+            }
+            let key = format!("{} {others}", spec.config.name());
+            let reached = result.tuning.as_ref().is_some_and(|t| t.reached);
+            Some((
+                key,
+                spec.config.name(),
+                target,
+                reached,
+                spec.label.as_str(),
+            ))
+        })
+        .collect();
+    let mut first_labels: Vec<(&str, &str)> = Vec::new();
+    for (key, _, _, _, label) in keyed.iter().flatten() {
+        if !first_labels.iter().any(|(k, _)| k == key) {
+            first_labels.push((key, label));
+        }
+    }
+    keyed
+        .iter()
+        .map(|entry| {
+            let (key, name, target, reached, _) = entry.as_ref()?;
+            let shared = first_labels
+                .iter()
+                .filter(|(k, _)| k.split(' ').next() == Some(*name))
+                .count()
+                > 1;
+            let line = if shared {
+                first_labels.iter().find(|(k, _)| k == key)?.1.to_string()
+            } else {
+                name.to_string()
+            };
+            Some(ErrorTarget {
+                target_px: *target,
+                reached: *reached,
+                line,
+            })
+        })
+        .collect()
 }
 
 /// Writes point `k`'s `tuned-experiment.json` into `dir` (staged), its paths relative to
@@ -398,6 +467,7 @@ fn write_outputs(
                 audited,
                 speed_violation_frames: &violation_frames,
                 shifts_base: &shifts_base,
+                error_targets: &error_targets(experiment, results),
                 horizontal_m_per_frame: experiment.speed.horizontal,
                 warm_up_frames: experiment.warm_up_frames,
             },
@@ -412,6 +482,7 @@ fn write_outputs(
             name: name.to_string(),
             row: row(run),
             bytes_per_sample: *bytes,
+            counters: counter_means(run),
         })
         .collect())
 }

@@ -230,7 +230,7 @@ pub fn merge_shards(
         let Some(run) = merged.point_run(slots)? else {
             continue;
         };
-        assembly.add_point((k, plan.choice(k)), &experiment, run, staging.path())?;
+        assembly.add_point((k, &plan), &experiment, run, staging.path())?;
     }
     assembly.finish(&plan, &path, staging)
 }
