@@ -135,6 +135,32 @@ fn every_section_and_file_a_message_names_exists_in_that_run() {
         ["narrow/report.md", "wide/report.md"]
     );
     assert!(stdout.contains("plots/"), "{stdout}");
+    // The labels name the folders and the top report's columns; each point plots the
+    // triangles its error-tuned entry needed and Wu's b for its budget entry.
+    let out = cwd.join("out-swept");
+    for label in ["narrow", "wide"] {
+        for plot in ["triangles_for_error_target", "base_b"] {
+            let path = out.join(format!("{label}/plots/{plot}.png"));
+            assert!(path.exists(), "{}", path.display());
+        }
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for part in [
+        "| narrow (view.fovy_deg=50) | `narrow` |",
+        "## Mean rendered triangles per frame",
+        "## Operation counters (means per frame)",
+        "### strips @0.3px (stitching-strips)\n\n| counter | narrow | wide |",
+        "| `tessellation_factor_32_64` |",
+    ] {
+        assert!(report.contains(part), "{part:?} missing: {report}");
+    }
+
+    // Without a budget, Wu's b stays 0: no base_b plot.
+    let mut plain = experiment("plain", json!([{"name": "wu", "tau_px": 2}]));
+    plain["outputs"]["plots"] = true.into();
+    run_and_check_pointers(cwd, "plain", &plain);
+    assert!(cwd.join("out-plain/plots/triangles.png").exists());
+    assert!(!cwd.join("out-plain/plots/base_b.png").exists());
 }
 
 /// Every column name docs/output-formats.md gives in its frames.csv section: each

@@ -404,6 +404,47 @@ mod tests {
         );
     }
 
+    /// The labels the sweep `{"view.far_m": [1000, 2000], "labels": labels}` gives its points,
+    /// or its problem as `field: problem`.
+    fn labels_of(labels: Value) -> Result<Vec<Option<String>>, String> {
+        let document =
+            json!({"view": {"far_m": 1}, "sweep": {"view.far_m": [1000, 2000], "labels": labels}});
+        expand_experiment(document)
+            .map(|points| points.into_iter().map(|p| p.label).collect())
+            .map_err(|p| format!("{}: {}", p.field, p.problem))
+    }
+
+    #[test]
+    fn sweep_points_take_their_labels_in_order_and_bad_labels_are_named() {
+        assert_eq!(
+            labels_of(json!(["near", "far"])),
+            Ok(vec![Some("near".to_string()), Some("far".to_string())])
+        );
+        let problem = |labels: Value| labels_of(labels).unwrap_err();
+        assert!(
+            problem(json!(["near"])).starts_with("sweep.labels: 1 labels: expected 2"),
+            "{}",
+            problem(json!(["near"]))
+        );
+        assert!(
+            problem(json!(["a", "a"]))
+                .starts_with("sweep.labels[1]: \"a\" is already the label of point 0"),
+            "{}",
+            problem(json!(["a", "a"]))
+        );
+        for unsafe_label in ["a/b", "..", "", "π", "a b"] {
+            let text = problem(json!(["ok", unsafe_label]));
+            assert!(
+                text.starts_with("sweep.labels[1]: ") && text.contains("names the point's folder"),
+                "{unsafe_label:?}: {text}"
+            );
+        }
+        assert!(problem(json!([1, 2])).starts_with("sweep.labels[0]: 1: expected a string"));
+        assert!(problem(json!("near")).starts_with("sweep.labels: expected a list"));
+        let only_labels = expand_experiment(json!({"sweep": {"labels": ["a"]}}));
+        assert!(only_labels.is_err_and(|p| p.field == "sweep"));
+    }
+
     #[test]
     fn a_top_level_sweep_sets_nested_fields_and_leaves_the_rest() {
         let document = json!({

@@ -229,7 +229,7 @@ fn differ_by_orders(series: &[Series]) -> bool {
 /// no entry is tuned to an error.
 fn write_error_target_plot(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotError> {
     let summarised = summarised_runs(inputs.runs, inputs.warm_up_frames);
-    let mut lines: Vec<(String, &str, Vec<(f64, f64)>, Vec<f64>)> = Vec::new();
+    let mut lines: Vec<TargetLine> = Vec::new();
     for ((target, run), name) in inputs
         .error_targets
         .iter()
@@ -245,26 +245,37 @@ fn write_error_target_plot(dir: &Path, inputs: &RunPlotInputs) -> Result<(), Plo
         let Some(mean) = summarise(&rendered).map(|s| s.mean) else {
             continue;
         };
-        let at = match lines.iter().position(|(line, ..)| *line == target.line) {
+        let at = match lines.iter().position(|line| line.name == target.line) {
             Some(at) => at,
             None => {
-                lines.push((target.line.clone(), name, Vec::new(), Vec::new()));
+                lines.push(TargetLine {
+                    name: target.line.clone(),
+                    algorithm: name,
+                    points: Vec::new(),
+                    missed: Vec::new(),
+                });
                 lines.len() - 1
             }
         };
-        lines[at].2.push((target.target_px, mean));
+        lines[at].points.push((target.target_px, mean));
         if !target.reached {
-            lines[at].3.push(target.target_px);
+            lines[at].missed.push(target.target_px);
         }
     }
     if lines.is_empty() {
         return Ok(());
     }
-    let algorithms: Vec<&str> = lines.iter().map(|(_, name, ..)| *name).collect();
+    let algorithms: Vec<&str> = lines.iter().map(|line| line.algorithm).collect();
     let series: Vec<Series> = lines
         .iter()
         .zip(variants_in_order(&algorithms))
-        .map(|((line, name, points, missed), variant)| {
+        .map(|(line, variant)| {
+            let TargetLine {
+                name: line,
+                algorithm: name,
+                points,
+                missed,
+            } = line;
             let mut points = points.clone();
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
             let missed: Vec<String> = missed.iter().map(|t| format!("{t}")).collect();
@@ -294,6 +305,15 @@ fn write_error_target_plot(dir: &Path, inputs: &RunPlotInputs) -> Result<(), Plo
             marked_x_label: "",
         },
     )
+}
+
+/// One line of `triangles_for_error_target`: its legend name, its algorithm, its (target, mean
+/// rendered triangles) points, and the targets its searches missed.
+struct TargetLine<'a> {
+    name: String,
+    algorithm: &'a str,
+    points: Vec<(f64, f64)>,
+    missed: Vec<f64>,
 }
 
 /// b per frame for every run that has it. One run: its min, max and mean as marked lines.

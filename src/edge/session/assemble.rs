@@ -175,7 +175,16 @@ impl RunAssembly {
 /// the same share a line, named by the algorithm, or by the first entry's label when several
 /// lines share an algorithm.
 fn error_targets(experiment: &Experiment, results: &[AlgorithmResult]) -> Vec<Option<ErrorTarget>> {
-    let keyed: Vec<Option<(String, &str, f64, bool, &str)>> = experiment
+    /// A tuned-to-error entry: its line's key (algorithm and every other parameter), algorithm,
+    /// target, whether reached, label.
+    struct Tuned<'e> {
+        key: String,
+        name: &'e str,
+        target: f64,
+        reached: bool,
+        label: &'e str,
+    }
+    let tuned: Vec<Option<Tuned>> = experiment
         .algorithms
         .iter()
         .zip(results)
@@ -188,40 +197,39 @@ fn error_targets(experiment: &Experiment, results: &[AlgorithmResult]) -> Vec<Op
             if let Some(map) = others.as_object_mut() {
                 map.remove(tune.parameter);
             }
-            let key = format!("{} {others}", spec.config.name());
-            let reached = result.tuning.as_ref().is_some_and(|t| t.reached);
-            Some((
-                key,
-                spec.config.name(),
+            Some(Tuned {
+                key: format!("{} {others}", spec.config.name()),
+                name: spec.config.name(),
                 target,
-                reached,
-                spec.label.as_str(),
-            ))
+                reached: result.tuning.as_ref().is_some_and(|t| t.reached),
+                label: &spec.label,
+            })
         })
         .collect();
-    let mut first_labels: Vec<(&str, &str)> = Vec::new();
-    for (key, _, _, _, label) in keyed.iter().flatten() {
-        if !first_labels.iter().any(|(k, _)| k == key) {
-            first_labels.push((key, label));
+    // Each line's first entry, in order.
+    let mut firsts: Vec<&Tuned> = Vec::new();
+    for entry in tuned.iter().flatten() {
+        if !firsts.iter().any(|first| first.key == entry.key) {
+            firsts.push(entry);
         }
     }
-    keyed
+    tuned
         .iter()
         .map(|entry| {
-            let (key, name, target, reached, _) = entry.as_ref()?;
-            let shared = first_labels
-                .iter()
-                .filter(|(k, _)| k.split(' ').next() == Some(*name))
-                .count()
-                > 1;
-            let line = if shared {
-                first_labels.iter().find(|(k, _)| k == key)?.1.to_string()
+            let entry = entry.as_ref()?;
+            let lines_of_algorithm = firsts.iter().filter(|f| f.name == entry.name).count();
+            let line = if lines_of_algorithm > 1 {
+                firsts
+                    .iter()
+                    .find(|f| f.key == entry.key)?
+                    .label
+                    .to_string()
             } else {
-                name.to_string()
+                entry.name.to_string()
             };
             Some(ErrorTarget {
-                target_px: *target,
-                reached: *reached,
+                target_px: entry.target,
+                reached: entry.reached,
                 line,
             })
         })
