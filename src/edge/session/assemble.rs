@@ -95,7 +95,10 @@ impl RunAssembly {
         let figures = write_outputs(&context, &point.results, &point_dir)?;
         if point.results.iter().any(|r| r.tuning.is_some()) {
             let final_dir = self.outcome.out_dir.join(&folder);
-            write_tuned_experiment((k, experiment), &point.results, &point_dir, &final_dir)?;
+            let dirs = (point_dir.as_path(), final_dir.as_path());
+            if let Some(missing) = write_tuned_experiment((k, experiment), &point.results, dirs)? {
+                self.outcome.goal_flags.push(missing);
+            }
         }
         self.plots |= experiment.plots;
         let outcome = &mut self.outcome;
@@ -238,27 +241,35 @@ fn error_targets(experiment: &Experiment, results: &[AlgorithmResult]) -> Vec<Op
 
 /// Writes point `k`'s `tuned-experiment.json` into `dir` (staged), its paths relative to
 /// `final_dir`, where `dir` will be once committed (`edge::output::tuned_experiment`). The
-/// experiment file is read again, and must not have changed since the run read it.
+/// experiment file is read again, and must not have changed since the run read it: when it
+/// cannot be read or has changed, nothing is written and the warning saying so is returned (the
+/// run's other outputs stand).
 fn write_tuned_experiment(
     (k, experiment): (usize, &Experiment),
     results: &[AlgorithmResult],
-    dir: &Path,
-    final_dir: &Path,
-) -> Result<(), RunFailure> {
+    (dir, final_dir): (&Path, &Path),
+) -> Result<Option<String>, RunFailure> {
     let file = &experiment.file;
-    let changed = |why: String| RunFailure::Output {
-        path: dir.join(TUNED_EXPERIMENT_FILE),
-        source: std::io::Error::other(format!("{}: {why}", file.display())),
+    let missing = |why: String| {
+        Some(format!(
+            "{TUNED_EXPERIMENT_FILE} not written: {} {why}; summary.json lists the values found",
+            file.display()
+        ))
     };
-    let bytes = std::fs::read(file).map_err(|e| changed(format!("cannot read it again: {e}")))?;
+    let bytes = match std::fs::read(file) {
+        Ok(bytes) => bytes,
+        Err(error) => return Ok(missing(format!("cannot be read again ({error})"))),
+    };
     let sha: String = Sha256::digest(&bytes)
         .iter()
         .map(|b| format!("{b:02x}"))
         .collect();
     let document = (sha == experiment.content_sha256)
         .then(|| experiment::point_document(&bytes, k))
-        .flatten()
-        .ok_or_else(|| changed("changed since the run read it".to_string()))?;
+        .flatten();
+    let Some(document) = document else {
+        return Ok(missing("changed since the run read it".to_string()));
+    };
     let algorithms = experiment
         .algorithms
         .iter()
@@ -292,7 +303,8 @@ fn write_tuned_experiment(
     };
     let text = serde_json::to_string_pretty(&tuned_experiment(&run, &rewrite)).unwrap_or_default();
     let path = dir.join(TUNED_EXPERIMENT_FILE);
-    std::fs::write(&path, text + "\n").map_err(io_error(&path))
+    std::fs::write(&path, text + "\n").map_err(io_error(&path))?;
+    Ok(None)
 }
 
 /// `folder` as an absolute path with links resolved, when its parent exists (the output

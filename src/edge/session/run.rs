@@ -43,9 +43,10 @@ pub struct RunOutcome {
     pub frames: u64,
     /// (entry, frame) meshes made, over every point.
     pub meshes: u64,
-    /// Entries that did not hold their budget or target, or whose search did not reach its
-    /// target, as `label: why (report.md, "section")` (a sweep point's entries prefixed with the
-    /// point, its report in the point's folder).
+    /// The run's warnings: entries that did not hold their budget or target, or whose search did
+    /// not reach its target, as `label: why (report.md, "section")` (a sweep point's entries
+    /// prefixed with the point, its report in the point's folder); and a `tuned-experiment.json`
+    /// that could not be written.
     pub goal_flags: Vec<String>,
     /// What the output folder holds at its top, as the end of the run lists it: files, and
     /// folders with a `/` (a sweep's point folders and the manifest left out); empty for a shard.
