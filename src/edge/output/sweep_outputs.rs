@@ -526,6 +526,13 @@ mod tests {
             "{report}"
         );
         assert!(report.contains("17² (289 samples)"), "{report}");
+        assert!(
+            report.contains(
+                "### wu (wu)\n\n| counter | terrain.synthetic.level=4 | terrain.synthetic.level=6 |"
+            ),
+            "{report}"
+        );
+        assert!(report.contains("| `splits` | 4.00 | 4.00 |"), "{report}");
     }
 
     #[test]

@@ -313,6 +313,35 @@ pub fn write_tuned_entries(out: &mut String, labels: &[&str], records: &[Option<
 mod tests {
     use super::*;
 
+    fn probe(triangles: &[u64]) -> Vec<FrameStats> {
+        triangles
+            .iter()
+            .enumerate()
+            .map(|(k, &t)| FrameStats {
+                frame: k as u64,
+                triangles: t,
+                ..FrameStats::default()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_plateau_is_explained_by_the_counters_or_said_plainly() {
+        let target = TuneTarget::RenderedTriangles(5000.0);
+        let same = [probe(&[10, 20]), probe(&[10, 20]), probe(&[10, 20])];
+        let reason = plateau_reason(&same, &[], target, (0.125, 1.0));
+        assert!(
+            reason
+                .starts_with("every probe on it drew the same number of triangles in every frame"),
+            "{reason}"
+        );
+        let moving = [probe(&[10, 20]), probe(&[11, 20]), probe(&[10, 21])];
+        assert_eq!(
+            plateau_reason(&moving, &[], target, (0.125, 1.0)),
+            "the rendered triangles did not change over the last 3 probes spanning [0.125, 1]"
+        );
+    }
+
     #[test]
     fn values_print_with_three_significant_digits() {
         assert_eq!(significant(2.828_427), "2.83");
