@@ -498,7 +498,7 @@ fn report_outcome(outcome: &RunOutcome, started: Instant) -> Result<(), Failure>
         );
     }
     for flag in &outcome.goal_flags {
-        eprintln!("warning: {flag} (report.md, \"Budgets and targets\")");
+        eprintln!("warning: {flag}");
     }
     writeln!(
         std::io::stdout(),
@@ -520,7 +520,7 @@ fn report_outcome(outcome: &RunOutcome, started: Instant) -> Result<(), Failure>
     write!(
         std::io::stdout(),
         "{}",
-        end_of_run_text(&outcome.out_dir, &outcome.points)
+        end_of_run_text(&outcome.out_dir, &outcome.points, &outcome.written)
     )?;
     Ok(())
 }

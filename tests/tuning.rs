@@ -159,7 +159,7 @@ fn tuned_entries_land_within_the_tolerance_and_the_run_uses_the_value_found() {
     let wu = &entry(&summary, "wu @2500")["tuning"];
     assert_ne!(wu["value"].as_f64().unwrap(), 2.0);
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains("**Tuned entries**"), "{report}");
+    assert!(report.contains("\n## Tuned entries\n"), "{report}");
     assert!(report.contains("| wu @2500 | tau_px = "), "{report}");
     assert!(
         report.contains("| vanek @2000 | distance_scale = "),
@@ -401,4 +401,188 @@ fn threads_shards_sweep_points_and_frames_give_the_same_tuned_runs() {
         assert_eq!(entry(&merged, "wu @2500")["tuning"], *tuning, "{point}");
     }
     assert_ne!(values[0], values[1], "a wider view needs another τ");
+}
+
+/// frames.csv's count columns: every column but the timing ones (`TIMING_COLUMNS`), row by row.
+fn frame_counts(path: &Path) -> Vec<Vec<String>> {
+    use roamsim::edge::output::columns::TIMING_COLUMNS;
+    let text = std::fs::read_to_string(path).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    let kept: Vec<usize> = (0..rows[0].len())
+        .filter(|&k| !TIMING_COLUMNS.contains(&rows[0][k]))
+        .collect();
+    rows.iter()
+        .map(|row| kept.iter().map(|&k| row[k].to_string()).collect())
+        .collect()
+}
+
+/// A 65² ESRI ASCII grid of rolling hills, 20 m posts.
+fn write_ascii_grid(path: &Path) {
+    let mut text = String::from(
+        "ncols 65\nnrows 65\nxllcorner 0\nyllcorner 0\ncellsize 20\nNODATA_value -9999\n",
+    );
+    for row in 0..65 {
+        let heights: Vec<String> = (0..65)
+            .map(|col| {
+                let (x, y) = (col as f64 / 9.0, row as f64 / 7.0);
+                format!(
+                    "{:.2}",
+                    40.0 * x.sin() * y.cos() + 3.0 * ((col * row) % 5) as f64
+                )
+            })
+            .collect();
+        text.push_str(&heights.join(" "));
+        text.push('\n');
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn the_tuned_experiment_written_beside_the_outputs_reproduces_the_runs_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    std::fs::create_dir_all(cwd.join("data")).unwrap();
+    std::fs::create_dir_all(cwd.join("experiments")).unwrap();
+    write_ascii_grid(&cwd.join("data/hills.asc"));
+    let tune = |target: Value| {
+        let mut tune = target;
+        tune["probe_frames"] = 10.into();
+        tune
+    };
+    let mut value = experiment(json!([
+        {"name": "wu", "label": "wu @600", "zone": "paper",
+         "tune": tune(json!({"rendered_triangles": 600}))},
+        {"name": "vanek", "label": "vanek @500", "patch_level": 3, "min_dist_m": 100,
+         "max_dist_m": 900, "tune": tune(json!({"rendered_triangles": 500}))},
+        {"name": "roam", "label": "roam", "sweep": {"tau_px": [2, 4]}},
+    ]));
+    value["name"] = "hills".into();
+    value["terrain"] = json!({"file": {"path": "../data/hills.asc", "fit": "crop"}});
+    value["flight"]["path"]["circle"] =
+        json!({"centre_m": [640, 640], "radius_m": 300, "altitude_m": 250, "frames_per_lap": 90});
+    value["speed_bounds"]["horizontal_m_per_frame"] = 30.into();
+    value["speed_bounds"]
+        .as_object_mut()
+        .unwrap()
+        .remove("rotation_rad_per_frame");
+    save(&cwd.join("experiments"), "hills", &value);
+    let output = roamsim(
+        &[
+            "run",
+            "experiments/hills.json",
+            "--out",
+            "out/hills",
+            "--frames",
+            "25",
+        ],
+        cwd,
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(stdout.contains("tuned-experiment.json"), "{stdout}");
+    let frozen_path = cwd.join("out/hills/tuned-experiment.json");
+    let frozen: Value =
+        serde_json::from_str(&std::fs::read_to_string(&frozen_path).unwrap()).unwrap();
+    assert_eq!(frozen["name"], "hills-tuned");
+    assert_eq!(frozen["flight"]["first_frames"], 25, "--frames written in");
+    assert_eq!(
+        frozen["terrain"]["file"]["path"], "../../data/hills.asc",
+        "relative to the output folder"
+    );
+    let summary = summary(&cwd.join("out/hills"));
+    for (k, label) in ["wu @600", "vanek @500"].iter().enumerate() {
+        let written = &frozen["algorithms"][k];
+        assert_eq!(written["label"], *label);
+        assert!(written.get("tune").is_none(), "{written}");
+        assert_eq!(
+            written,
+            &{
+                let mut e = entry(&summary, label)["parameters"].clone();
+                e["name"] = entry(&summary, label)["name"].clone();
+                e["label"] = json!(label);
+                e
+            },
+            "the parameters summary.json lists, tuned value included"
+        );
+    }
+    assert_eq!(frozen["algorithms"][3]["label"], "roam tau_px=4");
+
+    // Run from elsewhere: the file's own paths resolve from where it is written.
+    succeeds(
+        &[
+            "run",
+            frozen_path.to_str().unwrap(),
+            "--out",
+            "rerun",
+            "--threads",
+            "1",
+        ],
+        cwd,
+    );
+    assert!(
+        !cwd.join("rerun/tuned-experiment.json").exists(),
+        "nothing left to tune"
+    );
+    let (first, again) = (
+        frame_counts(&cwd.join("out/hills/frames.csv")),
+        frame_counts(&cwd.join("rerun/frames.csv")),
+    );
+    assert_eq!(first.len(), 1 + 4 * 25);
+    assert_eq!(first, again);
+}
+
+#[test]
+fn a_search_whose_parameter_stopped_mattering_stops_on_a_plateau_and_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    // The stitching strips cannot draw 0.3 px at any ρ on this flight: their blocks reach the
+    // highest tessellation factor first.
+    let mut value = experiment(json!([
+        {"name": "stitching-strips", "label": "strips @0.3px", "rho_threshold_px": 1,
+         "block_level": 4, "tune": {"audit_p95_px": 0.3, "probe_frames": 10}},
+    ]));
+    value["terrain"]["synthetic"]["level"] = 7.into();
+    value["flight"]["path"]["circle"]["centre_m"] = json!([1900, 1900]);
+    value["flight"]["path"]["circle"]["radius_m"] = 1000.into();
+    value["flight"]["frames"] = 20.into();
+    save(cwd, "plateau", &value);
+    let output = roamsim(&["run", "plateau.json", "--out", "out"], cwd);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let summary = summary(&cwd.join("out"));
+    let tuning = &entry(&summary, "strips @0.3px")["tuning"];
+    let plateau = &tuning["plateau"];
+    assert_eq!(tuning["reached"], false);
+    assert_eq!(plateau["probes"], 4, "{tuning}");
+    let probes = tuning["probes"].as_array().unwrap();
+    assert!(probes.len() < 24, "stopped before max_probes: {tuning}");
+    let [low, high] = [0, 1].map(|k| plateau["values"][k].as_f64().unwrap());
+    assert_eq!(high / low, 8.0, "three doublings");
+    let reason = plateau["reason"].as_str().unwrap();
+    assert!(
+        reason.contains("every M-block is in the highest tessellation factor's bin"),
+        "{reason}"
+    );
+    let warning = stderr
+        .lines()
+        .find(|l| l.starts_with("warning: strips @0.3px: tune did not reach"))
+        .unwrap_or_else(|| panic!("{stderr}"));
+    assert!(
+        warning.contains("it stopped on a plateau: rho_threshold_px from "),
+        "{warning}"
+    );
+    assert!(
+        warning.ends_with("(report.md, \"Tuned entries\")"),
+        "{warning}"
+    );
+    let report = std::fs::read_to_string(cwd.join("out/report.md")).unwrap();
+    assert!(
+        report.contains("**strips @0.3px: the search stopped on a plateau**"),
+        "{report}"
+    );
+    assert!(report.contains(reason), "{report}");
 }

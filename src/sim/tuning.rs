@@ -19,6 +19,20 @@
 //!    of the target, until a probe is within the tolerance (|mean − target| ≤ tolerance ·
 //!    target) or `max_probes` probes were run.
 //!
+//! **A plateau stops the expansion.** When the last [`PLATEAU_PROBES`] probes of the expansion
+//! changed the parameter (each by a factor of 2, a factor of 8 in all) and not the measured mean,
+//! the parameter has stopped mattering there and the search stops with a [`Plateau`]: its value
+//! range, its means, and which probes. "Not the mean" means within the probes' noise, defined
+//! here: the probes are deterministic (the same value flies the same frames to the same mean, bit
+//! for bit), so their noise is not a spread over repeated runs but the smallest change the search
+//! can use. Means agree when their spread is at most the larger of half the tolerance band
+//! (tolerance · target / 2: less than that cannot move a probe across the band) and
+//! [`PLATEAU_SHARE_OF_DISTANCE`] (5 %) of the distance from the nearest of them to the target
+//! (a drift that would need more than 20 such steps to arrive is not one a doubling search can
+//! follow). Only the expansion stops so: inside a bracket the ends lie on two sides of the
+//! target, so the parameter does move the mean there. Why the mean stopped moving is the
+//! caller's to find from the probes' counters (`edge::session::tune`).
+//!
 //! The result is the probed value whose mean is closest to the target (ties: the earlier
 //! probe); `reached` says whether that one is within the tolerance. Nothing beyond the bracket
 //! assumes that the mean is monotone in the parameter (the stitching strips' is not): a
@@ -75,6 +89,52 @@ pub struct Probe {
     pub mean: f64,
 }
 
+/// Probes in a row of the expansion whose means agree (see the module doc) before the search
+/// stops on a plateau.
+pub const PLATEAU_PROBES: usize = 4;
+/// A spread of the plateau's means up to this share of their distance to the target counts as
+/// no change (see the module doc).
+pub const PLATEAU_SHARE_OF_DISTANCE: f64 = 0.05;
+
+/// Where the expansion found the parameter had stopped mattering: the last
+/// [`PLATEAU_PROBES`] probes, whose means agree within the probes' noise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plateau {
+    /// The index (from 0, in `SearchResult::probes`) of the plateau's first probe; it runs to
+    /// the last probe.
+    pub first_probe: usize,
+    /// The smallest and largest value probed on it.
+    pub values: (f64, f64),
+    /// The smallest and largest mean measured on it.
+    pub means: (f64, f64),
+}
+
+/// The plateau the last [`PLATEAU_PROBES`] of `probes` form, if their means agree within the
+/// noise of the module doc for `target` and `tolerance`.
+pub fn plateau(probes: &[Probe], target: f64, tolerance: f64) -> Option<Plateau> {
+    let first_probe = probes.len().checked_sub(PLATEAU_PROBES)?;
+    let last = &probes[first_probe..];
+    let fold = |f: fn(&Probe) -> f64| {
+        last.iter()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    };
+    let means = fold(|p| p.mean);
+    let values = fold(|p| p.value);
+    let nearest = last
+        .iter()
+        .map(|p| (p.mean - target).abs())
+        .fold(f64::INFINITY, f64::min);
+    let noise = (tolerance * target / 2.0).max(PLATEAU_SHARE_OF_DISTANCE * nearest);
+    (means.1 - means.0 <= noise && values.0 < values.1).then_some(Plateau {
+        first_probe,
+        values,
+        means,
+    })
+}
+
 /// What the search found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SearchResult {
@@ -86,6 +146,8 @@ pub struct SearchResult {
     pub reached: bool,
     /// Every probe, in the order run.
     pub probes: Vec<Probe>,
+    /// The plateau the expansion stopped on, if it did.
+    pub plateau: Option<Plateau>,
 }
 
 /// Runs the search, calling `probe(index, value)` (index from 1) for each probe's mean; a
@@ -100,6 +162,7 @@ pub fn search<E>(
     // `above`: the mean is above the target.
     let above = |mean: f64| mean > target;
     let mut probes: Vec<Probe> = Vec::new();
+    let mut flat = None;
     let mut run = |value: f64, probes: &mut Vec<Probe>| -> Result<f64, E> {
         let mean = probe(probes.len() + 1, value)?;
         probes.push(Probe { value, mean });
@@ -134,6 +197,10 @@ pub fn search<E>(
             if above(mean) != above(near_mean) {
                 break next;
             }
+            flat = plateau(&probes, target, settings.tolerance);
+            if flat.is_some() {
+                break 'search;
+            }
             (near, near_mean) = (next, mean);
         };
         // The bracket: `near` on the first probe's side of the target, `far` on the other.
@@ -161,6 +228,7 @@ pub fn search<E>(
         mean: best.mean,
         reached: within(best.mean),
         probes,
+        plateau: flat,
     })
 }
 
@@ -295,19 +363,20 @@ mod tests {
 
     #[test]
     fn a_target_out_of_range_stops_at_the_range_end_not_reached() {
-        // At most 1000 triangles, whatever τ: 5000 is never bracketed.
-        let capped = |tau: f64| (1000.0 / tau).min(1000.0);
-        let result = search::<()>(&settings(2.0, 5000.0, Sense::Decreasing), |_, v| {
-            Ok(capped(v))
+        // Fewer triangles as τ grows, never below 1: 0.5 is never bracketed.
+        let falling = |tau: f64| 1.0 + 1000.0 / tau;
+        let result = search::<()>(&settings(2.0, 0.5, Sense::Decreasing), |_, v| {
+            Ok(falling(v))
         })
         .unwrap();
         assert!(!result.reached);
         assert_eq!(
             *values(&result).last().unwrap(),
-            1e-4,
+            1e4,
             "stopped at the range's end"
         );
-        assert_eq!(result.mean, 1000.0);
+        assert_eq!(result.plateau, None, "the mean moved all the way");
+        let capped = |tau: f64| (1000.0 / tau).min(1000.0);
         // With few probes allowed, the expansion stops at max_probes.
         let few = SearchSettings {
             max_probes: 3,
@@ -316,6 +385,39 @@ mod tests {
         let result = search::<()>(&few, |_, v| Ok(capped(v))).unwrap();
         assert_eq!(values(&result), [2.0, 1.0, 0.5]);
         assert!(!result.reached);
+    }
+
+    #[test]
+    fn a_parameter_that_stopped_mattering_stops_the_search_on_a_plateau() {
+        // At most 1000 triangles, whatever τ below 1: 5000 is never bracketed, and halving τ
+        // past 1 changes nothing.
+        let capped = |tau: f64| (1000.0 / tau).min(1000.0);
+        let result = search::<()>(&settings(2.0, 5000.0, Sense::Decreasing), |_, v| {
+            Ok(capped(v))
+        })
+        .unwrap();
+        assert_eq!(values(&result), [2.0, 1.0, 0.5, 0.25, 0.125]);
+        assert!(!result.reached);
+        let plateau = result.plateau.expect("four probes at 1000");
+        assert_eq!(plateau.first_probe, 1);
+        assert_eq!(plateau.values, (0.125, 1.0));
+        assert_eq!(plateau.means, (1000.0, 1000.0));
+        // The stitching strips' audited p95 at ρ → 0: a drift of 0.03 px, 0.93 px from the
+        // target, is no change a doubling search can follow.
+        let drifting = |rho: f64| 1.23 + 0.004 * (1.0 / rho).log2().max(0.0);
+        let result = search::<()>(&settings(1.0, 0.3, Sense::Increasing), |_, v| {
+            Ok(drifting(v))
+        })
+        .unwrap();
+        assert_eq!(result.probes.len(), PLATEAU_PROBES);
+        assert!(result.plateau.is_some());
+        // A mean that keeps moving towards the target is no plateau.
+        let steady = search::<()>(&settings(2.0, 1.0, Sense::Decreasing), |_, v| {
+            Ok(1.0 + 64.0 / v)
+        })
+        .unwrap();
+        assert_eq!(steady.plateau, None);
+        assert!(steady.probes.len() > PLATEAU_PROBES);
     }
 
     #[test]

@@ -346,6 +346,12 @@ fn check_flight(flight: &FlightEntry, problems: &mut Problems) {
         ),
         _ => {}
     }
+    if flight.first_frames == Some(0) {
+        problems.add(
+            "flight.first_frames",
+            "0: expected at least 1 frame (leave it out to fly the whole flight)",
+        );
+    }
     if flight.altitude == Some(AltitudeEntry::AboveGround)
         && matches!(flight.path, PathEntry::Recorded { .. })
     {

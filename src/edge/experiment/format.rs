@@ -173,6 +173,11 @@ pub struct FlightEntry {
     /// What the path's heights mean (default: absolute world heights).
     #[serde(default)]
     pub altitude: Option<AltitudeEntry>,
+    /// Fly only the flight's first this many frames, as `roamsim run --frames N` does (the
+    /// flight and its derived rotation bound are the whole flight's); written by
+    /// `tuned-experiment.json` for a run that had `--frames`.
+    #[serde(default)]
+    pub first_frames: Option<u64>,
 }
 
 /// `"absolute"`: the path's z values are world heights; `"above_ground"`: heights above the

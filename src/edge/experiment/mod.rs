@@ -40,6 +40,6 @@ pub use load::{BoundOrigin, Experiment, TerrainReport};
 pub use parameters::KNOWN_ALGORITHMS;
 pub use plan::{Plan, check_bytes, load, plan};
 pub use problems::{ExperimentError, FieldProblem};
-pub use sweep::{SweepChoice, choice_label};
+pub use sweep::{SweepChoice, choice_label, point_document};
 pub use terrain_alone::{ASSUMED_SPACING_M, load_terrain_file};
 pub use tune::{Tune, TuneTarget};

@@ -48,6 +48,7 @@ pub struct Plan {
 
 struct PlannedPoint {
     choice: Option<SweepChoice>,
+    label: Option<String>,
     parsed: ExperimentFile,
     checked: Checked,
 }
@@ -79,7 +80,12 @@ fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
     })?;
     let mut problems = Vec::new();
     let mut planned = Vec::new();
-    for ExperimentPoint { choice, document } in points {
+    for ExperimentPoint {
+        choice,
+        label,
+        document,
+    } in points
+    {
         let prefix = choice
             .as_ref()
             .map(|c| format!("({}) ", choice_label(c)))
@@ -91,6 +97,7 @@ fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
         match checked {
             Ok((parsed, checked)) => planned.push(PlannedPoint {
                 choice,
+                label,
                 parsed,
                 checked,
             }),
@@ -148,6 +155,11 @@ impl Plan {
         self.points[k].choice.as_ref()
     }
 
+    /// The short label of point `k` (the sweep's `"labels"`), if the sweep gives one.
+    pub fn label(&self, k: usize) -> Option<&str> {
+        self.points[k].label.as_deref()
+    }
+
     /// Stage 3 for point `k`: reads or generates its terrain, builds its flight.
     pub fn load_point(&self, k: usize) -> Result<Experiment, ExperimentError> {
         let path = self.file.as_path();
@@ -187,7 +199,7 @@ impl Plan {
         let (speed, rotation_bound) = checked.speed.for_flight(&flight);
         let violations = speed_violations(&flight, speed);
         let below_ground_frames = flight.frames_below_ground(&field);
-        let experiment = Experiment {
+        let mut experiment = Experiment {
             name: parsed.name.clone(),
             description: parsed.description.clone(),
             file: path.to_path_buf(),
@@ -211,6 +223,9 @@ impl Plan {
             warm_up_frames: parsed.outputs.warm_up_frames,
             sweep_point: point.choice.clone(),
         };
+        if let Some(n_frames) = parsed.flight.first_frames {
+            experiment.keep_first_frames(n_frames);
+        }
         experiment.check_warm_up().map_err(prefix_errors)?;
         Ok(experiment)
     }

@@ -82,7 +82,76 @@ pub fn choice_label(choice: &[(String, Value)]) -> String {
 pub(super) struct ExperimentPoint {
     /// `None` when the experiment has no top-level sweep (its only point is itself).
     pub choice: Option<SweepChoice>,
+    /// The point's short name from the sweep's `"labels"`, if it gives them.
+    pub label: Option<String>,
     pub document: Value,
+}
+
+/// The key of a top-level sweep's list of point labels.
+const LABELS: &str = "labels";
+
+/// Longest point label (it names a folder).
+const MAX_LABEL_CHARS: usize = 64;
+
+/// The sweep's `"labels"`: one per point, in the points' order, each a safe folder name (ASCII
+/// letters, digits and `-_.+=`, not starting with `.`, at most [`MAX_LABEL_CHARS`]), no two alike.
+fn point_labels(labels: &Value, points: usize) -> Result<Vec<String>, FieldProblem> {
+    let problem = |field: String, problem: String| FieldProblem { field, problem };
+    let Some(list) = labels.as_array() else {
+        return Err(problem(
+            format!("sweep.{LABELS}"),
+            format!("expected a list of {points} point labels, one per point in the sweep's order"),
+        ));
+    };
+    if list.len() != points {
+        return Err(problem(
+            format!("sweep.{LABELS}"),
+            format!(
+                "{} labels: expected {points}, one per point of the sweep (in its order, the \
+                 first swept field varying slowest)",
+                list.len()
+            ),
+        ));
+    }
+    let mut seen: Vec<String> = Vec::new();
+    for (k, label) in list.iter().enumerate() {
+        let field = format!("sweep.{LABELS}[{k}]");
+        let Some(text) = label.as_str() else {
+            return Err(problem(field, format!("{label}: expected a string")));
+        };
+        let safe = !text.is_empty()
+            && text.chars().count() <= MAX_LABEL_CHARS
+            && !text.starts_with('.')
+            && text
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_.+=".contains(c));
+        if !safe {
+            return Err(problem(
+                field,
+                format!(
+                    "{text:?}: expected 1 to {MAX_LABEL_CHARS} ASCII letters, digits or -_.+= \
+                     not starting with '.' (the label names the point's folder)"
+                ),
+            ));
+        }
+        if let Some(earlier) = seen.iter().position(|s| s == text) {
+            return Err(problem(
+                field,
+                format!("{text:?} is already the label of point {earlier}: expected unique labels"),
+            ));
+        }
+        seen.push(text.to_string());
+    }
+    Ok(seen)
+}
+
+/// Point `k`'s document (its top-level sweep expanded away) of an experiment file's text, as the
+/// plan expanded it; `None` when the text is not JSON or has no point `k`. For outputs that write
+/// the experiment back (`tuned-experiment.json`).
+pub fn point_document(bytes: &[u8], k: usize) -> Option<Value> {
+    let document = serde_json::from_slice(bytes).ok()?;
+    let mut points = expand_experiment(document).ok()?;
+    (k < points.len()).then(|| points.swap_remove(k).document)
 }
 
 /// Fields a top-level sweep may not set: they identify the experiment or the sweep itself.
@@ -98,6 +167,7 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
     let Some(sweep) = sweep else {
         return Ok(vec![ExperimentPoint {
             choice: None,
+            label: None,
             document,
         }]);
     };
@@ -112,6 +182,9 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
     };
     let mut axes: Vec<Vec<SweepChoice>> = Vec::new();
     for (key, values) in sweep {
+        if key == LABELS {
+            continue;
+        }
         if key == TOGETHER {
             axes.push(together_axis(values)?);
         } else {
@@ -133,12 +206,26 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
         ));
     }
     let points: usize = axes.iter().map(Vec::len).product();
+    if axes.is_empty() {
+        return Err(problem(
+            "sweep".into(),
+            format!("only {LABELS:?}: expected at least one swept field"),
+        ));
+    }
     if points > MAX_SWEEP_POINTS {
         return Err(problem(
             "sweep".into(),
             format!("{points} points: expected at most {MAX_SWEEP_POINTS}"),
         ));
     }
+    let mut labels = match sweep.get(LABELS) {
+        Some(labels) => point_labels(labels, points)?
+            .into_iter()
+            .map(Some)
+            .collect(),
+        None => vec![None; points],
+    }
+    .into_iter();
     product_of_options(&axes)
         .into_iter()
         .map(|choice| {
@@ -149,6 +236,7 @@ pub(super) fn expand_experiment(mut document: Value) -> Result<Vec<ExperimentPoi
             }
             Ok(ExperimentPoint {
                 choice: Some(choice),
+                label: labels.next().flatten(),
                 document: point,
             })
         })
@@ -314,6 +402,47 @@ mod tests {
                 "a=1, b=x", "a=1, b=y", "a=1, b=z", "a=2, b=x", "a=2, b=y", "a=2, b=z"
             ]
         );
+    }
+
+    /// The labels the sweep `{"view.far_m": [1000, 2000], "labels": labels}` gives its points,
+    /// or its problem as `field: problem`.
+    fn labels_of(labels: Value) -> Result<Vec<Option<String>>, String> {
+        let document =
+            json!({"view": {"far_m": 1}, "sweep": {"view.far_m": [1000, 2000], "labels": labels}});
+        expand_experiment(document)
+            .map(|points| points.into_iter().map(|p| p.label).collect())
+            .map_err(|p| format!("{}: {}", p.field, p.problem))
+    }
+
+    #[test]
+    fn sweep_points_take_their_labels_in_order_and_bad_labels_are_named() {
+        assert_eq!(
+            labels_of(json!(["near", "far"])),
+            Ok(vec![Some("near".to_string()), Some("far".to_string())])
+        );
+        let problem = |labels: Value| labels_of(labels).unwrap_err();
+        assert!(
+            problem(json!(["near"])).starts_with("sweep.labels: 1 labels: expected 2"),
+            "{}",
+            problem(json!(["near"]))
+        );
+        assert!(
+            problem(json!(["a", "a"]))
+                .starts_with("sweep.labels[1]: \"a\" is already the label of point 0"),
+            "{}",
+            problem(json!(["a", "a"]))
+        );
+        for unsafe_label in ["a/b", "..", "", "π", "a b"] {
+            let text = problem(json!(["ok", unsafe_label]));
+            assert!(
+                text.starts_with("sweep.labels[1]: ") && text.contains("names the point's folder"),
+                "{unsafe_label:?}: {text}"
+            );
+        }
+        assert!(problem(json!([1, 2])).starts_with("sweep.labels[0]: 1: expected a string"));
+        assert!(problem(json!("near")).starts_with("sweep.labels: expected a list"));
+        let only_labels = expand_experiment(json!({"sweep": {"labels": ["a"]}}));
+        assert!(only_labels.is_err_and(|p| p.field == "sweep"));
     }
 
     #[test]

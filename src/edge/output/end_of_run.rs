@@ -6,6 +6,7 @@
 //! The figures are the report's own ([`Row`](super::report_md::Row)), warm-up frames left out
 //! as there; this module only lays them out as fixed-width text for a terminal or a log.
 
+use super::report_md::REPORT_FILE;
 use super::sweep_outputs::EntryFigures;
 use std::fmt::Write;
 use std::path::Path;
@@ -22,8 +23,9 @@ pub struct PointFigures {
     pub below_ground_frames: Vec<u64>,
 }
 
-/// The lines printed after a run: a table per point, then the output files.
-pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
+/// The lines printed after a run: a table per point, then the output files: `written`, what the
+/// output folder holds at its top (folders with a `/`), listed as they are, `report.md` first.
+pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures], written: &[String]) -> String {
     let mut text = String::new();
     let label_width = points
         .iter()
@@ -66,9 +68,18 @@ pub fn end_of_run_text(out_dir: &Path, points: &[PointFigures]) -> String {
             );
         }
     }
+    let mut listed: Vec<String> = written
+        .iter()
+        .filter(|name| name.as_str() != REPORT_FILE)
+        .cloned()
+        .collect();
+    if written.iter().any(|name| name == REPORT_FILE) {
+        listed.insert(0, format!("{REPORT_FILE} (the full comparison)"));
+    }
     let _ = writeln!(
         text,
-        "\nwrote {dir}/: report.md (the full comparison), summary.json, frames.csv, plots/",
+        "\nwrote {dir}/: {}",
+        listed.join(", "),
         dir = out_dir.display()
     );
     if points.iter().any(|p| p.choice.is_some()) {
@@ -104,6 +115,7 @@ mod tests {
                 evaluations_per_operation: None,
             },
             bytes_per_sample: 6.8,
+            counters: Vec::new(),
         }
     }
 
@@ -118,7 +130,8 @@ mod tests {
             ],
             below_ground_frames: Vec::new(),
         }];
-        let text = end_of_run_text(Path::new("out/qs"), &points);
+        let written = ["frames.csv", "plots/", "report.md", "summary.json"].map(String::from);
+        let text = end_of_run_text(Path::new("out/qs"), &points, &written);
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].contains("triangles") && lines[0].contains("frame p50 / p95 (µs)"));
         assert!(lines[1].starts_with("  wu τ=2px"), "{}", lines[1]);
@@ -130,7 +143,12 @@ mod tests {
             );
         }
         assert!(lines[2].contains("—"), "{}", lines[2]);
-        assert!(text.contains("wrote out/qs/: report.md"), "{text}");
+        assert!(
+            text.contains(
+                "wrote out/qs/: report.md (the full comparison), frames.csv, plots/, summary.json"
+            ),
+            "{text}"
+        );
     }
 
     #[test]
@@ -144,6 +162,11 @@ mod tests {
         let text = end_of_run_text(
             Path::new("out/s"),
             &[point("level = 6", "level=6"), point("level = 7", "level=7")],
+            &["report.md".to_string(), "summary.json".to_string()],
+        );
+        assert!(
+            text.contains("wrote out/s/: report.md (the full comparison), summary.json\n"),
+            "plots/ only where written: {text}"
         );
         assert!(text.contains("level = 6 (level=6/):"), "{text}");
         assert!(text.contains("level = 7 (level=7/):"), "{text}");

@@ -23,5 +23,6 @@ pub mod run_plots;
 pub mod significant;
 pub mod summary_json;
 pub mod sweep_outputs;
+pub mod tuned_experiment;
 pub mod tuning;
 pub mod warm_up;

@@ -19,6 +19,19 @@ use crate::edge::experiment::{BoundOrigin, Experiment};
 use crate::sim::stats::{pareto_front, summarise};
 use std::fmt::Write;
 
+/// The report's file name, as messages name it.
+pub const REPORT_FILE: &str = "report.md";
+
+/// The headings of `report.md`'s sections that a message elsewhere points to (the end-of-run
+/// warnings, `docs/output-formats.md`): written here and named there from these constants, so a
+/// pointer cannot name a section the report does not have.
+pub mod section {
+    /// How every budget or target entry held its count (written when some entry has one).
+    pub const BUDGETS_AND_TARGETS: &str = "Budgets and targets";
+    /// What each tuned entry's search found (written when some entry is tuned).
+    pub const TUNED_ENTRIES: &str = "Tuned entries";
+}
+
 /// Algorithms whose `splits` count every node their from-scratch rebuild activates (merges 0),
 /// marked † in the report's table.
 pub const FROM_SCRATCH_ACTIVATIONS: &[&str] = &["reference", "roam-rebuild"];
@@ -290,7 +303,8 @@ fn write_goals(out: &mut String, experiment: &Experiment, runs: &[RunColumns]) {
     }
     let _ = writeln!(
         out,
-        "\n## Budgets and targets\n\n| entry | counted | goal | mean | mean off by | approach (frames) | later frames > {:.0} % off | longest stretch | held? |\n|---|---|---|---|---|---|---|---|---|",
+        "\n## {}\n\n| entry | counted | goal | mean | mean off by | approach (frames) | later frames > {:.0} % off | longest stretch | held? |\n|---|---|---|---|---|---|---|---|---|",
+        section::BUDGETS_AND_TARGETS,
         FRAME_TOLERANCE * 100.0
     );
     for (label, check) in &checks {

@@ -1,7 +1,9 @@
 //! The standard plots of a run (`docs/output-formats.md`, "plots/"): triangles per frame
 //! (rendered ones too, when culling made them differ), time to a drawn frame per frame, the audited error
 //! per frame and the accuracy-versus-time Pareto plot (SPEC §7, when the audit ran), popping per
-//! frame (when it was measured), and Wu's b and Röttger's c per frame (when such an entry ran).
+//! frame (when it was measured), Wu's b (when a `wu` entry has a budget) and Röttger's c per
+//! frame (when such an entry ran), and the rendered triangles each entry tuned to an audited
+//! error target needed for it (`triangles_for_error_target`).
 //! Per-frame plots draw one line per algorithm label. This file chooses what is plotted;
 //! `plots` draws it. Every series and point carries its entry's algorithm and its variant
 //! counted over the whole run, so that an entry has the same colour in every plot, also in one
@@ -32,11 +34,30 @@ pub struct RunPlotInputs<'a> {
     pub audited: bool,
     /// Frames that broke the speed or rotation bounds: marked on every per-frame plot.
     pub speed_violation_frames: &'a [u64],
+    /// Whether each run shifts Wu's base b (a `wu` entry with a budget): `base_b` is drawn for
+    /// those only, and not at all when none does (b stays 0 without a budget).
+    pub shifts_base: &'a [bool],
+    /// Each run tuned to an audited error target, with that target and its line
+    /// (`triangles_for_error_target`); `None` for the others.
+    pub error_targets: &'a [Option<ErrorTarget>],
     /// The horizontal speed bound (m/frame), the unit of Wu's b.
     pub horizontal_m_per_frame: f64,
     /// The first frames the summaries leave out (`outputs.warm_up_frames`): the accuracy plot,
     /// a summary, leaves them out too; per-frame plots keep them.
     pub warm_up_frames: u64,
+}
+
+/// An entry tuned to an audited error target (`"tune": {"audit_p95_px": …}`), as
+/// `triangles_for_error_target` draws it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ErrorTarget {
+    /// The target, px of audited p95.
+    pub target_px: f64,
+    /// Whether its search reached the target.
+    pub reached: bool,
+    /// Which line it is a point of: entries of one algorithm with the same parameters but the
+    /// tuned one share a line; the line's legend label.
+    pub line: String,
 }
 
 /// The legend text of the frames marked on per-frame plots.
@@ -48,7 +69,7 @@ const LOG_AXIS_ABOVE_RATIO: f64 = 10.0;
 /// Writes `triangles` and `frame_time` (logarithmic y: entries differ by orders of magnitude),
 /// `triangles_rendered` (when culling made some frame's rendered count differ from its mesh),
 /// `error` and `accuracy_vs_time` (when audited), `popping` (when some frame measured it),
-/// `base_b` (when an algorithm reports Wu's base) and `desired_resolution_c` (when one reports
+/// `base_b` (when a `wu` entry has a budget) and `desired_resolution_c` (when one reports
 /// Röttger's c) as PNG and SVG into `dir`. Every per-frame plot marks the frames that broke the
 /// speed bounds; `error` and `popping` use a logarithmic y axis when their entries' means differ
 /// by more than ten times.
@@ -117,7 +138,8 @@ pub fn write_run_plots(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotErr
         &series_of("frame_ns", 1e-3),
         true,
     )?;
-    write_base_plot(dir, runs, &looks, &marked, inputs.horizontal_m_per_frame)?;
+    write_base_plot(dir, inputs, &looks, &marked)?;
+    write_error_target_plot(dir, inputs)?;
     write_desired_resolution_plot(dir, runs, &looks)?;
     if inputs.audited {
         let summarised = summarised_runs(runs, inputs.warm_up_frames);
@@ -200,22 +222,116 @@ fn differ_by_orders(series: &[Series]) -> bool {
     means.len() > 1 && hi > LOG_AXIS_ABOVE_RATIO * lo
 }
 
+/// `triangles_for_error_target`: for the entries tuned to an audited error target, the mean
+/// rendered triangles per frame (warm-up left out, as the report's) against the target, a line
+/// per group of entries that differ only in the target (`ErrorTarget::line`), coloured by
+/// algorithm. A line whose search missed a target says so in its legend label. Not drawn when
+/// no entry is tuned to an error.
+fn write_error_target_plot(dir: &Path, inputs: &RunPlotInputs) -> Result<(), PlotError> {
+    let summarised = summarised_runs(inputs.runs, inputs.warm_up_frames);
+    let mut lines: Vec<TargetLine> = Vec::new();
+    for ((target, run), name) in inputs
+        .error_targets
+        .iter()
+        .zip(&summarised)
+        .zip(inputs.names)
+    {
+        let Some(target) = target else { continue };
+        let rendered: Vec<f64> = run
+            .frames
+            .iter()
+            .filter_map(|f| value(run, f, "triangles_rendered"))
+            .collect();
+        let Some(mean) = summarise(&rendered).map(|s| s.mean) else {
+            continue;
+        };
+        let at = match lines.iter().position(|line| line.name == target.line) {
+            Some(at) => at,
+            None => {
+                lines.push(TargetLine {
+                    name: target.line.clone(),
+                    algorithm: name,
+                    points: Vec::new(),
+                    missed: Vec::new(),
+                });
+                lines.len() - 1
+            }
+        };
+        lines[at].points.push((target.target_px, mean));
+        if !target.reached {
+            lines[at].missed.push(target.target_px);
+        }
+    }
+    if lines.is_empty() {
+        return Ok(());
+    }
+    let algorithms: Vec<&str> = lines.iter().map(|line| line.algorithm).collect();
+    let series: Vec<Series> = lines
+        .iter()
+        .zip(variants_in_order(&algorithms))
+        .map(|(line, variant)| {
+            let TargetLine {
+                name: line,
+                algorithm: name,
+                points,
+                missed,
+            } = line;
+            let mut points = points.clone();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let missed: Vec<String> = missed.iter().map(|t| format!("{t}")).collect();
+            Series {
+                label: if missed.is_empty() {
+                    line.clone()
+                } else {
+                    format!("{line} (target not reached at {} px)", missed.join(", "))
+                },
+                points,
+                algorithm: name.to_string(),
+                variant,
+            }
+        })
+        .collect();
+    write_line_chart(
+        dir,
+        "triangles_for_error_target",
+        &LineChart {
+            title: "Rendered triangles each entry needed for its audited error target",
+            x_label: "audited p95 error target (px)",
+            y_label: "mean rendered triangles per frame (log scale)",
+            series: &series,
+            markers: &[],
+            log_y: true,
+            marked_x: &[],
+            marked_x_label: "",
+        },
+    )
+}
+
+/// One line of `triangles_for_error_target`: its legend name, its algorithm, its (target, mean
+/// rendered triangles) points, and the targets its searches missed.
+struct TargetLine<'a> {
+    name: String,
+    algorithm: &'a str,
+    points: Vec<(f64, f64)>,
+    missed: Vec<f64>,
+}
+
 /// b per frame for every run that has it. One run: its min, max and mean as marked lines.
 /// Several: the same figures in each legend label.
 fn write_base_plot(
     dir: &Path,
-    runs: &[RunColumns],
+    inputs: &RunPlotInputs,
     looks: &Looks,
     marked: &[f64],
-    horizontal_m_per_frame: f64,
 ) -> Result<(), PlotError> {
+    let (runs, horizontal_m_per_frame) = (inputs.runs, inputs.horizontal_m_per_frame);
     let metres = |b: f64| b * horizontal_m_per_frame;
     let mut series = Vec::new();
     let mut figures = Vec::new();
     for (run_idx, run) in runs
         .iter()
         .enumerate()
-        .filter(|(_, r)| r.extra_columns.contains(&BASE_B))
+        .filter(|(k, r)| inputs.shifts_base[*k] && r.extra_columns.contains(&BASE_B))
     {
         let points: Vec<(f64, f64)> = run
             .frames

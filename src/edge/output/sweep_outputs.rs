@@ -3,12 +3,15 @@
 //!
 //! Each point has written its own folder (frames.csv, summary.json, report.md, plots); this
 //! module makes, from the figures of those reports, the sweep's `summary.json` (every point's
-//! entries with their figures), `report.md` (one table per point, then each entry's median time
-//! to a drawn frame and memory across the points, as ratios to the first point) and the plots
+//! entries with their figures and operation counters), `report.md` (the points, then each
+//! entry's median time to a drawn frame and memory across the points as ratios to the first
+//! point, its triangles, rendered triangles, audited error, and a table of its operation
+//! counters, each a mean per frame) and the plots
 //! `sweep_frame_time` and `sweep_bytes_per_sample` (one line per entry label against the swept
 //! value, or against the terrain size when the points' terrains differ). Pure: text and values
 //! out; the session writes them.
 
+use super::columns::{RunColumns, TIMING_COLUMNS, value};
 use super::plots::{LineChart, PlotError, Series, variants_in_order, write_line_chart};
 use super::report_md::Row;
 use crate::edge::experiment::{SweepChoice, choice_label};
@@ -24,12 +27,49 @@ pub struct EntryFigures {
     pub name: String,
     pub row: Row,
     pub bytes_per_sample: f64,
+    /// The algorithm's operation counters, each one's mean per frame ([`counter_means`]).
+    pub counters: Vec<(String, f64)>,
+}
+
+/// The counters of the common columns that count operations, in `frames.csv`'s order.
+const COMMON_OPERATION_COUNTERS: &[&str] = &[
+    "splits",
+    "merges",
+    "vertices_inserted",
+    "vertices_deleted",
+    "metric_evaluations",
+];
+
+/// Each operation counter of `run` with its mean per frame: the common ones (splits, merges,
+/// vertices inserted and deleted, metric evaluations), then the algorithm's own columns, its
+/// timing columns left out (they are no counts).
+pub fn counter_means(run: &RunColumns) -> Vec<(String, f64)> {
+    COMMON_OPERATION_COUNTERS
+        .iter()
+        .chain(run.extra_columns.iter())
+        .filter(|name| !TIMING_COLUMNS.contains(name))
+        .filter_map(|&name| {
+            let values: Vec<f64> = run
+                .frames
+                .iter()
+                .filter_map(|f| value(run, f, name))
+                .collect();
+            (!values.is_empty()).then(|| {
+                (
+                    name.to_string(),
+                    values.iter().sum::<f64>() / values.len() as f64,
+                )
+            })
+        })
+        .collect()
 }
 
 /// One point of the sweep.
 #[derive(Clone, Debug)]
 pub struct SweepPoint {
     pub choice: SweepChoice,
+    /// Its short label (the sweep's `"labels"`), if given: its folder and its name in tables.
+    pub label: Option<String>,
     /// Its sub-folder of the output folder.
     pub folder: String,
     pub side: usize,
@@ -79,11 +119,15 @@ pub fn sweep_summary_json(run: &SweepRun) -> Value {
                         "audited_error_px": r.error.map(|(max, mean, p95)| json!({
                             "max": max, "mean": mean, "p95_mean": p95
                         })),
+                        "counters_per_frame": e.counters.iter()
+                            .map(|(name, mean)| (name.clone(), json!(finite(*mean))))
+                            .collect::<Map<String, Value>>(),
                     })
                 })
                 .collect();
             json!({
                 "choice": choice,
+                "label": point.label,
                 "folder": point.folder,
                 "terrain": {
                     "side": point.side,
@@ -137,6 +181,15 @@ fn labelled_entries(run: &SweepRun) -> Vec<(String, String)> {
     entries
 }
 
+/// A point's name in the tables' headers: its label, or its swept values.
+fn point_name(point: &SweepPoint) -> String {
+    point
+        .label
+        .clone()
+        .unwrap_or_else(|| choice_label(&point.choice))
+        .replace('|', "\\|")
+}
+
 fn entry<'a>(point: &'a SweepPoint, label: &str) -> Option<&'a EntryFigures> {
     point.entries.iter().find(|e| e.label == label)
 }
@@ -171,10 +224,14 @@ pub fn sweep_report_markdown(run: &SweepRun) -> String {
     );
     let _ = writeln!(out, "|---|---|---|---|---|");
     for point in run.points {
+        let title = match &point.label {
+            Some(label) => format!("{label} ({})", choice_label(&point.choice)),
+            None => choice_label(&point.choice),
+        };
         let _ = writeln!(
             out,
             "| {} | `{}` | {}² ({} samples) | {:.1} | {:.2} |",
-            choice_label(&point.choice).replace('|', "\\|"),
+            title.replace('|', "\\|"),
             point.folder,
             point.side,
             point.n_samples,
@@ -195,6 +252,11 @@ pub fn sweep_report_markdown(run: &SweepRun) -> String {
     table_across_points(&mut out, run, |e| e.bytes_per_sample, |_| true);
     let _ = writeln!(out, "\n## Mean triangles per frame\n");
     table_across_points(&mut out, run, |e| e.row.triangles, |_| false);
+    let _ = writeln!(
+        out,
+        "\n## Mean rendered triangles per frame (meeting the view volume)\n"
+    );
+    table_across_points(&mut out, run, |e| e.row.rendered, |_| false);
     if run
         .points
         .iter()
@@ -210,13 +272,63 @@ pub fn sweep_report_markdown(run: &SweepRun) -> String {
             |e| e.row.error.map_or(f64::NAN, |(_, _, p95)| p95),
             |_| false,
         );
+        let _ = writeln!(out, "\n## Audited projected error, largest (px)\n");
+        table_across_points(
+            &mut out,
+            run,
+            |e| e.row.error.map_or(f64::NAN, |(max, _, _)| max),
+            |_| false,
+        );
     }
     let _ = writeln!(
         out,
         "\nRatios divide each point's figure by the same entry's figure at the first point ({}).",
-        choice_label(&first.choice)
+        point_name(first)
     );
+    write_counters(&mut out, run);
     out
+}
+
+/// Each entry's operation counters across the points: a table per entry, a row per counter.
+fn write_counters(out: &mut String, run: &SweepRun) {
+    let _ = writeln!(
+        out,
+        "\n## Operation counters (means per frame)\n\nEach entry's counters from `frames.csv` \
+         (the common ones, then its algorithm's own; docs/output-formats.md), warm-up frames left \
+         out.\n"
+    );
+    let header: Vec<String> = run.points.iter().map(point_name).collect();
+    for (label, algorithm) in labelled_entries(run) {
+        let mut names: Vec<&str> = Vec::new();
+        for figures in run.points.iter().filter_map(|p| entry(p, &label)) {
+            for (name, _) in &figures.counters {
+                if !names.contains(&name.as_str()) {
+                    names.push(name);
+                }
+            }
+        }
+        let _ = writeln!(
+            out,
+            "### {} ({algorithm})\n\n| counter | {} |\n|---|{}",
+            label.replace('|', "\\|"),
+            header.join(" | "),
+            "---|".repeat(run.points.len())
+        );
+        for name in names {
+            let cells: Vec<String> = run
+                .points
+                .iter()
+                .map(|point| {
+                    entry(point, &label)
+                        .and_then(|e| e.counters.iter().find(|(n, _)| n == name))
+                        .filter(|(_, mean)| mean.is_finite())
+                        .map_or("—".to_string(), |(_, mean)| figure_text(*mean))
+                })
+                .collect();
+            let _ = writeln!(out, "| `{name}` | {} |", cells.join(" | "));
+        }
+        let _ = writeln!(out);
+    }
 }
 
 /// One row per entry label, one column per point: the figure, with its ratio to the first point
@@ -227,11 +339,7 @@ fn table_across_points(
     figure: impl Fn(&EntryFigures) -> f64,
     ratios: impl Fn(&str) -> bool,
 ) {
-    let header: Vec<String> = run
-        .points
-        .iter()
-        .map(|p| choice_label(&p.choice).replace('|', "\\|"))
-        .collect();
+    let header: Vec<String> = run.points.iter().map(point_name).collect();
     let _ = writeln!(out, "| entry | {} |", header.join(" | "));
     let _ = writeln!(out, "|---|{}", "---|".repeat(run.points.len()));
     for label in labels(run) {
@@ -372,6 +480,7 @@ mod tests {
                 evaluations_per_operation: Some(12.0),
             },
             bytes_per_sample,
+            counters: vec![("splits".to_string(), 4.0), ("base_b".to_string(), 0.5)],
         }
     }
 
@@ -379,6 +488,7 @@ mod tests {
         let side = (1usize << level) + 1;
         SweepPoint {
             choice: vec![("terrain.synthetic.level".to_string(), json!(level))],
+            label: None,
             folder: format!("terrain.synthetic.level={level}"),
             side,
             n_samples: side * side,
@@ -423,6 +533,13 @@ mod tests {
             "{report}"
         );
         assert!(report.contains("17² (289 samples)"), "{report}");
+        assert!(
+            report.contains(
+                "### wu (wu)\n\n| counter | terrain.synthetic.level=4 | terrain.synthetic.level=6 |"
+            ),
+            "{report}"
+        );
+        assert!(report.contains("| `splits` | 4.00 | 4.00 |"), "{report}");
     }
 
     #[test]

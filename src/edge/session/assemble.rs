@@ -8,7 +8,8 @@
 //! a merged output cannot differ from a whole run's but in timings.
 //!
 //! **A folder per sweep point.** A sweep point's files go into its own sub-folder of the staging
-//! folder (`edge::output::atomic_dir`), named from its choice (`parameter=value` pairs joined by
+//! folder (`edge::output::atomic_dir`), named by its label (the sweep's `"labels"`, checked to
+//! be unique, safe folder names) or else from its choice (`parameter=value` pairs joined by
 //! `_`); the point of an experiment without a sweep writes at the top.
 //!
 //! **Goals judged over the summarised frames.** Whether an entry held its budget or target is
@@ -18,7 +19,7 @@
 
 use super::point::{AlgorithmResult, PointRun};
 use super::run::{RunFailure, RunOutcome, io_error};
-use crate::edge::experiment::{self, Experiment, Plan, SweepChoice, tuned_spec};
+use crate::edge::experiment::{self, Experiment, Plan, TuneTarget, tuned_spec};
 use crate::edge::output::atomic_dir::StagedDir;
 use crate::edge::output::columns::RunColumns;
 use crate::edge::output::end_of_run::PointFigures;
@@ -26,15 +27,20 @@ use crate::edge::output::flight_csv::flight_csv;
 use crate::edge::output::flight_map::{FlightOnMap, write_flight_map};
 use crate::edge::output::frames_csv::frames_csv;
 use crate::edge::output::goal_check::{GoalCheck, check_goal};
-use crate::edge::output::report_md::{ReportInputs, report_markdown, row};
-use crate::edge::output::run_plots::{RunPlotInputs, write_run_plots};
+use crate::edge::output::report_md::{REPORT_FILE, ReportInputs, report_markdown, row, section};
+use crate::edge::output::run_plots::{ErrorTarget, RunPlotInputs, write_run_plots};
 use crate::edge::output::summary_json::{Preprocessing, RunRecord, summary_json};
 use crate::edge::output::sweep_outputs::{
-    EntryFigures, SweepPoint, SweepRun, sweep_report_markdown, sweep_summary_json,
+    EntryFigures, SweepPoint, SweepRun, counter_means, sweep_report_markdown, sweep_summary_json,
     write_sweep_plots,
 };
-use crate::edge::output::tuning::TuningRecord;
+use crate::edge::output::tuned_experiment::{
+    FrozenRun, TUNED_EXPERIMENT_FILE, entry_as_run, relative_path, tuned_experiment,
+};
+use crate::edge::output::tuning::{TuningRecord, significant};
 use crate::edge::output::warm_up::summarised_runs;
+use crate::sim::algorithm::AlgorithmConfig;
+use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 /// The outputs of a run (or of merged shards) being assembled point by point: each point's
@@ -43,6 +49,8 @@ pub(super) struct RunAssembly {
     outcome: RunOutcome,
     sweep_points: Vec<SweepPoint>,
     record: RunRecord,
+    /// Whether some point drew its plots (`outputs.plots`): the sweep's own plots follow it.
+    plots: bool,
 }
 
 impl RunAssembly {
@@ -56,34 +64,52 @@ impl RunAssembly {
             outcome: RunOutcome::nothing_yet(plan, out_dir, threads, record.check_meshes),
             sweep_points: Vec::new(),
             record,
+            plots: false,
         }
     }
 
     /// Writes point `k`'s outputs into its folder under `top` and keeps its figures.
     pub(super) fn add_point(
         &mut self,
-        (k, plan_choice): (usize, Option<&SweepChoice>),
+        (k, plan): (usize, &Plan),
         experiment: &Experiment,
         point: PointRun,
         top: &Path,
     ) -> Result<(), RunFailure> {
-        let choice_label = plan_choice.map(|c| experiment::choice_label(c));
+        let plan_choice = plan.choice(k);
+        let point_label = plan.label(k);
+        let choice_label = plan_choice.map(|c| match point_label {
+            Some(label) => format!("{label}: {}", experiment::choice_label(c)),
+            None => experiment::choice_label(c),
+        });
         let context = OutputContext {
             experiment,
             preprocessing: &point.preprocessing,
             hierarchy_bytes: point.hierarchy_bytes,
             record: &self.record,
         };
-        let folder = plan_choice.map(|c| point_folder(c)).unwrap_or_default();
+        let folder = match (point_label, plan_choice) {
+            (Some(label), _) => label.to_string(),
+            (None, Some(choice)) => point_folder(choice),
+            (None, None) => String::new(),
+        };
         let point_dir = top.join(&folder);
         let figures = write_outputs(&context, &point.results, &point_dir)?;
+        if point.results.iter().any(|r| r.tuning.is_some()) {
+            let final_dir = self.outcome.out_dir.join(&folder);
+            let dirs = (point_dir.as_path(), final_dir.as_path());
+            if let Some(missing) = write_tuned_experiment((k, experiment), &point.results, dirs)? {
+                self.outcome.goal_flags.push(missing);
+            }
+        }
+        self.plots |= experiment.plots;
         let outcome = &mut self.outcome;
         outcome.frames += experiment.flight.n_frames();
         outcome.meshes += experiment.flight.n_frames() * experiment.algorithms.len() as u64;
         outcome.goal_flags.extend(goal_flags(
             experiment,
             &point.results,
-            choice_label.as_deref(),
+            (choice_label.as_deref(), &folder),
         ));
         outcome.preprocessing_seconds += point.preprocessing.seconds;
         if k == 0 {
@@ -98,6 +124,7 @@ impl RunAssembly {
         if let Some(choice) = plan_choice {
             self.sweep_points.push(SweepPoint {
                 choice: choice.clone(),
+                label: point_label.map(str::to_string),
                 folder,
                 side: experiment.field.side(),
                 n_samples: experiment.field.n_samples(),
@@ -131,27 +158,209 @@ impl RunAssembly {
             let text =
                 serde_json::to_string_pretty(&sweep_summary_json(&sweep)).unwrap_or_default();
             std::fs::write(&summary_path, text + "\n").map_err(io_error(&summary_path))?;
-            let report_path = top.join("report.md");
+            let report_path = top.join(REPORT_FILE);
             std::fs::write(&report_path, sweep_report_markdown(&sweep))
                 .map_err(io_error(&report_path))?;
-            let plots = top.join("plots");
-            std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
-            write_sweep_plots(&plots, &sweep)?;
+            if self.plots {
+                let plots = top.join("plots");
+                std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
+                write_sweep_plots(&plots, &sweep)?;
+            }
         }
+        let mut outcome = self.outcome;
+        let point_folders: Vec<&str> = outcome.points.iter().map(|p| p.folder.as_str()).collect();
+        outcome.written = written_at(staging.path(), &point_folders)?;
         staging.commit()?;
-        Ok(self.outcome)
+        Ok(outcome)
     }
 }
 
+/// Each entry tuned to an audited error target, with its target and its line in
+/// `triangles_for_error_target`: entries of one algorithm whose parameters but the tuned one are
+/// the same share a line, named by the algorithm, or by the first entry's label when several
+/// lines share an algorithm.
+fn error_targets(experiment: &Experiment, results: &[AlgorithmResult]) -> Vec<Option<ErrorTarget>> {
+    /// A tuned-to-error entry: its line's key (algorithm and every other parameter), algorithm,
+    /// target, whether reached, label.
+    struct Tuned<'e> {
+        key: String,
+        name: &'e str,
+        target: f64,
+        reached: bool,
+        label: &'e str,
+    }
+    let tuned: Vec<Option<Tuned>> = experiment
+        .algorithms
+        .iter()
+        .zip(results)
+        .map(|(spec, result)| {
+            let tune = spec.tune.as_ref()?;
+            let TuneTarget::AuditP95Px(target) = tune.target else {
+                return None;
+            };
+            let mut others = spec.parameters.clone();
+            if let Some(map) = others.as_object_mut() {
+                map.remove(tune.parameter);
+            }
+            Some(Tuned {
+                key: format!("{} {others}", spec.config.name()),
+                name: spec.config.name(),
+                target,
+                reached: result.tuning.as_ref().is_some_and(|t| t.reached),
+                label: &spec.label,
+            })
+        })
+        .collect();
+    // Each line's first entry, in order.
+    let mut firsts: Vec<&Tuned> = Vec::new();
+    for entry in tuned.iter().flatten() {
+        if !firsts.iter().any(|first| first.key == entry.key) {
+            firsts.push(entry);
+        }
+    }
+    tuned
+        .iter()
+        .map(|entry| {
+            let entry = entry.as_ref()?;
+            let lines_of_algorithm = firsts.iter().filter(|f| f.name == entry.name).count();
+            let line = if lines_of_algorithm > 1 {
+                firsts
+                    .iter()
+                    .find(|f| f.key == entry.key)?
+                    .label
+                    .to_string()
+            } else {
+                entry.name.to_string()
+            };
+            Some(ErrorTarget {
+                target_px: entry.target,
+                reached: entry.reached,
+                line,
+            })
+        })
+        .collect()
+}
+
+/// Writes point `k`'s `tuned-experiment.json` into `dir` (staged), its paths relative to
+/// `final_dir`, where `dir` will be once committed (`edge::output::tuned_experiment`). The
+/// experiment file is read again, and must not have changed since the run read it: when it
+/// cannot be read or has changed, nothing is written and the warning saying so is returned (the
+/// run's other outputs stand).
+fn write_tuned_experiment(
+    (k, experiment): (usize, &Experiment),
+    results: &[AlgorithmResult],
+    (dir, final_dir): (&Path, &Path),
+) -> Result<Option<String>, RunFailure> {
+    let file = &experiment.file;
+    let missing = |why: String| {
+        Some(format!(
+            "{TUNED_EXPERIMENT_FILE} not written: {} {why}; summary.json lists the values found",
+            file.display()
+        ))
+    };
+    let bytes = match std::fs::read(file) {
+        Ok(bytes) => bytes,
+        Err(error) => return Ok(missing(format!("cannot be read again ({error})"))),
+    };
+    let sha: String = Sha256::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let document = (sha == experiment.content_sha256)
+        .then(|| experiment::point_document(&bytes, k))
+        .flatten();
+    let Some(document) = document else {
+        return Ok(missing("changed since the run read it".to_string()));
+    };
+    let algorithms = experiment
+        .algorithms
+        .iter()
+        .zip(results)
+        .map(|(spec, result)| {
+            let parameters = spec
+                .tune
+                .as_ref()
+                .zip(result.tuning.as_ref())
+                .and_then(|(tune, record)| tuned_spec(spec, tune, record.value).ok())
+                .map_or_else(|| spec.parameters.clone(), |tuned| tuned.parameters);
+            entry_as_run(spec.config.name(), &spec.label, &parameters)
+        })
+        .collect();
+    let n_frames = experiment.flight.n_frames();
+    let run = FrozenRun {
+        document: &document,
+        algorithms,
+        first_frames: (n_frames < experiment.frames_in_file).then_some(n_frames),
+    };
+    let experiment_folder = file.parent().unwrap_or(Path::new("."));
+    let from = absolute_folder(final_dir);
+    let rewrite = |written: &str| -> String {
+        let target = std::fs::canonicalize(experiment_folder.join(written))
+            .unwrap_or_else(|_| experiment_folder.join(written));
+        from.as_deref()
+            .and_then(|from| relative_path(from, &target))
+            .unwrap_or(target)
+            .to_string_lossy()
+            .replace('\\', "/")
+    };
+    let text = serde_json::to_string_pretty(&tuned_experiment(&run, &rewrite)).unwrap_or_default();
+    let path = dir.join(TUNED_EXPERIMENT_FILE);
+    std::fs::write(&path, text + "\n").map_err(io_error(&path))?;
+    Ok(None)
+}
+
+/// `folder` as an absolute path with links resolved, when its parent exists (the output
+/// folder's does: its staging folder was made beside it).
+fn absolute_folder(folder: &Path) -> Option<PathBuf> {
+    let mut existing = folder.to_path_buf();
+    let mut rest = Vec::new();
+    while std::fs::canonicalize(&existing).is_err() {
+        rest.push(existing.file_name()?.to_os_string());
+        existing = existing.parent()?.to_path_buf();
+        if existing.as_os_str().is_empty() {
+            existing = PathBuf::from(".");
+        }
+    }
+    let mut absolute = std::fs::canonicalize(&existing).ok()?;
+    absolute.extend(rest.iter().rev());
+    Some(absolute)
+}
+
+/// What `top` holds, as the end of the run lists it: its files, and its folders with a `/`, the
+/// points' own folders and hidden names (the manifest) left out; sorted.
+fn written_at(top: &Path, point_folders: &[&str]) -> Result<Vec<String>, RunFailure> {
+    let mut written = Vec::new();
+    for entry in std::fs::read_dir(top).map_err(io_error(top))? {
+        let entry = entry.map_err(io_error(top))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.starts_with('.') || point_folders.contains(&name.as_str()) {
+            continue;
+        }
+        let is_dir = entry.file_type().map_err(io_error(&entry.path()))?.is_dir();
+        written.push(if is_dir { format!("{name}/") } else { name });
+    }
+    written.sort();
+    Ok(written)
+}
+
 /// The point's entries that did not hold their budget or target over the summarised frames, or
-/// whose search did not reach its target, as `label: why` (prefixed with `(choice) ` for a
-/// sweep point).
+/// whose search did not reach its target, as `label: why (report.md, "section")` (prefixed with
+/// `(choice) ` for a sweep point, whose report is in its `folder`). The section is named by the
+/// constant `report.md` writes its heading from, and is written whenever such a flag is: a
+/// budget or target entry always gets a row of *Budgets and targets*, a tuned entry one of
+/// *Tuned entries*.
 fn goal_flags(
     experiment: &Experiment,
     results: &[AlgorithmResult],
-    choice_label: Option<&str>,
+    (choice_label, folder): (Option<&str>, &str),
 ) -> Vec<String> {
     let point = choice_label.map_or(String::new(), |c| format!("({c}) "));
+    let report = if folder.is_empty() {
+        REPORT_FILE.to_string()
+    } else {
+        format!("{folder}/{REPORT_FILE}")
+    };
+    let pointer = |heading: &str| format!(" ({report}, \"{heading}\")");
     let mut flags = Vec::new();
     for (spec, result) in experiment.algorithms.iter().zip(results) {
         // Over the summarised frames, as report.md and summary.json judge it.
@@ -166,20 +375,31 @@ fn goal_flags(
                 flag: Some(reason), ..
             }) = check_goal(&run, goal)
         {
-            flags.push(format!("{point}{}: {reason}", spec.label));
+            flags.push(format!(
+                "{point}{}: {reason}{}",
+                spec.label,
+                pointer(section::BUDGETS_AND_TARGETS)
+            ));
         }
         if let Some(tuning) = &result.tuning
             && !tuning.reached
         {
+            let plateau = tuning.plateau.as_ref().map_or(String::new(), |p| {
+                format!(
+                    "; it stopped on a plateau: {}",
+                    p.sentence(tuning.parameter, tuning.target)
+                )
+            });
             flags.push(format!(
-                "{point}{}: tune did not reach {} {} within {}: the closest probe gave {} at {} = {}",
+                "{point}{}: tune did not reach {} {} within {}: the closest probe gave {} at {} = {}{plateau}{}",
                 spec.label,
                 tuning.target.value(),
                 tuning.target.unit(),
                 tuning.tolerance,
-                tuning.probe_mean,
+                significant(tuning.probe_mean),
                 tuning.parameter,
-                tuning.value,
+                significant(tuning.value),
+                pointer(section::TUNED_ENTRIES)
             ));
         }
     }
@@ -259,6 +479,11 @@ fn write_outputs(
         let plots = dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
         let violation_frames: Vec<u64> = experiment.violations.iter().map(|v| v.frame).collect();
+        let shifts_base: Vec<bool> = experiment
+            .algorithms
+            .iter()
+            .map(|spec| matches!(&spec.config, AlgorithmConfig::Wu(wu) if wu.budget.is_some()))
+            .collect();
         write_run_plots(
             &plots,
             &RunPlotInputs {
@@ -266,6 +491,8 @@ fn write_outputs(
                 names: &tables.names,
                 audited,
                 speed_violation_frames: &violation_frames,
+                shifts_base: &shifts_base,
+                error_targets: &error_targets(experiment, results),
                 horizontal_m_per_frame: experiment.speed.horizontal,
                 warm_up_frames: experiment.warm_up_frames,
             },
@@ -291,6 +518,7 @@ fn write_outputs(
             name: name.to_string(),
             row: row(run),
             bytes_per_sample: *bytes,
+            counters: counter_means(run),
         })
         .collect())
 }
@@ -349,7 +577,7 @@ fn write_report(
         entry_preprocessing: &tables.entry_preprocessing,
         tunings: &tables.tunings,
     });
-    let report_path = dir.join("report.md");
+    let report_path = dir.join(REPORT_FILE);
     std::fs::write(&report_path, report).map_err(io_error(&report_path))
 }
 

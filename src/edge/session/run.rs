@@ -43,9 +43,14 @@ pub struct RunOutcome {
     pub frames: u64,
     /// (entry, frame) meshes made, over every point.
     pub meshes: u64,
-    /// Entries that did not hold their budget or target, as `label: why` (a sweep point's
-    /// entries prefixed with the point).
+    /// The run's warnings: entries that did not hold their budget or target, or whose search did
+    /// not reach its target, as `label: why (report.md, "section")` (a sweep point's entries
+    /// prefixed with the point, its report in the point's folder); and a `tuned-experiment.json`
+    /// that could not be written.
     pub goal_flags: Vec<String>,
+    /// What the output folder holds at its top, as the end of the run lists it: files, and
+    /// folders with a `/` (a sweep's point folders and the manifest left out); empty for a shard.
+    pub written: Vec<String>,
     pub speed_violation_frames: Vec<u64>,
     pub preprocessing_seconds: f64,
     pub threads: usize,
@@ -69,6 +74,7 @@ impl RunOutcome {
             frames: 0,
             meshes: 0,
             goal_flags: Vec::new(),
+            written: Vec::new(),
             speed_violation_frames: Vec::new(),
             preprocessing_seconds: 0.0,
             threads,

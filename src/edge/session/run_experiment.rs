@@ -68,7 +68,7 @@ pub fn run_experiment(
         }
         let entries: Vec<usize> = (0..experiment.algorithms.len()).collect();
         let point = run_point(&experiment, &entries, settings.timing, &pool, progress)?;
-        assembly.add_point((k, plan.choice(k)), &experiment, point, staging.path())?;
+        assembly.add_point((k, &plan), &experiment, point, staging.path())?;
     }
     assembly.finish(&plan, path, staging)
 }

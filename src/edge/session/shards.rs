@@ -24,11 +24,11 @@ use super::timing::Timing;
 use crate::edge::experiment::{self, AlgorithmSpec, Experiment, Plan};
 use crate::edge::output::atomic_dir::StagedDir;
 use crate::edge::output::summary_json::{Preprocessing, RunRecord};
-use crate::edge::output::tuning::TuningRecord;
+use crate::edge::output::tuning::{PlateauRecord, TuningRecord};
 use crate::edge::shard::frame_codec::encode_frame;
 use crate::edge::shard::{
-    MergeError, SHARD_FILE, ShardEntry, ShardExperiment, ShardFile, ShardPoint, ShardSpec,
-    ShardTuning, read_complete_set,
+    MergeError, SHARD_FILE, ShardEntry, ShardExperiment, ShardFile, ShardPlateau, ShardPoint,
+    ShardSpec, ShardTuning, read_complete_set,
 };
 use crate::sim::stats::FrameStats;
 use crate::sim::tuning::Probe;
@@ -159,6 +159,12 @@ fn shard_point(
                         .map(|p| (p.value.to_bits(), p.mean.to_bits()))
                         .collect(),
                     full_run_mean_bits: t.full_run_mean.to_bits(),
+                    plateau: t.plateau.map(|p| ShardPlateau {
+                        values_bits: (p.values.0.to_bits(), p.values.1.to_bits()),
+                        means_bits: (p.means.0.to_bits(), p.means.1.to_bits()),
+                        probes: p.probes,
+                        reason: p.reason,
+                    }),
                 }),
             })
             .collect(),
@@ -224,7 +230,7 @@ pub fn merge_shards(
         let Some(run) = merged.point_run(slots)? else {
             continue;
         };
-        assembly.add_point((k, plan.choice(k)), &experiment, run, staging.path())?;
+        assembly.add_point((k, &plan), &experiment, run, staging.path())?;
     }
     assembly.finish(&plan, &path, staging)
 }
@@ -386,6 +392,18 @@ fn merged_result<'s>(
                     })
                     .collect(),
                 full_run_mean: f64::from_bits(t.full_run_mean_bits),
+                plateau: t.plateau.as_ref().map(|p| PlateauRecord {
+                    values: (
+                        f64::from_bits(p.values_bits.0),
+                        f64::from_bits(p.values_bits.1),
+                    ),
+                    means: (
+                        f64::from_bits(p.means_bits.0),
+                        f64::from_bits(p.means_bits.1),
+                    ),
+                    probes: p.probes,
+                    reason: p.reason.clone(),
+                }),
             }),
     }
 }

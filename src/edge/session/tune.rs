@@ -13,6 +13,10 @@
 //! **A probe's error stops the run.** A probe whose mesh goes over `limits.max_triangles` stops
 //! the run (its frame given as the flight's), rather than being treated as a side of the target.
 //!
+//! **A plateau comes with its reason.** The frames of the last probes are kept, so that when the
+//! search stops on a plateau (`sim::tuning`) the reason is found in their counters
+//! (`edge::output::tuning::plateau_reason`), recorded, and told by the end-of-run warning.
+//!
 //! **The record travels with the result.** The search's record (value found, probes, whether the
 //! target was reached) goes with the entry's result, and into `shard.json` for a shard; the full
 //! run's mean is filled in after the real run, beside the probes' mean, so that the probes'
@@ -20,12 +24,16 @@
 
 use super::progress_sink::ProgressSink;
 use crate::edge::experiment::{AlgorithmSpec, Experiment, Tune, TuneTarget, tuned_spec};
-use crate::edge::output::tuning::{TuningRecord, mean_of_target, probe_line};
+use crate::edge::output::tuning::{
+    PlateauRecord, TuningRecord, mean_of_target, plateau_reason, probe_line,
+};
 use crate::sim::audit::AuditSettings;
 use crate::sim::flight::{Flight, speed_violations};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{CheckError, Effects, RunError, RunInputs, run_algorithm};
-use crate::sim::tuning::{SearchResult, probe_speed, probe_stride, search};
+use crate::sim::stats::FrameStats;
+use crate::sim::tuning::{PLATEAU_PROBES, SearchResult, probe_speed, probe_stride, search};
+use std::collections::VecDeque;
 
 /// Runs a tuned entry's search (`sim::tuning`) over probe runs of the point's flight: each probe
 /// flies `tune.probe_frames` frames spread over the flight, frames 0, s, 2s, … (s from
@@ -60,6 +68,9 @@ pub(super) fn tune_entry(
         max_triangles: Some(experiment.max_triangles),
         detail_truth: None,
     };
+    // The frames of the last probes, for the reason of a plateau the search may stop on.
+    let mut recent: VecDeque<Vec<FrameStats>> = VecDeque::with_capacity(PLATEAU_PROBES);
+    let mut extra_columns: &'static [&'static str] = &[];
     let found = search(&tune.search_settings(), |k, value| {
         let probe = tuned_spec(spec, tune, value).map_err(failed)?;
         let mut algorithm = probe.config.build(hierarchy, &experiment.view, speed);
@@ -76,10 +87,29 @@ pub(super) fn tune_entry(
         )?;
         let mean = mean_of_target(&frames, tune.target);
         progress.tuning(&probe_line(&spec.label, tune, k, value, mean));
+        extra_columns = algorithm.extra_columns();
+        if recent.len() == PLATEAU_PROBES {
+            recent.pop_front();
+        }
+        recent.push_back(frames);
         Ok(mean)
     })?;
     let tuned = tuned_spec(spec, tune, found.value).map_err(failed)?;
-    Ok((tuned, search_record(tune, found, (count, stride))))
+    let plateau = found.plateau.map(|plateau| {
+        let n_probes = found.probes.len() - plateau.first_probe;
+        let frames: Vec<Vec<FrameStats>> = recent.into_iter().rev().take(n_probes).rev().collect();
+        PlateauRecord {
+            values: plateau.values,
+            means: plateau.means,
+            probes: n_probes,
+            reason: plateau_reason(&frames, extra_columns, tune.target, plateau.values),
+        }
+    });
+    // Told at the end of the run, with the warning that the target was not reached (a plateau
+    // is never within the tolerance: a probe within it ends the search first).
+    let mut record = search_record(tune, found, (count, stride));
+    record.plateau = plateau;
+    Ok((tuned, record))
 }
 
 /// The effects a probe flies with: the experiment's culling, and its audit without popping only
@@ -113,5 +143,6 @@ fn search_record(tune: &Tune, found: SearchResult, (count, stride): (u64, u64)) 
         probe_stride: stride,
         probes: found.probes,
         full_run_mean: f64::NAN,
+        plateau: None,
     }
 }

@@ -167,6 +167,19 @@ pub struct ShardTuning {
     /// Each probe's value and mean (f64 bits).
     pub probes: Vec<(u64, u64)>,
     pub full_run_mean_bits: u64,
+    /// The plateau the search stopped on, if it did (absent in shards written before plateaus).
+    #[serde(default)]
+    pub plateau: Option<ShardPlateau>,
+}
+
+/// A search's plateau as a shard keeps it: its value and mean ranges (f64 bits), probes and
+/// reason.
+#[derive(Debug, Serialize, Deserialize)]
+pub struct ShardPlateau {
+    pub values_bits: (u64, u64),
+    pub means_bits: (u64, u64),
+    pub probes: usize,
+    pub reason: String,
 }
 
 impl ShardFile {
