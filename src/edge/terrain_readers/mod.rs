@@ -13,12 +13,24 @@
 //! grid's `.prj` beside it) and hands the bytes on; [`read_terrain_bytes`] is the same without
 //! the file and with no `.prj`, the entry point of the fuzz targets and the parser property
 //! tests. The path then only names the file in errors (and gives an `.hgt` tile its name).
+//!
+//! **Many files as one terrain** (`mosaic.rs`): SRTM tiles placed by their names, GeoTIFF tiles
+//! by their georeference, or the sources of a GDAL VRT (`vrt.rs`, parsed by
+//! [`parse_vrt_bytes`], the VRT's fuzz and property entry point) by its windows, laid out from
+//! the files' headers first ([`lay_out_mosaic`]: gaps, mixed resolutions and missing tiles are
+//! refused before any height is read), then read one file at a time with the readers above into
+//! one [`SampleGrid`] ([`read_mosaic`]: overlaps must agree).
 
 mod ascii_grid;
 mod geotiff;
 mod hgt;
+mod mosaic;
 mod png;
 mod raw;
+mod vrt;
+
+pub use mosaic::{MosaicKind, MosaicLayout, MosaicSource, lay_out_mosaic, read_mosaic};
+pub use vrt::{VrtMosaic, parse_vrt_bytes};
 
 use crate::sim::terrain::{SampleGrid, Spacing};
 use std::fmt;
