@@ -436,7 +436,8 @@ fn srtm_vrt(trim_shared_edges: bool) -> String {
     }
     format!(
         "<VRTDataset rasterXSize=\"2401\" rasterYSize=\"2401\">\n\
-         <SRS dataAxisToSRSAxisMapping=\"2,1\">GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\"]]</SRS>\n\
+         <SRS dataAxisToSRSAxisMapping=\"2,1\">GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],\
+         PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]]</SRS>\n\
          <GeoTransform> 8.9995833333333337e+00, 8.3333333333333339e-04, 0.0, \
          5.0000416666666666e+01, 0.0, -8.3333333333333339e-04</GeoTransform>\n\
          <VRTRasterBand dataType=\"Int16\" band=\"1\">\n<NoDataValue>-32768</NoDataValue>\n\
@@ -551,4 +552,71 @@ fn mosaic_keys_are_checked_with_their_paths() {
         .unwrap()
         .to_string();
     assert!(message.contains("both files and folder"), "{message}");
+}
+
+#[cfg(not(feature = "gdal"))]
+#[test]
+fn the_gdal_format_is_refused_by_a_build_without_gdal() {
+    let folder = tempfile::tempdir().unwrap();
+    let experiment =
+        quickstart_on_mosaic(json!({ "files": ["a.img"], "format": "gdal", "fit": "pad" }));
+    let message = plan(&save(folder.path(), "gdal", &experiment))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        message.contains("terrain.mosaic.format: \"gdal\": this roamsim was built without GDAL"),
+        "{message}"
+    );
+}
+
+/// The GDAL reader (the `gdal` feature) against the pure-Rust readers: the same bits.
+#[cfg(feature = "gdal")]
+mod gdal {
+    use super::*;
+    use roamsim::edge::terrain_readers::lay_out_gdal_mosaic;
+
+    fn read_with_gdal(path: &Path) -> LoadedTerrain {
+        read_terrain(path, TerrainFormat::Gdal, &ReadOptions::AS_STORED).unwrap()
+    }
+
+    fn assert_same_spacing(a: &LoadedTerrain, b: &LoadedTerrain) {
+        let (a, b) = (a.spacing.unwrap(), b.spacing.unwrap());
+        assert!(
+            (a.dx - b.dx).abs() < 1e-6 && (a.dy - b.dy).abs() < 1e-6,
+            "{a:?} {b:?}"
+        );
+    }
+
+    #[test]
+    fn gdal_and_the_pure_rust_reader_give_identical_heights_for_the_shipped_tile() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/data/N48E009.hgt");
+        let native = read_terrain(&path, TerrainFormat::Hgt, &ReadOptions::AS_STORED).unwrap();
+        let gdal = read_with_gdal(&path);
+        assert_same_grid(&gdal, &native);
+        assert_same_spacing(&gdal, &native);
+    }
+
+    #[test]
+    fn gdal_reads_the_cut_tiles_and_their_vrt_as_the_pure_rust_mosaic_does() {
+        let folder = tempfile::tempdir().unwrap();
+        let srtm = write_srtm_quarters(folder.path());
+        let native = read(MosaicSource::Files(srtm.clone())).unwrap();
+        let layout = lay_out_gdal_mosaic(&srtm).unwrap();
+        let gdal = read_mosaic(&layout, &ReadOptions::AS_STORED).unwrap();
+        assert_same_grid(&gdal, &native);
+        assert_same_spacing(&gdal, &native);
+
+        // GDAL reads the VRT as one raster.
+        let vrt = folder.path().join("tiles.vrt");
+        std::fs::write(&vrt, srtm_vrt(true)).unwrap();
+        assert_same_grid(&read_with_gdal(&vrt), &native);
+
+        let geotiffs = write_geotiff_quarters(folder.path(), RasterType::PixelIsPoint);
+        let native = read(MosaicSource::Files(geotiffs.clone())).unwrap();
+        let layout = lay_out_gdal_mosaic(&geotiffs).unwrap();
+        let gdal = read_mosaic(&layout, &ReadOptions::AS_STORED).unwrap();
+        assert_same_grid(&gdal, &native);
+        assert_same_spacing(&gdal, &native);
+    }
 }

@@ -15,8 +15,9 @@
 use super::entries::{AlgorithmSpec, check_algorithms};
 use super::format::{
     AltitudeEntry, DEFAULT_MAX_TRIANGLES, EffectsEntry, ExperimentFile, FORMAT_VERSION, FitEntry,
-    FlightEntry, LookEntry, MeshesEntry, PathEntry, SpacingEntry, SpeedBoundsEntry, TerrainEntry,
-    TerrainFormatEntry, TerrainMosaicEntry, ViewEntry, WaypointEntry,
+    FlightEntry, LookEntry, MeshesEntry, MosaicFormatEntry, PathEntry, SpacingEntry,
+    SpeedBoundsEntry, TerrainEntry, TerrainFormatEntry, TerrainMosaicEntry, ViewEntry,
+    WaypointEntry,
 };
 use super::problems::{ExperimentError, Problems};
 use crate::sim::audit::AuditSettings;
@@ -265,6 +266,9 @@ fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
                 },
                 problems,
             );
+            if matches!(file.format, Some(TerrainFormatEntry::Gdal)) {
+                require_gdal_feature("terrain.file.format", problems);
+            }
             if let Some(TerrainFormatEntry::Raw(raw)) = &file.format
                 && (raw.columns < 3 || raw.rows < 3)
             {
@@ -365,6 +369,19 @@ fn check_grid_keys(prefix: &str, keys: &GridKeys, problems: &mut Problems) {
 /// `terrain.mosaic`'s files, as far as their names tell (the files themselves are laid out
 /// when the plan is made, `plan.rs`): a list or a folder, tiles of one kind, a VRT alone.
 fn check_mosaic_files(mosaic: &TerrainMosaicEntry, problems: &mut Problems) {
+    if mosaic.format == Some(MosaicFormatEntry::Gdal) {
+        require_gdal_feature("terrain.mosaic.format", problems);
+        if mosaic.folder.is_some() {
+            problems.add(
+                "terrain.mosaic.folder",
+                "a \"gdal\" mosaic lists its files (GDAL opens files of any name): expected files",
+            );
+        }
+        if mosaic.files.as_ref().is_some_and(Vec::is_empty) {
+            problems.add("terrain.mosaic.files", "empty: expected at least one file");
+        }
+        return;
+    }
     let files = match (&mosaic.files, &mosaic.folder) {
         (Some(_), Some(_)) => {
             problems.add(
@@ -448,6 +465,17 @@ fn check_mosaic_files(mosaic: &TerrainMosaicEntry, problems: &mut Problems) {
             ),
             Some(_) => {}
         }
+    }
+}
+
+/// `"format": "gdal"` needs a build with the `gdal` feature.
+fn require_gdal_feature(field: &str, problems: &mut Problems) {
+    if !cfg!(feature = "gdal") {
+        problems.add(
+            field,
+            "\"gdal\": this roamsim was built without GDAL: expected another format, or a build \
+             with `cargo build --release --features gdal` (needs the system's libgdal)",
+        );
     }
 }
 

@@ -87,6 +87,10 @@ pub struct TerrainMosaicEntry {
     /// Relative to the experiment file's folder: every `.hgt`, `.tif` and `.tiff` in it.
     #[serde(default)]
     pub folder: Option<String>,
+    /// `"gdal"`: every file opened by GDAL and placed by its GeoTransform (the `gdal` feature);
+    /// absent: by the files' extensions.
+    #[serde(default)]
+    pub format: Option<MosaicFormatEntry>,
     #[serde(default)]
     pub height_scale: Option<f64>,
     #[serde(default)]
@@ -102,6 +106,12 @@ pub struct TerrainMosaicEntry {
     pub origin_m: Option<[f64; 3]>,
 }
 
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum MosaicFormatEntry {
+    Gdal,
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 pub enum TerrainFormatEntry {
@@ -110,6 +120,8 @@ pub enum TerrainFormatEntry {
     Geotiff,
     AsciiGrid,
     Raw(RawEntry),
+    /// Any raster GDAL opens: only in a build with the `gdal` feature (checked in `check.rs`).
+    Gdal,
 }
 
 #[derive(Debug, Deserialize)]

@@ -21,13 +21,15 @@
 use super::check::{DeclaredSpeedBounds, MeshExports};
 use super::entries::AlgorithmSpec;
 use super::format::{
-    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry,
-    SpacingEntry, SyntheticEntry, TerrainEntry, TerrainFileEntry, TerrainFormatEntry,
-    TerrainMosaicEntry,
+    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, MosaicFormatEntry,
+    PathEntry, RawSampleEntry, SpacingEntry, SyntheticEntry, TerrainEntry, TerrainFileEntry,
+    TerrainFormatEntry, TerrainMosaicEntry,
 };
 use super::problems::ExperimentError;
 use super::sweep::SweepChoice;
 use crate::edge::flight_log::read_flight_log;
+#[cfg(feature = "gdal")]
+use crate::edge::terrain_readers::lay_out_gdal_mosaic;
 use crate::edge::terrain_readers::{
     LoadedTerrain, MosaicLayout, MosaicSource, RawLayout, RawSample, ReadOptions, TerrainFormat,
     format_from_extension, lay_out_mosaic, read_mosaic, read_terrain,
@@ -210,7 +212,20 @@ pub(super) fn lay_out_terrain_mosaic(
         ),
         (None, None) => (MosaicSource::Files(Vec::new()), "terrain.mosaic"),
     };
-    lay_out_mosaic(&source).map_err(|e| ExperimentError::single(experiment, field, e.to_string()))
+    let layout = match (mosaic.format, source) {
+        (None, source) => lay_out_mosaic(&source),
+        #[cfg(feature = "gdal")]
+        (Some(MosaicFormatEntry::Gdal), MosaicSource::Files(files)) => lay_out_gdal_mosaic(&files),
+        // Refused by the check (no feature, or a folder); kept a value, not a panic.
+        (Some(MosaicFormatEntry::Gdal), _) => {
+            return Err(ExperimentError::single(
+                experiment,
+                "terrain.mosaic.format",
+                "\"gdal\": expected a build with the gdal feature and a list of files",
+            ));
+        }
+    };
+    layout.map_err(|e| ExperimentError::single(experiment, field, e.to_string()))
 }
 
 /// A mosaic's files read into one grid, its voids filled, embedded as one file is.
@@ -372,6 +387,15 @@ fn read_terrain_file(
             sample: raw_sample(raw.sample),
             north_first: raw.north_first,
         }),
+        #[cfg(feature = "gdal")]
+        Some(TerrainFormatEntry::Gdal) => TerrainFormat::Gdal,
+        // Refused by the check without the feature; kept a value, not a panic.
+        #[cfg(not(feature = "gdal"))]
+        Some(TerrainFormatEntry::Gdal) => {
+            return Err(field_error(
+                "\"gdal\": this roamsim was built without GDAL".to_string(),
+            ));
+        }
     };
     let options = ReadOptions {
         height_scale: file.height_scale.unwrap_or(1.0),

@@ -35,11 +35,13 @@
 //! GeoTransform step, in degrees when its `SRS` is geographic, metres when projected.
 //!
 //! Not done: reprojection, resampling, mosaics of PNG, ASCII or raw files (they carry no place),
-//! mixing SRTM and GeoTIFF tiles in one list (a VRT may mix them: its windows place them).
+//! mixing SRTM and GeoTIFF tiles in one list (a VRT may mix them: its windows place them). With
+//! the `gdal` feature, [`lay_out_gdal_mosaic`] places files of any format GDAL opens by their
+//! GeoTransforms, by the same rules as GeoTIFF tiles, and reads them through GDAL.
 //! Memory: the assembled grid (4 bytes a sample, allocated once, refused with a clear error when
 //! it cannot be) plus one tile as read.
 
-use super::geotiff::{TiffModel, read_placement};
+use super::geotiff::{TiffGeoreference, TiffModel, read_placement};
 use super::vrt::{VrtMosaic, parse_vrt_bytes};
 use super::{
     LoadedTerrain, METRES_PER_DEGREE_LATITUDE, ReadOptions, TerrainFormat, TerrainReadError, hgt,
@@ -79,6 +81,9 @@ pub enum MosaicKind {
     Srtm,
     GeoTiff,
     Vrt,
+    /// Tiles opened by GDAL, placed by their GeoTransform (the `gdal` feature).
+    #[cfg(feature = "gdal")]
+    Gdal,
 }
 
 impl MosaicKind {
@@ -88,6 +93,8 @@ impl MosaicKind {
             MosaicKind::Srtm => "hgt mosaic",
             MosaicKind::GeoTiff => "geotiff mosaic",
             MosaicKind::Vrt => "vrt",
+            #[cfg(feature = "gdal")]
+            MosaicKind::Gdal => "gdal mosaic",
         }
     }
 }
@@ -196,7 +203,29 @@ pub fn lay_out_mosaic(source: &MosaicSource) -> Result<MosaicLayout, TerrainRead
             &files[1],
             "a .vrt is a whole mosaic: expected it alone",
         )),
+        #[cfg(feature = "gdal")]
+        MosaicKind::Gdal => lay_out_gdal_mosaic(&files),
     }
+}
+
+/// A mosaic of files GDAL opens, whatever their format (a `.vrt` is one raster to GDAL,
+/// resampling included), placed by their GeoTransforms on one lattice as GeoTIFF tiles are.
+#[cfg(feature = "gdal")]
+pub fn lay_out_gdal_mosaic(files: &[PathBuf]) -> Result<MosaicLayout, TerrainReadError> {
+    let first = files.first().ok_or_else(|| {
+        TerrainReadError::new(Path::new(""), "no files: expected at least one tile")
+    })?;
+    let name = first
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(first)
+        .to_path_buf();
+    let mut tiles = Vec::with_capacity(files.len());
+    for path in files {
+        file_length(path)?;
+        tiles.push(super::gdal_raster::georeferenced_tile(path)?);
+    }
+    lay_out_georeferenced(name, MosaicKind::Gdal, TerrainFormat::Gdal, &tiles)
 }
 
 fn kind_from_extension(path: &Path) -> Option<MosaicKind> {
@@ -214,6 +243,8 @@ fn format_name(kind: MosaicKind) -> &'static str {
         MosaicKind::Srtm => "an SRTM tile",
         MosaicKind::GeoTiff => "a GeoTIFF",
         MosaicKind::Vrt => "a VRT",
+        #[cfg(feature = "gdal")]
+        MosaicKind::Gdal => "a raster GDAL reads",
     }
 }
 
@@ -420,14 +451,7 @@ const SCALE_TOLERANCE: f64 = 1e-9;
 
 /// GeoTIFF tiles: placed by their georeference on one lattice, no gaps.
 fn lay_out_geotiff(name: PathBuf, files: &[PathBuf]) -> Result<MosaicLayout, TerrainReadError> {
-    struct Tile<'a> {
-        path: &'a Path,
-        columns: usize,
-        rows: usize,
-        north_west_centre: (f64, f64),
-    }
-    let mut tiles: Vec<Tile> = Vec::with_capacity(files.len());
-    let mut reference: Option<((f64, f64), TiffModel)> = None;
+    let mut tiles = Vec::with_capacity(files.len());
     for path in files {
         let file = std::fs::File::open(path).map_err(|error| {
             TerrainReadError::new(path, format!("cannot read the tile: {error}"))
@@ -440,74 +464,83 @@ fn lay_out_geotiff(name: PathBuf, files: &[PathBuf]) -> Result<MosaicLayout, Ter
                  placed by its georeference; expected both",
             ));
         };
-        match reference {
-            None => reference = Some((georeference.scale, placement.model)),
-            Some((scale, model)) => {
-                let close =
-                    |a: f64, b: f64| (a - b).abs() <= SCALE_TOLERANCE * a.abs().max(b.abs());
-                if !(close(scale.0, georeference.scale.0) && close(scale.1, georeference.scale.1)) {
-                    return Err(TerrainReadError::new(
-                        path,
-                        format!(
-                            "mixed resolutions: this tile's pixel scale is {} × {} but {}'s is \
-                             {} × {}: expected tiles of one resolution (resampling is not done)",
-                            georeference.scale.0,
-                            georeference.scale.1,
-                            tiles[0].path.display(),
-                            scale.0,
-                            scale.1
-                        ),
-                    ));
-                }
-                if model != placement.model {
-                    return Err(TerrainReadError::new(
-                        path,
-                        format!(
-                            "this tile's model is {:?} but {}'s is {model:?}: expected tiles in \
-                             one coordinate system",
-                            placement.model,
-                            tiles[0].path.display()
-                        ),
-                    ));
-                }
-            }
-        }
-        tiles.push(Tile {
-            path,
+        tiles.push(GeoreferencedTile {
+            path: path.clone(),
             columns: placement.columns,
             rows: placement.rows,
-            north_west_centre: georeference.north_west_centre,
+            georeference,
+            model: placement.model,
         });
     }
-    let Some(((scale_x, scale_y), model)) = reference else {
+    lay_out_georeferenced(name, MosaicKind::GeoTiff, TerrainFormat::GeoTiff, &tiles)
+}
+
+/// A north-up tile's size and place, however its format says them.
+pub(super) struct GeoreferencedTile {
+    pub(super) path: PathBuf,
+    pub(super) columns: usize,
+    pub(super) rows: usize,
+    pub(super) georeference: TiffGeoreference,
+    pub(super) model: TiffModel,
+}
+
+/// Tiles placed by their georeference on one lattice (one pixel scale, one model), no gaps; the
+/// spacing from the model as for one GeoTIFF.
+pub(super) fn lay_out_georeferenced(
+    name: PathBuf,
+    kind: MosaicKind,
+    format: TerrainFormat,
+    tiles: &[GeoreferencedTile],
+) -> Result<MosaicLayout, TerrainReadError> {
+    let Some(first) = tiles.first() else {
         return Err(TerrainReadError::new(
             &name,
             "no tiles: expected at least one",
         ));
     };
+    let ((scale_x, scale_y), model) = (first.georeference.scale, first.model);
+    let close = |a: f64, b: f64| (a - b).abs() <= SCALE_TOLERANCE * a.abs().max(b.abs());
+    for tile in &tiles[1..] {
+        let (x, y) = tile.georeference.scale;
+        if !(close(scale_x, x) && close(scale_y, y)) {
+            return Err(TerrainReadError::new(
+                &tile.path,
+                format!(
+                    "mixed resolutions: this tile's pixel scale is {x} × {y} but {}'s is \
+                     {scale_x} × {scale_y}: expected tiles of one resolution (resampling is not \
+                     done)",
+                    first.path.display(),
+                ),
+            ));
+        }
+        if tile.model != model {
+            return Err(TerrainReadError::new(
+                &tile.path,
+                format!(
+                    "this tile's model is {:?} but {}'s is {model:?}: expected tiles in one \
+                     coordinate system",
+                    tile.model,
+                    first.path.display()
+                ),
+            ));
+        }
+    }
     let west = tiles
         .iter()
-        .map(|t| t.north_west_centre.0)
+        .map(|t| t.georeference.north_west_centre.0)
         .fold(f64::INFINITY, f64::min);
     let north = tiles
         .iter()
-        .map(|t| t.north_west_centre.1)
+        .map(|t| t.georeference.north_west_centre.1)
         .fold(f64::NEG_INFINITY, f64::max);
     let mut pieces = Vec::with_capacity(tiles.len());
-    for tile in &tiles {
-        let column = lattice_offset(
-            tile.path,
-            (tile.north_west_centre.0 - west) / scale_x,
-            "east",
-        )?;
-        let row = lattice_offset(
-            tile.path,
-            (north - tile.north_west_centre.1) / scale_y,
-            "south",
-        )?;
+    for tile in tiles {
+        let (x, y) = tile.georeference.north_west_centre;
+        let column = lattice_offset(&tile.path, (x - west) / scale_x, "east")?;
+        let row = lattice_offset(&tile.path, (north - y) / scale_y, "south")?;
         pieces.push(Piece {
-            path: tile.path.to_path_buf(),
-            format: TerrainFormat::GeoTiff,
+            path: tile.path.clone(),
+            format,
             file_columns: tile.columns,
             file_rows: tile.rows,
             source: Window {
@@ -591,7 +624,7 @@ fn lay_out_geotiff(name: PathBuf, files: &[PathBuf]) -> Result<MosaicLayout, Ter
         ),
     };
     Ok(MosaicLayout {
-        kind: MosaicKind::GeoTiff,
+        kind,
         name,
         columns,
         rows,
