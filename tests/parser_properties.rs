@@ -17,8 +17,8 @@ use proptest::sample::Index;
 use roamsim::edge::experiment::check_bytes;
 use roamsim::edge::flight_log::parse_flight_log_bytes;
 use roamsim::edge::terrain_readers::{
-    LoadedTerrain, RawLayout, RawSample, ReadOptions, TerrainFormat, TerrainReadError,
-    read_terrain_bytes,
+    LoadedTerrain, MosaicSource, RawLayout, RawSample, ReadOptions, TerrainFormat,
+    TerrainReadError, lay_out_mosaic, parse_vrt_bytes, read_mosaic, read_terrain_bytes,
 };
 use roamsim::sim::flight::Flight;
 use roamsim::sim::terrain::Spacing;
@@ -57,6 +57,10 @@ const TOKENS: &[&str] = &[
     "cellsize 0\n",
     "\u{feff}",
     "é",
+    "<",
+    "/>",
+    "&lt;",
+    "<!DOCTYPE v [<!ENTITY e \"e\">]>",
 ];
 
 /// One edit of a file.
@@ -196,6 +200,89 @@ fn raw_file() -> Vec<u8> {
         .collect()
 }
 
+/// A GDAL VRT of two sources, as `gdalbuildvrt` writes one.
+const VRT: &str = r#"<VRTDataset rasterXSize="4" rasterYSize="3">
+  <SRS>GEOGCS["WGS 84",DATUM["WGS_1984"],UNIT["degree",0.0174532925199433]]</SRS>
+  <GeoTransform> 9.0, 0.25, 0.0, 49.0, 0.0, -0.25</GeoTransform>
+  <VRTRasterBand dataType="Int16" band="1">
+    <NoDataValue>-32768</NoDataValue>
+    <ComplexSource>
+      <SourceFilename relativeToVRT="1">west.tif</SourceFilename>
+      <SourceBand>1</SourceBand>
+      <SrcRect xOff="0" yOff="0" xSize="2" ySize="3"/>
+      <DstRect xOff="0" yOff="0" xSize="2" ySize="3"/>
+      <NODATA>-32768</NODATA>
+    </ComplexSource>
+    <SimpleSource>
+      <SourceFilename relativeToVRT="1">east.tif</SourceFilename>
+      <SourceBand>1</SourceBand>
+      <SrcRect xOff="1" yOff="0" xSize="2" ySize="3"/>
+      <DstRect xOff="2" yOff="0" xSize="2" ySize="3"/>
+    </SimpleSource>
+  </VRTRasterBand>
+</VRTDataset>
+"#;
+
+/// The property of the VRT parser: `Ok` with a raster of at least one sample and at least one
+/// source, or an error naming the file.
+fn check_vrt(bytes: &[u8]) {
+    let path = Path::new("tiles.vrt");
+    match parse_vrt_bytes(path, bytes) {
+        Ok(mosaic) => {
+            let (columns, rows) = mosaic.size();
+            assert!(columns >= 1 && rows >= 1 && mosaic.n_sources() >= 1);
+        }
+        Err(error) => {
+            assert_eq!(error.path, path, "the error must name the file it read");
+            assert!(!error.problem.is_empty());
+            assert!(error.to_string().starts_with("tiles.vrt"), "{error}");
+        }
+    }
+}
+
+/// The VRT's sources: two 3×3 int16 GeoTIFFs, in a folder kept for the whole run.
+fn vrt_sources() -> &'static Path {
+    static FOLDER: OnceLock<tempfile::TempDir> = OnceLock::new();
+    FOLDER
+        .get_or_init(|| {
+            let folder = tempfile::tempdir().unwrap();
+            for (name, base) in [("west.tif", 100_i16), ("east.tif", 200)] {
+                let values: Vec<i16> = (0..9).map(|k| base + k).collect();
+                let mut cursor = Cursor::new(Vec::new());
+                TiffEncoder::new(&mut cursor)
+                    .unwrap()
+                    .write_image::<colortype::GrayI16>(3, 3, &values)
+                    .unwrap();
+                std::fs::write(folder.path().join(name), cursor.into_inner()).unwrap();
+            }
+            folder
+        })
+        .path()
+}
+
+/// The property of a VRT mosaic laid out and read over real sources: `Ok` with the raster's
+/// size, or an error with a problem (naming the VRT or the source it is about).
+fn check_vrt_mosaic(bytes: &[u8]) {
+    let vrt = tempfile::Builder::new()
+        .suffix(".vrt")
+        .tempfile_in(vrt_sources())
+        .unwrap();
+    std::fs::write(vrt.path(), bytes).unwrap();
+    let source = MosaicSource::Files(vec![vrt.path().to_path_buf()]);
+    let result = lay_out_mosaic(&source).and_then(|layout| {
+        Ok((
+            layout.size(),
+            read_mosaic(&layout, &ReadOptions::AS_STORED)?,
+        ))
+    });
+    match result {
+        Ok(((columns, rows), loaded)) => {
+            assert_eq!((loaded.grid.width(), loaded.grid.height()), (columns, rows));
+        }
+        Err(error) => assert!(!error.problem.is_empty()),
+    }
+}
+
 /// The real SRTM3 tile (2.9 MB), read once.
 fn real_tile() -> &'static [u8] {
     static TILE: OnceLock<Vec<u8>> = OnceLock::new();
@@ -263,6 +350,18 @@ fn the_valid_files_the_mutations_start_from_are_accepted() {
         3
     );
     assert!(check_bytes(Path::new("quickstart.json"), &experiment_file()).unwrap() >= 1);
+    assert_eq!(
+        parse_vrt_bytes(Path::new("tiles.vrt"), VRT.as_bytes())
+            .unwrap()
+            .n_sources(),
+        2
+    );
+    let vrt = vrt_sources().join("valid.vrt");
+    std::fs::write(&vrt, VRT).unwrap();
+    let layout = lay_out_mosaic(&MosaicSource::Files(vec![vrt])).unwrap();
+    let loaded = read_mosaic(&layout, options).unwrap();
+    assert_eq!(loaded.grid.height_at(0, 2), 100.0);
+    assert_eq!(loaded.grid.height_at(3, 0), 208.0);
 }
 
 proptest! {
@@ -323,6 +422,21 @@ proptest! {
     }
 
     #[test]
+    fn random_bytes_never_panic_the_vrt_parser(bytes in prop::collection::vec(any::<u8>(), 0..256)) {
+        check_vrt(&bytes);
+    }
+
+    #[test]
+    fn random_text_never_panics_the_vrt_parser(text in "[ -~\n]{0,300}") {
+        check_vrt(text.as_bytes());
+    }
+
+    #[test]
+    fn a_mutated_vrt_is_parsed_or_refused_by_name(edits in mutations()) {
+        check_vrt(&mutate(VRT.as_bytes(), &edits));
+    }
+
+    #[test]
     fn random_bytes_never_panic_the_experiment_checker(bytes in prop::collection::vec(any::<u8>(), 0..256)) {
         check_experiment(&bytes);
     }
@@ -330,6 +444,16 @@ proptest! {
     #[test]
     fn a_mutated_experiment_is_checked_or_refused_by_field(edits in mutations()) {
         check_experiment(&mutate(&experiment_file(), &edits));
+    }
+}
+
+proptest! {
+    // Each case writes a file and reads two.
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn a_mutated_vrt_mosaic_is_read_or_refused(edits in mutations()) {
+        check_vrt_mosaic(&mutate(VRT.as_bytes(), &edits));
     }
 }
 

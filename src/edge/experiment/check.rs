@@ -15,8 +15,9 @@
 use super::entries::{AlgorithmSpec, check_algorithms};
 use super::format::{
     AltitudeEntry, DEFAULT_MAX_TRIANGLES, EffectsEntry, ExperimentFile, FORMAT_VERSION, FitEntry,
-    FlightEntry, LookEntry, MeshesEntry, PathEntry, SpeedBoundsEntry, TerrainEntry,
-    TerrainFormatEntry, ViewEntry, WaypointEntry,
+    FlightEntry, LookEntry, MeshesEntry, MosaicFormatEntry, PathEntry, SpacingEntry,
+    SpeedBoundsEntry, TerrainEntry, TerrainFormatEntry, TerrainMosaicEntry, ViewEntry,
+    WaypointEntry,
 };
 use super::problems::{ExperimentError, Problems};
 use crate::sim::audit::AuditSettings;
@@ -253,29 +254,20 @@ pub struct MeshExports {
 pub(super) fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
     match terrain {
         TerrainEntry::File(file) => {
-            if let Some(scale) = file.height_scale
-                && !(scale.is_finite() && scale != 0.0)
-            {
-                problems.add(
-                    "terrain.file.height_scale",
-                    format!("{scale}: expected a finite, non-zero number of metres per unit"),
-                );
-            }
-            if let Some(offset) = file.height_offset_m {
-                problems.finite("terrain.file.height_offset_m", &[offset]);
-            }
-            if let Some(origin) = file.origin_m {
-                problems.finite("terrain.file.origin_m", &origin);
-            }
-            if let Some(spacing) = file.spacing_m {
-                problems.positive("terrain.file.spacing_m.dx", spacing.dx);
-                problems.positive("terrain.file.spacing_m.dy", spacing.dy);
-            }
-            if file.crop_origin.is_some() && matches!(file.fit, FitEntry::Pad) {
-                problems.add(
-                    "terrain.file.crop_origin",
-                    "a crop origin was given but fit is \"pad\": expected fit \"crop\"",
-                );
+            check_grid_keys(
+                "terrain.file",
+                &GridKeys {
+                    height_scale: file.height_scale,
+                    height_offset_m: file.height_offset_m,
+                    origin_m: file.origin_m,
+                    spacing_m: file.spacing_m,
+                    fit: file.fit,
+                    crop_origin: file.crop_origin,
+                },
+                problems,
+            );
+            if matches!(file.format, Some(TerrainFormatEntry::Gdal)) {
+                require_gdal_feature("terrain.file.format", problems);
             }
             if let Some(TerrainFormatEntry::Raw(raw)) = &file.format
                 && (raw.columns < 3 || raw.rows < 3)
@@ -288,6 +280,21 @@ pub(super) fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
                     ),
                 );
             }
+        }
+        TerrainEntry::Mosaic(mosaic) => {
+            check_grid_keys(
+                "terrain.mosaic",
+                &GridKeys {
+                    height_scale: mosaic.height_scale,
+                    height_offset_m: mosaic.height_offset_m,
+                    origin_m: mosaic.origin_m,
+                    spacing_m: mosaic.spacing_m,
+                    fit: mosaic.fit,
+                    crop_origin: mosaic.crop_origin,
+                },
+                problems,
+            );
+            check_mosaic_files(mosaic, problems);
         }
         TerrainEntry::Synthetic(synthetic) => {
             if !(1..=14).contains(&synthetic.level) {
@@ -318,6 +325,157 @@ pub(super) fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
             problems.positive("terrain.synthetic.spacing_m.dx", synthetic.spacing_m.dx);
             problems.positive("terrain.synthetic.spacing_m.dy", synthetic.spacing_m.dy);
         }
+    }
+}
+
+/// The keys `file` and `mosaic` share: those that apply to a whole grid.
+struct GridKeys {
+    height_scale: Option<f64>,
+    height_offset_m: Option<f64>,
+    origin_m: Option<[f64; 3]>,
+    spacing_m: Option<SpacingEntry>,
+    fit: FitEntry,
+    crop_origin: Option<[usize; 2]>,
+}
+
+/// `terrain.file` or `terrain.mosaic` (`prefix`): the keys that apply to a whole grid.
+fn check_grid_keys(prefix: &str, keys: &GridKeys, problems: &mut Problems) {
+    if let Some(scale) = keys.height_scale
+        && !(scale.is_finite() && scale != 0.0)
+    {
+        problems.add(
+            format!("{prefix}.height_scale"),
+            format!("{scale}: expected a finite, non-zero number of metres per unit"),
+        );
+    }
+    if let Some(offset) = keys.height_offset_m {
+        problems.finite(&format!("{prefix}.height_offset_m"), &[offset]);
+    }
+    if let Some(origin) = keys.origin_m {
+        problems.finite(&format!("{prefix}.origin_m"), &origin);
+    }
+    if let Some(spacing) = keys.spacing_m {
+        problems.positive(&format!("{prefix}.spacing_m.dx"), spacing.dx);
+        problems.positive(&format!("{prefix}.spacing_m.dy"), spacing.dy);
+    }
+    if keys.crop_origin.is_some() && matches!(keys.fit, FitEntry::Pad) {
+        problems.add(
+            format!("{prefix}.crop_origin"),
+            "a crop origin was given but fit is \"pad\": expected fit \"crop\"",
+        );
+    }
+}
+
+/// `terrain.mosaic`'s files, as far as their names tell (the files themselves are laid out
+/// when the plan is made, `plan.rs`): a list or a folder, tiles of one kind, a VRT alone.
+fn check_mosaic_files(mosaic: &TerrainMosaicEntry, problems: &mut Problems) {
+    if mosaic.format == Some(MosaicFormatEntry::Gdal) {
+        require_gdal_feature("terrain.mosaic.format", problems);
+        if mosaic.folder.is_some() {
+            problems.add(
+                "terrain.mosaic.folder",
+                "a \"gdal\" mosaic lists its files (GDAL opens files of any name): expected files",
+            );
+        }
+        if mosaic.files.as_ref().is_some_and(Vec::is_empty) {
+            problems.add("terrain.mosaic.files", "empty: expected at least one file");
+        }
+        return;
+    }
+    let files = match (&mosaic.files, &mosaic.folder) {
+        (Some(_), Some(_)) => {
+            problems.add(
+                "terrain.mosaic",
+                "both files and folder were given: expected one of them",
+            );
+            return;
+        }
+        (None, None) => {
+            problems.add(
+                "terrain.mosaic",
+                "neither files nor folder was given: expected a list of tiles or a folder of them",
+            );
+            return;
+        }
+        (None, Some(folder)) => {
+            if folder.is_empty() {
+                problems.add(
+                    "terrain.mosaic.folder",
+                    "empty: expected a folder (\".\" for the experiment's own)",
+                );
+            }
+            return;
+        }
+        (Some(files), None) => files,
+    };
+    if files.is_empty() {
+        problems.add(
+            "terrain.mosaic.files",
+            "empty: expected at least one tile (or one .vrt)",
+        );
+        return;
+    }
+    let kind = |file: &str| {
+        let extension = Path::new(file)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("hgt") => Some("hgt"),
+            Some("tif" | "tiff") => Some("tif"),
+            Some("vrt") => Some("vrt"),
+            _ => None,
+        }
+    };
+    let mut first_kind: Option<(usize, &str)> = None;
+    for (k, file) in files.iter().enumerate() {
+        let field = format!("terrain.mosaic.files[{k}]");
+        let Some(this_kind) = kind(file) else {
+            problems.add(
+                field,
+                format!(
+                    "'{file}': expected .hgt (SRTM) or .tif/.tiff (GeoTIFF) tiles, or a single \
+                     .vrt"
+                ),
+            );
+            continue;
+        };
+        if let Some(j) = files[..k].iter().position(|earlier| earlier == file) {
+            problems.add(
+                field,
+                format!("'{file}' is listed twice (also files[{j}]): expected each tile once"),
+            );
+            continue;
+        }
+        match first_kind {
+            None => first_kind = Some((k, this_kind)),
+            Some(_) if this_kind == "vrt" || first_kind.is_some_and(|(_, kind)| kind == "vrt") => {
+                problems.add(
+                    field,
+                    format!("'{file}': a .vrt is a whole mosaic: expected it alone in files"),
+                );
+            }
+            Some((j, kind)) if kind != this_kind => problems.add(
+                field,
+                format!(
+                    "'{file}' is not in the format of files[{j}] ('{}'): expected tiles of one \
+                     format, all .hgt or all .tif (a .vrt can combine them)",
+                    files[j]
+                ),
+            ),
+            Some(_) => {}
+        }
+    }
+}
+
+/// `"format": "gdal"` needs a build with the `gdal` feature.
+fn require_gdal_feature(field: &str, problems: &mut Problems) {
+    if !cfg!(feature = "gdal") {
+        problems.add(
+            field,
+            "\"gdal\": this roamsim was built without GDAL: expected another format, or a build \
+             with `cargo build --release --features gdal` (needs the system's libgdal)",
+        );
     }
 }
 

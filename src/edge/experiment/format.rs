@@ -49,6 +49,7 @@ pub const DEFAULT_MAX_TRIANGLES: u64 = 2_000_000;
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 pub enum TerrainEntry {
     File(TerrainFileEntry),
+    Mosaic(TerrainMosaicEntry),
     Synthetic(SyntheticEntry),
 }
 
@@ -75,6 +76,42 @@ pub struct TerrainFileEntry {
     pub origin_m: Option<[f64; 3]>,
 }
 
+/// Many files as one terrain: SRTM tiles, GeoTIFF tiles or one VRT, listed or a folder's
+/// (exactly one of `files` and `folder`), with the keys of `file` that apply to a whole grid.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainMosaicEntry {
+    /// Relative to the experiment file's folder.
+    #[serde(default)]
+    pub files: Option<Vec<String>>,
+    /// Relative to the experiment file's folder: every `.hgt`, `.tif` and `.tiff` in it.
+    #[serde(default)]
+    pub folder: Option<String>,
+    /// `"gdal"`: every file opened by GDAL and placed by its GeoTransform (the `gdal` feature);
+    /// absent: by the files' extensions.
+    #[serde(default)]
+    pub format: Option<MosaicFormatEntry>,
+    #[serde(default)]
+    pub height_scale: Option<f64>,
+    #[serde(default)]
+    pub height_offset_m: Option<f64>,
+    #[serde(default)]
+    pub nodata: Option<f64>,
+    #[serde(default)]
+    pub spacing_m: Option<SpacingEntry>,
+    pub fit: FitEntry,
+    #[serde(default)]
+    pub crop_origin: Option<[usize; 2]>,
+    #[serde(default)]
+    pub origin_m: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum MosaicFormatEntry {
+    Gdal,
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 pub enum TerrainFormatEntry {
@@ -83,6 +120,8 @@ pub enum TerrainFormatEntry {
     Geotiff,
     AsciiGrid,
     Raw(RawEntry),
+    /// Any raster GDAL opens: only in a build with the `gdal` feature (checked in `check.rs`).
+    Gdal,
 }
 
 #[derive(Debug, Deserialize)]

@@ -1,5 +1,6 @@
-//! Loading a checked experiment (stage 3, the IO; SPEC §8): reading or generating the terrain,
-//! filling its voids and embedding it, reading a recorded flight log and building the flight.
+//! Loading a checked experiment (stage 3, the IO; SPEC §8): reading or generating the terrain
+//! (one file, or a mosaic of files laid out first: [`lay_out_terrain_mosaic`]), filling its
+//! voids and embedding it, reading a recorded flight log and building the flight.
 //! Also the runnable [`Experiment`] this produces. Not the checks of the file's meaning (stage 2,
 //! `check.rs`), which have all passed before anything here runs; reading stops at the first
 //! problem.
@@ -20,15 +21,18 @@
 use super::check::{DeclaredSpeedBounds, MeshExports};
 use super::entries::AlgorithmSpec;
 use super::format::{
-    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, PathEntry, RawSampleEntry,
-    SpacingEntry, SyntheticEntry, TerrainEntry, TerrainFileEntry, TerrainFormatEntry,
+    AltitudeEntry, FitEntry, FlightEntry, InterpolationEntry, LookEntry, MosaicFormatEntry,
+    PathEntry, RawSampleEntry, SpacingEntry, SyntheticEntry, TerrainEntry, TerrainFileEntry,
+    TerrainFormatEntry, TerrainMosaicEntry,
 };
 use super::problems::ExperimentError;
 use super::sweep::SweepChoice;
 use crate::edge::flight_log::read_flight_log;
+#[cfg(feature = "gdal")]
+use crate::edge::terrain_readers::lay_out_gdal_mosaic;
 use crate::edge::terrain_readers::{
-    LoadedTerrain, RawLayout, RawSample, ReadOptions, TerrainFormat, format_from_extension,
-    read_terrain,
+    LoadedTerrain, MosaicLayout, MosaicSource, RawLayout, RawSample, ReadOptions, TerrainFormat,
+    format_from_extension, lay_out_mosaic, read_mosaic, read_terrain,
 };
 use crate::sim::flight::{
     Altitude, Flight, FlightPath, Interpolation, Look, SpeedViolation, Waypoint, largest_turn,
@@ -166,12 +170,14 @@ pub struct TerrainReport {
 }
 
 /// Stage 3a: the terrain, read or generated, filled and embedded.
+/// A mosaic's layout, when the plan made it (`plan.rs`), saves laying it out again.
 pub(super) fn load_terrain(
     experiment: &Path,
     folder: &Path,
     entry: &TerrainEntry,
+    mosaic_layout: Option<&MosaicLayout>,
 ) -> Result<(Heightfield, TerrainReport), ExperimentError> {
-    load_terrain_assuming(experiment, folder, entry, None)
+    load_terrain_assuming(experiment, folder, entry, mosaic_layout, None)
 }
 
 /// [`load_terrain`], with `assumed` as the spacing of a file that declares none and is read
@@ -180,12 +186,158 @@ pub(super) fn load_terrain_assuming(
     experiment: &Path,
     folder: &Path,
     entry: &TerrainEntry,
+    mosaic_layout: Option<&MosaicLayout>,
     assumed: Option<Spacing>,
 ) -> Result<(Heightfield, TerrainReport), ExperimentError> {
     match entry {
         TerrainEntry::Synthetic(s) => generate_terrain(experiment, s),
         TerrainEntry::File(file) => read_terrain_file(experiment, folder, file, assumed),
+        TerrainEntry::Mosaic(mosaic) => {
+            let laid_out;
+            let layout = match mosaic_layout {
+                Some(layout) => layout,
+                None => {
+                    laid_out = lay_out_terrain_mosaic(experiment, folder, mosaic)?;
+                    &laid_out
+                }
+            };
+            read_terrain_mosaic(experiment, mosaic, layout)
+        }
     }
+}
+
+/// Stage 3's first step for a mosaic, done for every point when the plan is made: its files
+/// laid out from their headers (existence, names, sizes, georeference, gaps), no height read.
+pub(super) fn lay_out_terrain_mosaic(
+    experiment: &Path,
+    folder: &Path,
+    mosaic: &TerrainMosaicEntry,
+) -> Result<MosaicLayout, ExperimentError> {
+    let (source, field) = match (&mosaic.files, &mosaic.folder) {
+        (Some(files), _) => (
+            MosaicSource::Files(files.iter().map(|f| folder.join(f)).collect()),
+            "terrain.mosaic.files",
+        ),
+        (None, Some(tiles)) => (
+            MosaicSource::Folder(folder.join(tiles)),
+            "terrain.mosaic.folder",
+        ),
+        (None, None) => (MosaicSource::Files(Vec::new()), "terrain.mosaic"),
+    };
+    let layout = match (mosaic.format, source) {
+        (None, source) => lay_out_mosaic(&source),
+        #[cfg(feature = "gdal")]
+        (Some(MosaicFormatEntry::Gdal), MosaicSource::Files(files)) => lay_out_gdal_mosaic(&files),
+        // Refused by the check (no feature, or a folder); kept a value, not a panic.
+        (Some(MosaicFormatEntry::Gdal), _) => {
+            return Err(ExperimentError::single(
+                experiment,
+                "terrain.mosaic.format",
+                "\"gdal\": expected a build with the gdal feature and a list of files",
+            ));
+        }
+    };
+    layout.map_err(|e| ExperimentError::single(experiment, field, e.to_string()))
+}
+
+/// A mosaic's files read into one grid, its voids filled, embedded as one file is.
+fn read_terrain_mosaic(
+    experiment: &Path,
+    mosaic: &TerrainMosaicEntry,
+    layout: &MosaicLayout,
+) -> Result<(Heightfield, TerrainReport), ExperimentError> {
+    let options = ReadOptions {
+        height_scale: mosaic.height_scale.unwrap_or(1.0),
+        height_offset: mosaic.height_offset_m.unwrap_or(0.0),
+        nodata: mosaic.nodata,
+    };
+    let loaded = read_mosaic(layout, &options)
+        .map_err(|e| ExperimentError::single(experiment, "terrain.mosaic", e.to_string()))?;
+    let source = match (&mosaic.files, &mosaic.folder) {
+        (Some(files), _) if files.len() > 4 => format!(
+            "{} and {} more files",
+            files[..3].join(", "),
+            files.len() - 3
+        ),
+        (Some(files), _) => files.join(", "),
+        (None, Some(folder)) => format!("{folder} ({} tiles)", layout.n_files()),
+        (None, None) => String::new(),
+    };
+    let grid_keys = GridKeys {
+        field: "terrain.mosaic",
+        path: PathBuf::from(&source),
+        source,
+        format: layout.kind().name().to_string(),
+        spacing_m: mosaic.spacing_m,
+        assumed: None,
+        fit: mosaic.fit,
+        crop_origin: mosaic.crop_origin,
+        origin_m: mosaic.origin_m,
+    };
+    embed_loaded(experiment, &grid_keys, loaded)
+}
+
+/// What `file` and `mosaic` share once their grid is read: how to space, fit and name it.
+struct GridKeys {
+    /// `terrain.file` or `terrain.mosaic`, for errors.
+    field: &'static str,
+    /// Names the grid in errors.
+    path: PathBuf,
+    /// As the report gives it.
+    source: String,
+    format: String,
+    spacing_m: Option<SpacingEntry>,
+    /// The spacing of a grid that declares none and is given no `spacing_m` (`roamsim info`).
+    assumed: Option<Spacing>,
+    fit: FitEntry,
+    crop_origin: Option<[usize; 2]>,
+    origin_m: Option<[f64; 3]>,
+}
+
+/// A grid read from a file or a mosaic: spaced, its voids filled, embedded, reported.
+fn embed_loaded(
+    experiment: &Path,
+    keys: &GridKeys,
+    loaded: LoadedTerrain,
+) -> Result<(Heightfield, TerrainReport), ExperimentError> {
+    let path = &keys.path;
+    let field_error = |problem: String| ExperimentError::single(experiment, keys.field, problem);
+    let (spacing, spacing_from) = grid_spacing(
+        experiment,
+        keys.field,
+        path,
+        (keys.spacing_m, keys.assumed),
+        &loaded,
+    )?;
+    let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
+    let (filled, fill) =
+        fill_voids(loaded.grid).map_err(|e| field_error(format!("{}: {e}", path.display())))?;
+    let fit = match keys.fit {
+        FitEntry::Pad => Fit::Pad,
+        FitEntry::Crop => Fit::Crop {
+            origin: keys.crop_origin.map(|[i, j]| (i, j)),
+        },
+    };
+    let (field, embedded) = embed(&filled, fit, spacing)
+        .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
+    let field = field.with_origin(origin(keys.origin_m));
+    let (lo, hi) = field.height_range();
+    let report = TerrainReport {
+        source: keys.source.clone(),
+        format: keys.format.clone(),
+        source_columns,
+        source_rows,
+        side: field.side(),
+        padded_columns: embedded.padded_columns,
+        padded_rows: embedded.padded_rows,
+        crop_origin: embedded.crop_origin,
+        voids_filled: fill.voids_filled,
+        spacing,
+        spacing_from,
+        height_min_m: lo,
+        height_max_m: hi,
+    };
+    Ok((field, report))
 }
 
 /// A synthetic terrain generated by diamond-square.
@@ -256,6 +408,15 @@ fn read_terrain_file(
             sample: raw_sample(raw.sample),
             north_first: raw.north_first,
         }),
+        #[cfg(feature = "gdal")]
+        Some(TerrainFormatEntry::Gdal) => TerrainFormat::Gdal,
+        // Refused by the check without the feature; kept a value, not a panic.
+        #[cfg(not(feature = "gdal"))]
+        Some(TerrainFormatEntry::Gdal) => {
+            return Err(field_error(
+                "\"gdal\": this roamsim was built without GDAL".to_string(),
+            ));
+        }
     };
     let options = ReadOptions {
         height_scale: file.height_scale.unwrap_or(1.0),
@@ -263,43 +424,25 @@ fn read_terrain_file(
         nodata: file.nodata,
     };
     let loaded = read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
-    let (spacing, spacing_from) =
-        grid_spacing(experiment, &path, (file.spacing_m, assumed), &loaded)?;
-    let (source_columns, source_rows) = (loaded.grid.width(), loaded.grid.height());
-    let (filled, fill) =
-        fill_voids(loaded.grid).map_err(|e| field_error(format!("{}: {e}", path.display())))?;
-    let fit = match file.fit {
-        FitEntry::Pad => Fit::Pad,
-        FitEntry::Crop => Fit::Crop {
-            origin: file.crop_origin.map(|[i, j]| (i, j)),
-        },
-    };
-    let (field, embedded) = embed(&filled, fit, spacing)
-        .map_err(|e| field_error(format!("{}: {e}", path.display())))?;
-    let field = field.with_origin(origin(file.origin_m));
-    let (lo, hi) = field.height_range();
-    let report = TerrainReport {
+    let grid_keys = GridKeys {
+        field: "terrain.file",
+        path,
         source: file.path.clone(),
         format: format.name().to_string(),
-        source_columns,
-        source_rows,
-        side: field.side(),
-        padded_columns: embedded.padded_columns,
-        padded_rows: embedded.padded_rows,
-        crop_origin: embedded.crop_origin,
-        voids_filled: fill.voids_filled,
-        spacing,
-        spacing_from,
-        height_min_m: lo,
-        height_max_m: hi,
+        spacing_m: file.spacing_m,
+        assumed,
+        fit: file.fit,
+        crop_origin: file.crop_origin,
+        origin_m: file.origin_m,
     };
-    Ok((field, report))
+    embed_loaded(experiment, &grid_keys, loaded)
 }
 
-/// The terrain file's grid spacing and where it came from: the experiment's `spacing_m` when it
-/// gives one, else the file's own, else the `assumed` one (an error when there is none).
+/// The terrain's grid spacing and where it came from: the experiment's `spacing_m` when it gives
+/// one, else the file's (or mosaic's) own, else the `assumed` one (an error when there is none).
 fn grid_spacing(
     experiment: &Path,
+    field: &str,
     path: &Path,
     (given, assumed): (Option<SpacingEntry>, Option<Spacing>),
     loaded: &LoadedTerrain,
@@ -331,7 +474,7 @@ fn grid_spacing(
             };
             Err(ExperimentError::single(
                 experiment,
-                "terrain.file.spacing_m",
+                format!("{field}.spacing_m"),
                 format!(
                     "{}: {why}: expected spacing_m {{dx, dy}} in metres",
                     path.display()

@@ -10,13 +10,16 @@
 //! **Every point checked before any is loaded.** A swept experiment's points are all parsed and
 //! checked up front, and every problem of every point is reported at once (each prefixed with
 //! its point's choice) before any terrain is read; loading, one terrain at a time, waits for the
-//! run.
+//! run. A mosaic terrain's files are laid out from their headers alone (they exist, their names
+//! and sizes fit, no gap) for every point by [`plan`], with the same prefixes, before any
+//! height is read; [`check_bytes`] does no IO and leaves them.
 
 use super::check::{Checked, check, path_kind};
-use super::format::ExperimentFile;
-use super::load::{Experiment, build_flight, load_terrain};
+use super::format::{ExperimentFile, TerrainEntry};
+use super::load::{Experiment, build_flight, lay_out_terrain_mosaic, load_terrain};
 use super::problems::{ExperimentError, FieldProblem};
 use super::sweep::{ExperimentPoint, SweepChoice, choice_label, expand_experiment};
+use crate::edge::terrain_readers::MosaicLayout;
 use crate::sim::flight::speed_violations;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
@@ -51,6 +54,9 @@ struct PlannedPoint {
     label: Option<String>,
     parsed: ExperimentFile,
     checked: Checked,
+    /// A mosaic terrain's files laid out from their headers ([`plan`] does it; `None` for other
+    /// terrains and under [`check_bytes`], which does no IO).
+    mosaic_layout: Option<MosaicLayout>,
 }
 
 /// Stages 1 and 2 for every point of the experiment's top-level sweep (one point without a
@@ -59,7 +65,43 @@ pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
     let bytes = std::fs::read(path).map_err(|error| {
         ExperimentError::single(path, "", format!("cannot read the file: {error}"))
     })?;
-    plan_bytes(path, &bytes)
+    let mut plan = plan_bytes(path, &bytes)?;
+    lay_out_mosaics(&mut plan)?;
+    Ok(plan)
+}
+
+/// Every point's mosaic laid out from its files' headers (existence, names, sizes,
+/// georeference, gaps) before any terrain is read, every point's problems reported at once.
+fn lay_out_mosaics(plan: &mut Plan) -> Result<(), ExperimentError> {
+    let folder = plan.file.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mut problems = Vec::new();
+    for point in &mut plan.points {
+        let TerrainEntry::Mosaic(mosaic) = &point.parsed.terrain else {
+            continue;
+        };
+        match lay_out_terrain_mosaic(&plan.file, &folder, mosaic) {
+            Ok(layout) => point.mosaic_layout = Some(layout),
+            Err(error) => {
+                let prefix = point
+                    .choice
+                    .as_ref()
+                    .map(|c| format!("({}) ", choice_label(c)))
+                    .unwrap_or_default();
+                problems.extend(error.problems.into_iter().map(|p| FieldProblem {
+                    field: format!("{prefix}{}", p.field),
+                    problem: p.problem,
+                }));
+            }
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(ExperimentError {
+            file: plan.file.clone(),
+            problems,
+        })
+    }
 }
 
 /// Stages 1 and 2 only: parses an experiment's bytes and checks their meaning, every sweep point
@@ -100,6 +142,7 @@ fn plan_bytes(path: &Path, bytes: &[u8]) -> Result<Plan, ExperimentError> {
                 label,
                 parsed,
                 checked,
+                mosaic_layout: None,
             }),
             Err(error) => problems.extend(error.problems.into_iter().map(|p| FieldProblem {
                 field: format!("{prefix}{}", p.field),
@@ -182,7 +225,8 @@ impl Plan {
         let checked = &point.checked;
         let folder = path.parent().unwrap_or(Path::new("."));
         let (field, terrain) =
-            load_terrain(path, folder, &parsed.terrain).map_err(prefix_errors)?;
+            load_terrain(path, folder, &parsed.terrain, point.mosaic_layout.as_ref())
+                .map_err(prefix_errors)?;
         let flight = build_flight(path, folder, &parsed.flight, &field).map_err(prefix_errors)?;
         if let Some(exports) = &checked.mesh_exports
             && let Some(&frame) = exports.frames.iter().find(|&&f| f >= flight.n_frames())

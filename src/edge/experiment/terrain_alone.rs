@@ -39,7 +39,7 @@ pub fn load_terrain_file(
                 dx: ASSUMED_SPACING_M,
                 dy: ASSUMED_SPACING_M,
             };
-            load_terrain_assuming(path, Path::new(""), &entry, Some(assumed))
+            load_terrain_assuming(path, Path::new(""), &entry, None, Some(assumed))
         }
         _ => Err(ExperimentError {
             file: path.to_path_buf(),

@@ -131,7 +131,7 @@ pub(super) fn read(
 
 /// Whether a `.prj` text declares a projected coordinate system (WKT1 `PROJCS`, WKT2
 /// `PROJCRS`, or the old ESRI `Projection` line naming anything but GEOGRAPHIC).
-fn prj_is_projected(prj: &str) -> bool {
+pub(super) fn prj_is_projected(prj: &str) -> bool {
     let upper = prj.to_ascii_uppercase();
     let esri_projected = upper.lines().any(|line| {
         let mut words = line.split_whitespace();
@@ -143,7 +143,7 @@ fn prj_is_projected(prj: &str) -> bool {
 /// Whether a `.prj` text declares a geographic (longitude/latitude) coordinate system: WKT1
 /// `GEOGCS` or WKT2 `GEOGCRS`/`GEODCRS` with no projection, or the old ESRI `Projection
 /// GEOGRAPHIC`.
-fn prj_is_geographic(prj: &str) -> bool {
+pub(super) fn prj_is_geographic(prj: &str) -> bool {
     let upper = prj.to_ascii_uppercase();
     let wkt_geographic = ["GEOGCS", "GEOGCRS", "GEODCRS"]
         .iter()

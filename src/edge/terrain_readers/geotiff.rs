@@ -14,7 +14,7 @@ use super::{
     StoredPrecision, TerrainReadError,
 };
 use crate::sim::terrain::{SampleGrid, Spacing};
-use std::io::Cursor;
+use std::io::{Cursor, Read, Seek};
 use std::path::Path;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::tags::{CompressionMethod, SampleFormat, Tag};
@@ -125,6 +125,154 @@ pub(super) fn read(
     Ok((grid, spacing))
 }
 
+/// Where a GeoTIFF lies, from its tags alone (its samples are not decoded): what a mosaic
+/// (`mosaic.rs`) places it by.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct TiffPlacement {
+    pub(super) columns: usize,
+    pub(super) rows: usize,
+    /// `None` when the file has no ModelPixelScaleTag and ModelTiepointTag.
+    pub(super) georeference: Option<TiffGeoreference>,
+    /// The model type of the GeoKeyDirectoryTag.
+    pub(super) model: TiffModel,
+}
+
+/// A north-up GeoTIFF's pixel grid in model units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct TiffGeoreference {
+    /// Pixel scale (ModelPixelScaleTag's sx, sy): both positive and finite.
+    pub(super) scale: (f64, f64),
+    /// Model coordinates of the centre of the north-west pixel: GDAL's reading of the tiepoint,
+    /// which names the pixel's corner unless GTRasterTypeGeoKey says PixelIsPoint.
+    pub(super) north_west_centre: (f64, f64),
+}
+
+/// What GTModelTypeGeoKey (and ProjLinearUnitsGeoKey) say of the model's units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum TiffModel {
+    /// Projected, in metres per unit (`None`: a unit the reader does not know).
+    Projected { metres_per_unit: Option<f64> },
+    /// Longitude and latitude in degrees.
+    Geographic,
+    /// No GeoKeyDirectoryTag or no model type.
+    Undeclared,
+}
+
+/// Reads the tags of a GeoTIFF's first image: its size, sample type (refused as [`read`] refuses
+/// it) and georeference. Reads the header and the tags only, however large the image.
+pub(super) fn read_placement<R: Read + Seek>(
+    path: &Path,
+    reader: R,
+) -> Result<TiffPlacement, TerrainReadError> {
+    let tiff_error = |error: tiff::TiffError| {
+        TerrainReadError::new(path, format!("cannot decode the TIFF: {error}"))
+    };
+    let tag_error = |tag: &str, error: tiff::TiffError| {
+        TerrainReadError::new(path, format!("cannot read {tag}: {error}"))
+    };
+    let mut decoder = Decoder::new(reader).map_err(tiff_error)?;
+    let (width, height) = decoder.dimensions().map_err(tiff_error)?;
+    sample_kind(path, &mut decoder)?;
+    let keys = match decoder
+        .find_tag(Tag::GeoKeyDirectoryTag)
+        .map_err(|error| tag_error("GeoKeyDirectoryTag", error))?
+    {
+        Some(value) => value
+            .into_u16_vec()
+            .map_err(|error| tag_error("GeoKeyDirectoryTag", error))?,
+        None => Vec::new(),
+    };
+    let model = match geo_key(&keys, GT_MODEL_TYPE_GEO_KEY) {
+        Some(MODEL_TYPE_PROJECTED) => TiffModel::Projected {
+            metres_per_unit: match geo_key(&keys, PROJ_LINEAR_UNITS_GEO_KEY) {
+                None | Some(LINEAR_METER) => Some(1.0),
+                Some(LINEAR_FOOT) => Some(0.3048),
+                Some(LINEAR_FOOT_US_SURVEY) => Some(1200.0 / 3937.0),
+                Some(_) => None,
+            },
+        },
+        Some(MODEL_TYPE_GEOGRAPHIC) => TiffModel::Geographic,
+        _ => TiffModel::Undeclared,
+    };
+    let raster_type = geo_key(&keys, GT_RASTER_TYPE_GEO_KEY);
+    if decoder
+        .find_tag(Tag::ModelTransformationTag)
+        .map_err(|error| tag_error("ModelTransformationTag", error))?
+        .is_some()
+    {
+        return Err(TerrainReadError::new(
+            path,
+            "the GeoTIFF is placed by a ModelTransformationTag (tag 34264), which is not read;              expected ModelTiepointTag and ModelPixelScaleTag (a north-up raster)",
+        ));
+    }
+    let scale = decoder
+        .find_tag(Tag::ModelPixelScaleTag)
+        .map_err(|error| tag_error("ModelPixelScaleTag", error))?;
+    let tiepoint = decoder
+        .find_tag(Tag::ModelTiepointTag)
+        .map_err(|error| tag_error("ModelTiepointTag", error))?;
+    let georeference = match (scale, tiepoint) {
+        (Some(scale), Some(tiepoint)) => {
+            let scale = scale
+                .into_f64_vec()
+                .map_err(|error| tag_error("ModelPixelScaleTag", error))?;
+            let tiepoint = tiepoint
+                .into_f64_vec()
+                .map_err(|error| tag_error("ModelTiepointTag", error))?;
+            let (scale_x, scale_y) = match scale.as_slice() {
+                [x, y, ..] if x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0 => (*x, *y),
+                _ => {
+                    return Err(TerrainReadError::new(
+                        path,
+                        format!(
+                            "ModelPixelScaleTag (tag 33550) is {scale:?}; expected [sx, sy, sz]                              with positive finite sx and sy"
+                        ),
+                    ));
+                }
+            };
+            let [raster_i, raster_j, _, model_x, model_y, _] = tiepoint.as_slice() else {
+                return Err(TerrainReadError::new(
+                    path,
+                    format!(
+                        "ModelTiepointTag (tag 33922) has {} values; expected one tiepoint of 6                          (I, J, K, X, Y, Z): several tiepoints (control points) cannot place a                          tile",
+                        tiepoint.len()
+                    ),
+                ));
+            };
+            // GDAL: the tiepoint names raster coordinates, whose integers are pixel corners
+            // under PixelIsArea (the default) and pixel centres under PixelIsPoint.
+            let centre_offset = if raster_type == Some(RASTER_PIXEL_IS_POINT) {
+                0.0
+            } else {
+                0.5
+            };
+            let north_west_centre = (
+                model_x + (centre_offset - raster_i) * scale_x,
+                model_y - (centre_offset - raster_j) * scale_y,
+            );
+            if !(north_west_centre.0.is_finite() && north_west_centre.1.is_finite()) {
+                return Err(TerrainReadError::new(
+                    path,
+                    format!(
+                        "ModelTiepointTag (tag 33922) is {tiepoint:?}; expected finite                          coordinates"
+                    ),
+                ));
+            }
+            Some(TiffGeoreference {
+                scale: (scale_x, scale_y),
+                north_west_centre,
+            })
+        }
+        _ => None,
+    };
+    Ok(TiffPlacement {
+        columns: width as usize,
+        rows: height as usize,
+        georeference,
+        model,
+    })
+}
+
 /// The sample types the reader accepts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum TiffSampleKind {
@@ -151,9 +299,9 @@ impl TiffSampleKind {
 }
 
 /// The sample type of a single-band image, or an error naming what the file holds.
-fn sample_kind(
+fn sample_kind<R: Read + Seek>(
     path: &Path,
-    decoder: &mut Decoder<Cursor<&[u8]>>,
+    decoder: &mut Decoder<R>,
 ) -> Result<TiffSampleKind, TerrainReadError> {
     let tiff_error = |error: tiff::TiffError| {
         TerrainReadError::new(path, format!("cannot decode the TIFF: {error}"))
@@ -233,6 +381,8 @@ fn gdal_nodata(
 
 /// GeoKey ids and values the reader understands (GeoTIFF 1.0, section 6).
 const GT_MODEL_TYPE_GEO_KEY: u16 = 1024;
+const GT_RASTER_TYPE_GEO_KEY: u16 = 1025;
+const RASTER_PIXEL_IS_POINT: u16 = 2;
 const PROJ_LINEAR_UNITS_GEO_KEY: u16 = 3076;
 const MODEL_TYPE_PROJECTED: u16 = 1;
 const MODEL_TYPE_GEOGRAPHIC: u16 = 2;

@@ -6,7 +6,9 @@
 //! The size comes from the byte length alone: 1201² samples (SRTM3, 3″ posts) or 3601² (SRTM1,
 //! 1″ posts). −32768 marks a void. The spacing is derived from the tile name (`N48E009.hgt`)
 //! when it parses as one; the reader does not look at neighbouring tiles, and it does not drop
-//! the row and column every tile shares with its neighbours.
+//! the row and column every tile shares with its neighbours. Placing tiles by their names and
+//! joining them on those shared edges is the mosaic's (`mosaic.rs`), which uses this module's
+//! tile names, sizes and spacing.
 
 use super::{
     FileRowOrder, METRES_PER_DEGREE_LATITUDE, ReadOptions, SampleCollector, StoredPrecision,
@@ -98,18 +100,43 @@ impl SrtmTileKind {
     /// latitude of the tile centre, half a degree north of its south edge (N48 → 48.5°,
     /// S12 → −11.5°).
     fn spacing(self, south_latitude_degrees: i32) -> Spacing {
+        self.spacing_at(f64::from(south_latitude_degrees) + 0.5)
+    }
+
+    /// Spacing in metres at a given latitude (a mosaic's centre: `mosaic.rs`).
+    fn spacing_at(self, centre_latitude_degrees: f64) -> Spacing {
         let dy = self.post_spacing_arc_seconds() * METRES_PER_DEGREE_LATITUDE / 3600.0;
-        let centre_latitude_degrees = f64::from(south_latitude_degrees) + 0.5;
         let dx = dy * centre_latitude_degrees.to_radians().cos();
         Spacing { dx, dy }
     }
 }
 
+/// The side in posts (1201 or 3601) of an SRTM tile of `n_bytes` bytes, if that is a tile size.
+pub(super) fn tile_side(n_bytes: u64) -> Option<usize> {
+    let n_bytes = usize::try_from(n_bytes).ok()?;
+    SrtmTileKind::from_byte_length(n_bytes).map(SrtmTileKind::side)
+}
+
+/// The spacing in metres of tiles of `side` posts (1201 or 3601) at a latitude, as one tile's is
+/// at its centre; `None` for another side.
+pub(super) fn spacing_at(side: usize, centre_latitude_degrees: f64) -> Option<Spacing> {
+    [SrtmTileKind::Srtm3, SrtmTileKind::Srtm1]
+        .into_iter()
+        .find(|kind| kind.side() == side)
+        .map(|kind| kind.spacing_at(centre_latitude_degrees))
+}
+
 /// The latitude of a tile's south edge in whole degrees (south negative), from a file name that
 /// starts with `[NS]dd[EW]ddd` (case-insensitive) up to its first dot: `N48E009.hgt` → 48,
 /// `s01w072.HGT` → −1. Names that are not a tile, or name a tile outside the globe (N90, E180),
-/// give `None`. The longitude is checked but not needed: it does not change the spacing.
+/// give `None`.
 fn tile_south_latitude(path: &Path) -> Option<i32> {
+    tile_corner(path).map(|(south_latitude_degrees, _)| south_latitude_degrees)
+}
+
+/// The south-west corner of a tile in whole degrees (latitude, longitude; south and west
+/// negative) from its file name, as [`tile_south_latitude`] reads it.
+pub(super) fn tile_corner(path: &Path) -> Option<(i32, i32)> {
     let file_name = path.file_name()?.to_str()?;
     let stem = file_name.split('.').next()?.as_bytes();
     if stem.len() != 7 {
@@ -132,7 +159,7 @@ fn tile_south_latitude(path: &Path) -> Option<i32> {
     // A tile spans one degree north and east of its corner.
     let on_globe = (-90..=89).contains(&south_latitude_degrees)
         && (-180..=179).contains(&west_longitude_degrees);
-    on_globe.then_some(south_latitude_degrees)
+    on_globe.then_some((south_latitude_degrees, west_longitude_degrees))
 }
 
 fn parse_digits(digits: &[u8]) -> Option<i32> {

@@ -13,12 +13,33 @@
 //! grid's `.prj` beside it) and hands the bytes on; [`read_terrain_bytes`] is the same without
 //! the file and with no `.prj`, the entry point of the fuzz targets and the parser property
 //! tests. The path then only names the file in errors (and gives an `.hgt` tile its name).
+//!
+//! **Many files as one terrain** (`mosaic.rs`): SRTM tiles placed by their names, GeoTIFF tiles
+//! by their georeference, or the sources of a GDAL VRT (`vrt.rs`, parsed by
+//! [`parse_vrt_bytes`], the VRT's fuzz and property entry point) by its windows, laid out from
+//! the files' headers first ([`lay_out_mosaic`]: gaps, mixed resolutions and missing tiles are
+//! refused before any height is read), then read one file at a time with the readers above into
+//! one [`SampleGrid`] ([`read_mosaic`]: overlaps must agree).
+//!
+//! **The `gdal` feature** (off by default) adds `TerrainFormat::Gdal` (`gdal_raster.rs`): band 1
+//! of any raster the system's libgdal opens, read by its path, as one file or as mosaic tiles
+//! placed by their GeoTransform (`lay_out_gdal_mosaic`). The default build reads every format
+//! above in pure Rust.
 
 mod ascii_grid;
+#[cfg(feature = "gdal")]
+mod gdal_raster;
 mod geotiff;
 mod hgt;
+mod mosaic;
 mod png;
 mod raw;
+mod vrt;
+
+#[cfg(feature = "gdal")]
+pub use mosaic::lay_out_gdal_mosaic;
+pub use mosaic::{MosaicKind, MosaicLayout, MosaicSource, lay_out_mosaic, read_mosaic};
+pub use vrt::{VrtMosaic, parse_vrt_bytes};
 
 use crate::sim::terrain::{SampleGrid, Spacing};
 use std::fmt;
@@ -37,6 +58,9 @@ pub enum TerrainFormat {
     AsciiGrid,
     /// Headerless samples of a declared layout.
     Raw(RawLayout),
+    /// Band 1 of any raster the system's GDAL opens (the `gdal` feature).
+    #[cfg(feature = "gdal")]
+    Gdal,
 }
 
 impl TerrainFormat {
@@ -49,6 +73,8 @@ impl TerrainFormat {
             TerrainFormat::GeoTiff => "geotiff",
             TerrainFormat::AsciiGrid => "ascii_grid",
             TerrainFormat::Raw(_) => "raw",
+            #[cfg(feature = "gdal")]
+            TerrainFormat::Gdal => "gdal",
         }
     }
 }
@@ -164,6 +190,16 @@ pub fn read_terrain(
     format: TerrainFormat,
     options: &ReadOptions,
 ) -> Result<LoadedTerrain, TerrainReadError> {
+    #[cfg(feature = "gdal")]
+    if format == TerrainFormat::Gdal {
+        let (grid, spacing, spacing_note) = gdal_raster::read(path, options)?;
+        return Ok(LoadedTerrain {
+            grid,
+            spacing,
+            spacing_note,
+            format,
+        });
+    }
     let bytes = std::fs::read(path)
         .map_err(|error| TerrainReadError::new(path, format!("cannot read the file: {error}")))?;
     // An ESRI ASCII grid says nothing of its units; the `.prj` beside it (when there is one)
@@ -203,6 +239,13 @@ fn read_with_sidecar(
         TerrainFormat::GeoTiff => with_no_note(geotiff::read(path, bytes, options)?),
         TerrainFormat::AsciiGrid => ascii_grid::read(path, bytes, options, prj)?,
         TerrainFormat::Raw(layout) => with_no_note(raw::read(path, bytes, &layout, options)?),
+        #[cfg(feature = "gdal")]
+        TerrainFormat::Gdal => {
+            return Err(TerrainReadError::new(
+                path,
+                "GDAL reads a file by its path, not bytes in memory: expected read_terrain",
+            ));
+        }
     };
     Ok(LoadedTerrain {
         grid,
