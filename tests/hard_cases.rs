@@ -7,7 +7,7 @@ mod common;
 
 use common::algorithms::{
     every_algorithm, every_block_algorithm, every_rottger, every_stitching, every_vanek, reference,
-    reference_in_view, roam_target, rottger, wu, wu_budget,
+    reference_in_view, roam_target, rottger, wu, wu_budget, wu_in_view,
 };
 use common::{checked_step, extra, vertex_set, view_600};
 use glam::DVec3;
@@ -2536,4 +2536,119 @@ fn every_drawn_triangle_of_every_algorithm_is_counter_clockwise_seen_from_above(
     }
     // The exception was exercised: strip joins, collapsed triangles and skirts were drawn.
     assert!(flat > 0);
+}
+
+/// A flight over the 33×33 rough terrain that refines, coarsens, turns and jumps: eastward and
+/// climbing, then a teleport back to the start (flagged as a broken bound) and a still frame.
+fn flight_with_a_teleport() -> Vec<(Pose, bool)> {
+    let mut poses: Vec<(Pose, bool)> = (0..24)
+        .map(|f| {
+            let mut p = pose(DVec3::new(
+                10.0 + 7.0 * f as f64,
+                90.0,
+                30.0 + 3.0 * f as f64,
+            ));
+            p.yaw = 0.7 + 0.08 * f as f64;
+            (p, false)
+        })
+        .collect();
+    let start = poses[0].0;
+    poses.extend([(start, true), (start, false)]);
+    poses
+}
+
+#[test]
+fn the_buffers_of_the_reference_lindstrom_roam_and_rottger_draw_their_mesh_every_frame() {
+    let hierarchy = rough(33, 10.0, 20.0);
+    let view = view_600();
+    // Wu's entries are left to Wu's own tests.
+    let configs = with_rottger(2.0)
+        .into_iter()
+        .filter(|c| !matches!(c, AlgorithmConfig::Wu(_)));
+    for config in configs {
+        let mut algorithm = config.build(&hierarchy, &view, SPEED);
+        for (frame, (pose, teleport)) in flight_with_a_teleport().iter().enumerate() {
+            let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+            let frame = frame as u64;
+            let context = format!("{config:?}");
+            let stats = checked_step(
+                &hierarchy,
+                algorithm.as_mut(),
+                frame,
+                &camera,
+                frame == 0 || *teleport,
+                &context,
+            );
+            let counts = algorithm.prepare_draw();
+            if let Err(error) = roamsim::sim::draw::check::check_buffers_draw_mesh(
+                algorithm.buffers(),
+                algorithm.mesh(),
+                &hierarchy,
+            ) {
+                panic!("{context}, frame {frame}: {error}");
+            }
+            assert_eq!(
+                counts.triangles_submitted, stats.triangles,
+                "{context}, frame {frame}: every triangle of the mesh is submitted once"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_in_view_reference_refines_what_wu_with_cone_culling_refines_frame_by_frame() {
+    // With zero motion bounds Wu defers nothing (every frame that moves is flagged and
+    // revalidated), so at the same τ its mesh must be the in-view reference's on every frame,
+    // and so must its in-view triangles; the whole-terrain reference refines more.
+    let hierarchy = rough(33, 10.0, 20.0);
+    let view = view_600();
+    let zero = SpeedBound {
+        horizontal: 0.0,
+        vertical: 0.0,
+        rotation: 0.0,
+    };
+    for zone in [ZoneVariant::Conservative, ZoneVariant::Paper] {
+        // In-view refinement and cone culling, the paper's way.
+        let wu_config = wu_in_view(2.0, zone);
+        assert!(wu_config.cone_culling);
+        let mut wu_entry = AlgorithmConfig::Wu(wu_config).build(&hierarchy, &view, zero);
+        let in_view = AlgorithmConfig::Reference(ReferenceConfig {
+            nesting: wu_config.nesting,
+            ..reference_in_view(2.0, zone)
+        });
+        let whole = AlgorithmConfig::Reference(ReferenceConfig {
+            nesting: wu_config.nesting,
+            ..reference(2.0, zone)
+        });
+        let mut in_view = in_view.build(&hierarchy, &view, zero);
+        let mut whole = whole.build(&hierarchy, &view, zero);
+        let (mut fewer, mut frames) = (0, 0);
+        for (frame, (pose, _)) in flight_with_a_teleport().iter().enumerate() {
+            let camera = Camera::new(&hierarchy.field().local_pose(pose), view);
+            let frame = frame as u64;
+            let context = format!("{zone:?}");
+            checked_step(
+                &hierarchy,
+                wu_entry.as_mut(),
+                frame,
+                &camera,
+                true,
+                &context,
+            );
+            let reference =
+                checked_step(&hierarchy, in_view.as_mut(), frame, &camera, true, &context);
+            let everywhere =
+                checked_step(&hierarchy, whole.as_mut(), frame, &camera, true, &context);
+            assert!(
+                vertex_set(wu_entry.as_ref()) == vertex_set(in_view.as_ref()),
+                "{context}, frame {frame}: Wu with cone culling and the in-view reference differ"
+            );
+            fewer += u64::from(reference.triangles < everywhere.triangles);
+            frames += 1;
+        }
+        assert!(
+            fewer * 2 > frames,
+            "{zone:?}: the in-view reference refines less on {fewer} of {frames} frames"
+        );
+    }
 }

@@ -7,8 +7,8 @@ mod common;
 use common::{bumpy_terrain, vertex_set, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::{
-    FrameInput, LodAlgorithm, MotionBound, PriorityCheck, QueueKind, Roam, RoamConfig, RoamGoal,
-    RoamRebuild, ThicknessScope,
+    FrameInput, LodAlgorithm, MotionBound, PriorityCheck, QueueKind, ROAM_UPLOAD_BYTES_PER_CHANGE,
+    Roam, RoamConfig, RoamGoal, RoamRebuild, ThicknessScope,
 };
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::validate::validate_reported;
@@ -772,5 +772,99 @@ fn per_vertex_thickness_refines_a_superset_of_the_papers_per_triangle_mesh_on_th
             b.triangles,
             a.triangles
         );
+    }
+}
+
+/// Issues the frame's draw and checks that the buffers draw exactly the mesh; what it uploaded.
+fn draw_checked(algorithm: &mut dyn LodAlgorithm, hierarchy: &Hierarchy, frame: u64) -> u64 {
+    let counts = algorithm.prepare_draw();
+    if let Err(error) = roamsim::sim::draw::check::check_buffers_draw_mesh(
+        algorithm.buffers(),
+        algorithm.mesh(),
+        hierarchy,
+    ) {
+        panic!("{} frame {frame}: {error}", algorithm.name());
+    }
+    assert_eq!(counts.draw_calls, 1, "one triangle list");
+    assert_eq!(counts.triangles_submitted, algorithm.triangle_count());
+    counts.upload_bytes
+}
+
+/// A flight that splits, merges, defers, stands still and teleports: the straight flight, three
+/// frames standing at its end, then a jump back to its start (a broken speed bound).
+fn flight_with_a_stop_and_a_teleport() -> Vec<(Camera, bool)> {
+    let mut cameras: Vec<(Camera, bool)> = straight_flight(30)
+        .into_iter()
+        .map(|c| (c, false))
+        .collect();
+    let last = cameras[cameras.len() - 1].0;
+    cameras.extend([(last, false), (last, false), (last, false)]);
+    let first = straight_flight(1)[0];
+    cameras.extend([(first, true), (first, false)]);
+    cameras
+}
+
+#[test]
+fn roam_s_buffers_are_its_leaves_every_frame_and_cost_only_its_splits_and_merges() {
+    let hierarchy = bumpy_terrain(5);
+    for config in [
+        tolerance(1.0),
+        RoamConfig {
+            deferral: true,
+            culling_flags: true,
+            strips: true,
+            ..tolerance(1.0)
+        },
+        RoamConfig {
+            deferral: true,
+            culling_flags: true,
+            ..target(300)
+        },
+    ] {
+        let mut roam = Roam::new(&hierarchy, config, SPEED);
+        let (mut splits, mut merges, mut still_frames) = (0, 0, 0);
+        for (frame, (camera, teleport)) in flight_with_a_stop_and_a_teleport().iter().enumerate() {
+            let frame = frame as u64;
+            let stats = step(&mut roam, &hierarchy, frame, camera, *teleport);
+            let upload = draw_checked(&mut roam, &hierarchy, frame);
+            let changes = stats.splits + stats.merges;
+            if frame > 0 {
+                assert!(
+                    upload <= ROAM_UPLOAD_BYTES_PER_CHANGE * changes,
+                    "{config:?} frame {frame}: {upload} bytes for {changes} splits and merges"
+                );
+            }
+            if frame > 0 && changes == 0 {
+                assert_eq!(
+                    upload, 0,
+                    "frame {frame}: nothing changed, nothing uploaded"
+                );
+                still_frames += 1;
+            }
+            splits += stats.splits;
+            merges += stats.merges;
+        }
+        assert!(
+            splits > 0 && merges > 0 && still_frames > 0,
+            "{config:?}: the flight must split ({splits}), merge ({merges}) and stand still \
+             ({still_frames} frames)"
+        );
+    }
+}
+
+#[test]
+fn roam_rebuild_s_buffers_are_its_mesh_every_frame() {
+    let hierarchy = bumpy_terrain(5);
+    let config = RoamConfig {
+        culling_flags: true,
+        ..target(300)
+    };
+    let mut rebuild = RoamRebuild::new(&hierarchy, config, SPEED);
+    for (frame, (camera, teleport)) in flight_with_a_stop_and_a_teleport().iter().enumerate() {
+        let frame = frame as u64;
+        step(&mut rebuild, &hierarchy, frame, camera, *teleport);
+        let upload = draw_checked(&mut rebuild, &hierarchy, frame);
+        // Rebuilt every frame: at least one index per corner of every triangle.
+        assert!(upload >= 12 * rebuild.triangle_count(), "frame {frame}");
     }
 }

@@ -759,3 +759,62 @@ fn without_geomorphing_the_mesh_output_has_no_morphed_heights() {
         assert_eq!(extra(&algorithm, &stats, MORPHING_VERTICES), 0.0);
     }
 }
+
+#[test]
+fn the_fans_drawn_are_the_mesh_at_its_morphed_heights_every_frame_one_draw_per_fan() {
+    let hierarchy = bumpy_terrain(5);
+    let mut cameras: Vec<(Camera, bool)> = low_flight(40).into_iter().map(|c| (c, false)).collect();
+    // A teleport back to the start, then a frame standing still.
+    let start = cameras[0].0;
+    cameras.extend([(start, true), (start, false)]);
+    for geomorphing in [false, true] {
+        for clipping in [false, true] {
+            let config = RottgerConfig {
+                clipping,
+                geomorphing,
+                ..rottger(4.0, 20.0)
+            };
+            let mut algorithm = Rottger::new(&hierarchy, config);
+            let (mut morphing, mut fans_seen) = (0.0, 0.0);
+            for (frame, (camera, teleport)) in cameras.iter().enumerate() {
+                let context =
+                    format!("geomorphing {geomorphing}, clipping {clipping}, frame {frame}");
+                let stats = checked_step(
+                    &hierarchy,
+                    &mut algorithm,
+                    frame as u64,
+                    camera,
+                    *teleport,
+                    &context,
+                );
+                let counts = algorithm.prepare_draw();
+                if let Err(error) = roamsim::sim::draw::check::check_buffers_draw_mesh(
+                    algorithm.buffers(),
+                    algorithm.mesh(),
+                    &hierarchy,
+                ) {
+                    panic!("{context}: {error}");
+                }
+                assert_eq!(counts.triangles_submitted, stats.triangles, "{context}");
+                if !clipping {
+                    // The paper's fans and vertices: one draw per fan, its vertices sent once each.
+                    assert_eq!(
+                        counts.draw_calls as f64,
+                        extra(&algorithm, &stats, FANS),
+                        "{context}"
+                    );
+                    let vertex_bytes = 12.0 * extra(&algorithm, &stats, FAN_VERTICES);
+                    assert!(counts.upload_bytes as f64 >= vertex_bytes, "{context}");
+                    fans_seen += extra(&algorithm, &stats, FANS);
+                }
+                morphing += extra(&algorithm, &stats, MORPHING_VERTICES);
+            }
+            assert_eq!(
+                morphing > 0.0,
+                geomorphing,
+                "the flight morphs vertices iff geomorphing"
+            );
+            assert!(clipping || fans_seen > 40.0, "{fans_seen} fans");
+        }
+    }
+}

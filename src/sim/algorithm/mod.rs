@@ -27,7 +27,7 @@ pub use lindstrom::{Lindstrom, LindstromConfig};
 pub use reference::{Reference, ReferenceConfig, SplitThreshold, ViewThreshold};
 pub use roam::{
     BintreeError, MotionBound, PriorityCheck, QueueKind, Roam, RoamConfig, RoamGoal, RoamRebuild,
-    ThicknessScope,
+    ThicknessScope, UPLOAD_BYTES_PER_CHANGE as ROAM_UPLOAD_BYTES_PER_CHANGE,
 };
 pub use wu::{BudgetConfig, Refinement, TauRecentring, Wu, WuConfig, initial_tau_px};
 

@@ -20,6 +20,16 @@
 //! difference from the previous frame's mesh (what changed on screen, the meaning the incremental
 //! algorithms give them), `metric_evaluations` = lives computed.
 //!
+//! **Whole terrain or in view.** The default refines the whole terrain (the *whole-terrain
+//! reference*). With [`Refinement::InView`] (the experiment's `"refine": "in_view"`) it refines
+//! only what Wu's in-view refinement and cone culling refine: the same cone (`wu/cull.rs`), the
+//! same node spheres and the same test ([`Sight::in_view`], `wu/visibility.rs`), so it is the
+//! from-scratch reference to set against a `wu` entry with `cone_culling`.
+//!
+//! **What a GPU draws** (issue #31): the cheapest honest emit of a reference, which is not a
+//! renderer: the mesh as one indexed triangle list written whole every frame
+//! (`sim::draw::emit`). Upload is O(mesh) per frame by design.
+//!
 //! Memory: two `VertexSet`s, one bit per vertex each (this frame's mesh and the previous one, in a
 //! `RebuiltMesh`), with their active-vertex lists; the traversal stack; and with the
 //! `max_plus_own` nesting, the centres' nested errors (4 bytes per sample, `zone.rs`).

@@ -62,6 +62,14 @@
 //!   closed since the previous frame; `interval_probes` = predicate evaluations of the searches
 //!   that cut the nodes' δ-sorted lists (what the kept block state saves, `coarse.rs`).
 //!
+//! **What a GPU draws** (issue #31): the frame's mesh as one indexed triangle list, written
+//! whole every frame (`sim::draw::emit`, three vertices a triangle): upload is O(mesh) per frame
+//! by design, since the mesh is rebuilt every frame. Whether Lindstrom et al. draw a block's
+//! mesh as a (generalised) triangle strip could not be checked here (the paper is not among
+//! `/work/shared/papers`; Lauritsen–Nielsen 2005 §2.2 credits the single strip to Lindstrom and
+//! Pascucci 2001, "more hardware friendly than the first algorithm"), so the plain list stands
+//! until it is.
+//!
 //! Memory: 8 bytes per sample for the blocks plus 12 bytes per block of state, one bit per
 //! sample per mesh (two meshes).
 //! Per frame: O(nodes visited + vertices evaluated + mesh).

@@ -10,6 +10,7 @@ use super::bintree::Geometry;
 use super::bintree::{Bintree, TriangleKey};
 use super::cull::{self, CullFlags};
 use super::deferral::{BAND_MARGIN, Deferral, MotionBound, Schedule, frames_above, frames_at_most};
+use super::draw::LeafBuffers;
 use super::merge::{self, diamond_parents, is_mergeable, primary_parent};
 use super::priority::{PriorityContext, ViewFrame, Wedgie};
 use super::queues::{QueueKey, Queues};
@@ -53,6 +54,8 @@ pub(super) struct Core<'h> {
     pub motion: MotionBound,
     pub thicknesses: Thicknesses,
     pub bintree: Bintree,
+    /// The buffers a GPU draws the leaves from, changed by every split and merge (`draw.rs`).
+    pub draw: LeafBuffers,
     pub queues: Queues,
     pub log: SplitLog,
     /// `false` for the rebuild: it has no merge queue.
@@ -87,6 +90,8 @@ impl<'h> Core<'h> {
             RoamGoal::TolerancePx(tau) => Some(tau),
             RoamGoal::TargetTriangles(_) => None,
         };
+        let bintree = Bintree::new(hierarchy.lattice());
+        let draw = LeafBuffers::new(&bintree, hierarchy);
         let mut core = Core {
             hierarchy,
             config,
@@ -97,7 +102,8 @@ impl<'h> Core<'h> {
                 config.nesting,
                 config.culling_flags,
             ),
-            bintree: Bintree::new(hierarchy.lattice()),
+            bintree,
+            draw,
             queues: Queues::new(config.queue),
             log: SplitLog::default(),
             track_merges,
@@ -124,6 +130,7 @@ impl<'h> Core<'h> {
             + self.bintree.triangles.capacity()
                 * (size_of::<super::bintree::BinTriangle>() + size_of::<u32>())
             + self.bintree.mesh.memory_bytes()
+            + self.draw.memory_bytes()
             + self.queues.memory_bytes()
             + self.deferral.as_ref().map_or(0, Deferral::memory_bytes)
             + (self.scratch.capacity() + self.flag_changes.capacity()) * size_of::<TriangleKey>()
@@ -464,6 +471,10 @@ impl<'h> Core<'h> {
         split::split(&mut self.bintree, key, &mut self.log);
         self.counters.forced += self.log.forced - forced_before;
         let diamonds = std::mem::take(&mut self.log.diamonds);
+        for diamond in &diamonds {
+            self.draw
+                .split_diamond(&self.bintree, diamond.parents, self.hierarchy);
+        }
         // Geometry and flags first (children from their parents, in the order the splits
         // happened), then strips and queues.
         let frustum = self.view.frustum;
@@ -544,6 +555,7 @@ impl<'h> Core<'h> {
             }
         }
         self.queues.merge.remove(primary);
+        self.draw.merge_diamond(&self.bintree, parents);
         if merge::merge(&mut self.bintree, primary).is_none() {
             return;
         }

@@ -4,6 +4,22 @@
 //! (deferral). Not simulated: §7.4's progressive optimisation (stopping when the frame time runs
 //! out) and drawing the strips (they are counted).
 //!
+//! **What a GPU draws** (`draw.rs`, issue #31): a vertex buffer with a slot per active vertex and
+//! an index buffer with a slot per leaf, changed in place by every split and merge (a split
+//! writes its vertex and its children, a merge its parents and one swap-removed slot: at most
+//! [`UPLOAD_BYTES_PER_CHANGE`] bytes each), drawn as one indexed triangle list. A frame that
+//! changes nothing uploads nothing. The §7.2 strips stay counted, not drawn (an option not
+//! built): §7.2 keeps "non-generalized strips" by "a simple, sub-optimal, incremental approach"
+//! (quoted in `strips.rs`), strips that a 1997 renderer sent vertex by vertex every frame, so
+//! that a triangle cost about one vertex sent instead of three; a resident indexed list sends
+//! each vertex once, when it enters the mesh, and nothing for a frame without change, which is
+//! what the strips were for. Drawing them from resident buffers would move index ranges
+//! whenever a strip grows, shrinks or splits, which §7.2 does not describe (our reading of the
+//! paper, which is not among `/work/shared/papers`). `Out` leaves (§7.1) are drawn too: the
+//! buffers draw the mesh the runner culls and `--check` compares. `roam-rebuild` keeps the same
+//! buffers and resets them with its bintree every frame: an indexed list rebuilt from scratch,
+//! O(mesh) upload per frame by design (the reference of what coherence saves).
+//!
 //! **Data.** A triangle bintree in a slot map (`bintree.rs`), split with recursive forced splits
 //! (`split.rs`), merged by diamonds (`merge.rs`), two priority queues (`queues.rs`): leaves that
 //! can split, largest priority first; mergeable diamonds, smallest first. The mesh is the set of
@@ -89,6 +105,7 @@ mod buckets;
 mod core;
 mod cull;
 mod deferral;
+mod draw;
 mod merge;
 mod priority;
 mod queues;
@@ -98,13 +115,13 @@ mod thickness;
 mod validate;
 
 pub use deferral::MotionBound;
+pub use draw::BYTES_PER_CHANGE as UPLOAD_BYTES_PER_CHANGE;
 pub use queues::QueueKind;
 pub use thickness::ThicknessScope;
 pub use validate::{BintreeError, PriorityCheck};
 
 use self::core::{Core, FrameCounters};
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::emit::RebuiltBuffers;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{Hierarchy, NestingRule};
 use crate::sim::mesh::MeshOutput;
@@ -299,8 +316,6 @@ fn rotation_angle(from: Orientation, to: Orientation) -> f64 {
 /// for the flags; strips add O(1) per split, merge or culling change (a strip reversal
 /// O(its length)). Without deferral every queued priority is recomputed each frame.
 pub struct Roam<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
     core: Core<'h>,
     /// The orientation priorities were last computed for (deferral).
     orientation: Option<Orientation>,
@@ -344,7 +359,6 @@ impl<'h> Roam<'h> {
             }
         }
         Roam {
-            draw: RebuiltBuffers::new(),
             core,
             orientation: None,
             needs_full_recomputation: true,
@@ -468,14 +482,11 @@ impl LodAlgorithm for Roam<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw.prepare(
-            MeshOutput::lattice(self.core.bintree.mesh()),
-            self.core.hierarchy,
-        )
+        self.core.draw.prepare()
     }
 
     fn buffers(&self) -> &GpuBuffers {
-        self.draw.gpu()
+        self.core.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
@@ -498,8 +509,6 @@ impl Roam<'_> {
 /// O(splits) plus O(grid/64) for the inserted/deleted counts, plus O(1) per split for flags and
 /// strips when those are on.
 pub struct RoamRebuild<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
     core: Core<'h>,
     previous_mesh: VertexSet,
 }
@@ -518,7 +527,6 @@ impl<'h> RoamRebuild<'h> {
         let core = Core::new(hierarchy, config, motion, false, &placeholder);
         let previous_mesh = core.bintree.mesh().clone();
         RoamRebuild {
-            draw: RebuiltBuffers::new(),
             core,
             previous_mesh,
         }
@@ -556,6 +564,7 @@ impl LodAlgorithm for RoamRebuild<'_> {
         core.view = ViewFrame::new(input.camera);
         self.previous_mesh.clone_from(core.bintree.mesh());
         core.bintree.reset();
+        core.draw.reset(&core.bintree, core.hierarchy);
         core.fill_root_geometry();
         core.queues.clear();
         core.update_flags();
@@ -589,14 +598,11 @@ impl LodAlgorithm for RoamRebuild<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw.prepare(
-            MeshOutput::lattice(self.core.bintree.mesh()),
-            self.core.hierarchy,
-        )
+        self.core.draw.prepare()
     }
 
     fn buffers(&self) -> &GpuBuffers {
-        self.draw.gpu()
+        self.core.draw.gpu()
     }
 
     fn mesh(&self) -> MeshOutput<'_> {

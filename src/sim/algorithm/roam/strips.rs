@@ -1,6 +1,7 @@
 //! Incremental triangle strips as ROAM'97 §7.2 describes them, kept over the drawn leaves.
-//! Counted, not drawn: they feed only `triangles_per_strip`; the mesh the runner reads is the
-//! bintree's leaves as a vertex set, whatever the strips, and no strip reaches the preview.
+//! Counted, not drawn (`mod.rs` says why): they feed only `triangles_per_strip`; the mesh the
+//! runner reads and the buffers a GPU draws (`draw.rs`) are the bintree's leaves, whatever the
+//! strips.
 //!
 //! "We consider only non-generalized strips (no vertex swapping). We use a simple, sub-optimal,
 //! incremental approach … As triangles are split, merged or change view-culling status, minimal

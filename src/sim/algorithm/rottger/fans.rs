@@ -118,6 +118,109 @@ pub fn count_fans(
     counts
 }
 
+/// One fan as drawn: the range of its vertices among the frame's fan vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FanRun {
+    pub first: u32,
+    pub count: u32,
+}
+
+/// Calls `visit` with the vertices of every fan of the frame in drawing order (the fans counted
+/// by [`count_fans`] without clipping): the centre, then the ring counter-clockwise (the mesh's
+/// winding), a closed ring ending on its first vertex again. The two base triangles, when
+/// nothing is subdivided, are one fan of four vertices.
+pub fn for_each_fan(
+    lattice: &Lattice,
+    mesh: &VertexSet,
+    subdivided: &[u32],
+    mut visit: impl FnMut(&[GridPoint]),
+) {
+    if subdivided.is_empty() {
+        let [sw, se, nw, ne] = lattice.corners();
+        visit(&[sw, se, ne, nw]);
+        return;
+    }
+    for &id in subdivided {
+        let centre = lattice.point(id);
+        let VertexClass::Square { half } = lattice.classify(centre) else {
+            unreachable!("only block centres are subdivided");
+        };
+        block_fan_vertices(lattice, mesh, centre, half, &mut visit);
+    }
+}
+
+/// The fan(s) of one subdivided block as vertex sequences (see [`block_fans`] for which
+/// triangles they hold).
+fn block_fan_vertices(
+    lattice: &Lattice,
+    mesh: &VertexSet,
+    centre: GridPoint,
+    half: u32,
+    visit: &mut impl FnMut(&[GridPoint]),
+) {
+    let t = i64::from(half);
+    let q = t / 2;
+    let at = |di: i64, dj: i64| {
+        GridPoint::new(
+            (i64::from(centre.i) + di) as u32,
+            (i64::from(centre.j) + dj) as u32,
+        )
+    };
+    let active = |di: i64, dj: i64| mesh.contains_point(lattice, at(di, dj));
+    let quadrant_drawn =
+        [(-1, -1), (1, -1), (1, 1), (-1, 1)].map(|(a, b)| half == 1 || !active(a * q, b * q));
+    let midpoint = [(0, -1), (1, 0), (0, 1), (-1, 0)].map(|(a, b)| active(a * t, b * t));
+    let slot_drawn: [bool; 8] = std::array::from_fn(|s| quadrant_drawn[(s / 2 + s % 2) % 4]);
+    // The ring counter-clockwise from the south-west corner: corner, midpoint, corner, ….
+    let ring = [
+        (-t, -t),
+        (0, -t),
+        (t, -t),
+        (t, 0),
+        (t, t),
+        (0, t),
+        (-t, t),
+        (-t, 0),
+    ]
+    .map(|(di, dj)| at(di, dj));
+    // The triangles around the centre in ring order: (ring start, ring end, drawn).
+    let mut units = [(0usize, 0usize, false); 8];
+    let mut n_units = 0;
+    for edge in 0..4 {
+        let (a, b) = (slot_drawn[2 * edge], slot_drawn[2 * edge + 1]);
+        if midpoint[edge] {
+            units[n_units] = (2 * edge, 2 * edge + 1, a);
+            units[n_units + 1] = (2 * edge + 1, (2 * edge + 2) % 8, b);
+            n_units += 2;
+        } else {
+            units[n_units] = (2 * edge, (2 * edge + 2) % 8, a && b);
+            n_units += 1;
+        }
+    }
+    let units = &units[..n_units];
+    let mut fan: [GridPoint; 10] = [centre; 10];
+    let mut len = 0;
+    // Start after an undrawn triangle so that no run wraps around; a full ring starts anywhere.
+    let start = units.iter().position(|u| !u.2).map_or(0, |k| k + 1);
+    for k in 0..units.len() {
+        let (from, to, drawn) = units[(start + k) % units.len()];
+        if drawn {
+            if len == 0 {
+                fan[1] = ring[from];
+                len = 2;
+            }
+            fan[len] = ring[to];
+            len += 1;
+        } else if len > 0 {
+            visit(&fan[..len]);
+            len = 0;
+        }
+    }
+    if len > 0 {
+        visit(&fan[..len]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -185,6 +288,17 @@ mod tests {
             count_fans(&hierarchy, &mesh, &subdivided, None),
             counts(6, 33)
         );
+    }
+
+    #[test]
+    fn the_fans_drawn_for_figure_1_are_the_fans_counted() {
+        let (lattice, mesh, subdivided) = figure_1();
+        let (mut fans, mut vertices) = (0, 0);
+        for_each_fan(&lattice, &mesh, &subdivided, |points| {
+            fans += 1;
+            vertices += points.len();
+        });
+        assert_eq!((fans, vertices), (6, 33 + 2 * 6));
     }
 
     #[test]

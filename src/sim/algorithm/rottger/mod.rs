@@ -13,6 +13,12 @@
 //! load (`control.rs`). `brute_force.rs` evaluates the same criterion on every block with no
 //! traversal; `validate.rs` checks the matrix and the frame.
 //!
+//! **What a GPU draws** (`draw.rs`, issue #31): the fans, as the paper sends them (§2.1, §3):
+//! every frame each fan's vertices (centre, then the ring) at their drawn heights, morphed on the
+//! CPU when geomorphing is on (equal to the mesh output's bit for bit), one `TriangleFan` draw per
+//! fan as a 1998 renderer issued one `glBegin(GL_TRIANGLE_FAN)` per fan. Upload is O(mesh) per
+//! frame by design: the paper rebuilds its fans every frame.
+//!
 //! # The paper on the 4-8 lattice
 //!
 //! The paper's quadtree blocks are the lattice's square diamonds: a block is its centre vertex
@@ -106,6 +112,7 @@ mod brute_force;
 mod clip;
 mod control;
 mod criterion;
+mod draw;
 mod fans;
 mod geomorph;
 mod matrix;
@@ -130,7 +137,6 @@ pub use validate::RottgerStateError;
 
 use super::columns::rottger as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::emit::RebuiltBuffers;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::rebuilt::RebuiltMesh;
@@ -175,8 +181,8 @@ pub struct RottgerConfig {
 
 /// Röttger's algorithm. Per frame: O(blocks visited + mesh); buffers are reused.
 pub struct Rottger<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
+    /// The fans a GPU draws this frame's mesh from (`draw.rs`).
+    draw: draw::FanBuffers,
     hierarchy: &'h Hierarchy,
     config: RottgerConfig,
     matrix: QuadtreeMatrix,
@@ -213,7 +219,7 @@ impl<'h> Rottger<'h> {
         );
         let lattice = hierarchy.lattice();
         Rottger {
-            draw: RebuiltBuffers::new(),
+            draw: draw::FanBuffers::new(),
             hierarchy,
             config,
             matrix: roughness::build_matrix(
@@ -385,12 +391,10 @@ impl LodAlgorithm for Rottger<'_> {
 
     fn prepare_draw(&mut self) -> DrawCounts {
         self.draw.prepare(
-            if self.config.geomorphing {
-                MeshOutput::morphed_lattice(self.mesh.mesh(), &self.morphed)
-            } else {
-                MeshOutput::lattice(self.mesh.mesh())
-            },
             self.hierarchy,
+            self.mesh.mesh(),
+            &self.subdivided,
+            self.config.geomorphing.then_some(&self.morphed),
         )
     }
 
@@ -412,6 +416,7 @@ impl LodAlgorithm for Rottger<'_> {
 
     fn memory_bytes(&self) -> usize {
         self.matrix.memory_bytes()
+            + self.draw.memory_bytes()
             + self.mesh.memory_bytes()
             + self.subdivided.capacity() * std::mem::size_of::<u32>()
             + self.morphed.memory_bytes()
