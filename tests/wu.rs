@@ -28,6 +28,7 @@ use roamsim::sim::algorithm::{
     BrokenBounds, BudgetConfig, LodAlgorithm, Reference, ReferenceConfig, Refinement,
     SplitThreshold, ViewThreshold, Wu, WuConfig,
 };
+use roamsim::sim::draw::check::check_buffers_draw_mesh;
 use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
 use roamsim::sim::mesh::MeshOutput;
 use roamsim::sim::metrics::view_angle_error_px;
@@ -56,11 +57,21 @@ fn fixed_tau(tau_px: f64, zone: ZoneVariant) -> WuConfig {
     }
 }
 
-/// Wu refining only what the view cone needs.
+/// Wu refining only what the view cone needs and keeping the in-view count (which the queue
+/// validator recounts every frame). The count is kept only for a budget; a fixed-τ config gets
+/// one that cannot move b from 0 (`base_limit` 0), so its τ stays fixed.
 fn in_view(config: WuConfig) -> WuConfig {
+    let frozen = BudgetConfig {
+        triangles: 1,
+        dead_band: 0,
+        base_limit: 0,
+        initial_tau_k: 1.5,
+        tau_recentring: None,
+    };
     WuConfig {
         cone_culling: true,
         refine: Refinement::InView,
+        budget: config.budget.or(Some(frozen)),
         ..config
     }
 }
@@ -817,4 +828,186 @@ fn terrain_and_turning_walk() -> impl Strategy<Value = (u32, Vec<f32>, Vec<WalkS
             any::<bool>(),
         )
     })
+}
+
+/// Bytes one split or merge may upload: its centre and at most four boundary vertices change,
+/// each insertion writing its vertex (12 bytes) and at most four triangles of indices (12 bytes
+/// each), each deletion at most four triangles (`wu/draw.rs`). The base mesh (4 vertices, 2
+/// triangles: 72 bytes) is the first frame's constant.
+const UPLOAD_PER_OPERATION: u64 = 5 * (12 + 4 * 12);
+
+/// Flies `config` over `poses` (`teleports`: frames whose pose jumps, flagged as a broken bound)
+/// and after every frame checks, as `--check` does, that the buffers draw the mesh, and that the
+/// frame uploaded no more than [`UPLOAD_PER_OPERATION`] per split or merge; returns each
+/// frame's (splits + merges, upload bytes, draw calls).
+fn fly_drawing(
+    hierarchy: &Hierarchy,
+    config: WuConfig,
+    speed: SpeedBound,
+    poses: &[Pose],
+    teleports: &[usize],
+) -> Vec<(u64, u64, u64)> {
+    let mut wu = Wu::new(hierarchy, config, &view_600(), speed);
+    let mut frames = Vec::new();
+    for (frame, pose) in poses.iter().enumerate() {
+        let camera = Camera::new(pose, view_600());
+        let stats = checked_step(
+            hierarchy,
+            &mut wu,
+            frame as u64,
+            &camera,
+            teleports.contains(&frame),
+            "wu",
+        );
+        let counts = wu.prepare_draw();
+        if let Err(error) = check_buffers_draw_mesh(wu.buffers(), wu.mesh(), hierarchy) {
+            panic!("frame {frame}: {error}");
+        }
+        let operations = stats.splits + stats.merges;
+        assert!(
+            counts.upload_bytes <= UPLOAD_PER_OPERATION * (operations + 1),
+            "frame {frame}: {} bytes for {operations} splits and merges",
+            counts.upload_bytes
+        );
+        assert_eq!(
+            counts.triangles_submitted,
+            wu.triangle_count(),
+            "frame {frame}"
+        );
+        frames.push((operations, counts.upload_bytes, counts.draw_calls));
+    }
+    frames
+}
+
+/// A turning flight over the terrain with a teleport at frame 120 and a hover (the same pose
+/// three frames running) at the end.
+fn drawing_flight() -> (Vec<Pose>, Vec<usize>) {
+    let mut poses: Vec<Pose> = (0..120)
+        .map(|k| {
+            let t = k as f64;
+            looking(DVec3::new(30.0 + 4.0 * t, 60.0 + 2.0 * t, 120.0), 0.02 * t)
+        })
+        .collect();
+    poses.extend((0..80).map(|k| {
+        let t = k as f64;
+        looking(DVec3::new(600.0 - 3.0 * t, 500.0, 60.0), 3.5 - 0.03 * t)
+    }));
+    let last = *poses.last().unwrap();
+    poses.extend([last, last, last]);
+    (poses, vec![120])
+}
+
+#[test]
+fn the_buffers_are_the_mesh_every_frame_and_cost_only_its_splits_and_merges() {
+    let hierarchy = bumpy_terrain(6);
+    let (poses, teleports) = drawing_flight();
+    let configs = [
+        (
+            "fixed τ everywhere",
+            fixed_tau(1.0, ZoneVariant::Paper),
+            SPEED,
+        ),
+        (
+            "fixed τ in the cone",
+            WuConfig {
+                cone_culling: true,
+                refine: Refinement::InView,
+                ..fixed_tau(1.0, ZoneVariant::Paper)
+            },
+            TURNING,
+        ),
+        (
+            "budget in the cone",
+            in_view(WuConfig {
+                tau_px: None,
+                zone: ZoneVariant::Paper,
+                wheel_links: 16,
+                ..wu_budget(1.0, 1500, 1000)
+            }),
+            TURNING,
+        ),
+    ];
+    for (name, config, speed) in configs {
+        let frames = fly_drawing(&hierarchy, config, speed, &poses, &teleports);
+        let (operations, bytes): (u64, u64) = frames
+            .iter()
+            .fold((0, 0), |(o, b), &(ops, up, _)| (o + ops, b + up));
+        assert!(operations > 500, "{name}: {operations} splits and merges");
+        assert!(frames.iter().all(|&(_, _, calls)| calls == 1), "{name}");
+        // Hovering: nothing splits or merges (a budget's b may still move), and a frame that
+        // changes nothing uploads nothing.
+        let hover = &frames[frames.len() - 2..];
+        for &(ops, up, _) in hover {
+            assert!(
+                ops > 0 || up == 0,
+                "{name}: {up} bytes with nothing changed"
+            );
+        }
+        assert!(
+            hover.iter().any(|&(ops, _, _)| ops == 0),
+            "{name}: the hover changed the mesh every frame"
+        );
+        assert!(bytes > 0, "{name}");
+    }
+}
+
+#[test]
+fn with_no_rotation_bound_what_leaves_the_view_still_merges_and_the_whole_mesh_stays_bounded() {
+    // The eye turns on the spot, two full turns, under a rotation bound of π (which bounds
+    // nothing). Were the margins sized by π, nothing would merge for leaving the view and the
+    // whole mesh would grow to what refining everywhere gives.
+    let hierarchy = bumpy_terrain(6);
+    let config = in_view(fixed_tau(1.0, ZoneVariant::Paper));
+    let everywhere = fixed_tau(1.0, ZoneVariant::Paper);
+    let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
+    let mut reference_everywhere = Wu::new(&hierarchy, everywhere, &view_600(), SPEED);
+    let eye = DVec3::new(320.0, 320.0, 60.0);
+    let mut largest = 0;
+    for frame in 0..260u64 {
+        let pose = looking(eye, 0.05 * frame as f64);
+        wu_step_to(&hierarchy, &mut wu, frame, &pose);
+        wu.validate_queues(false).unwrap();
+        if frame >= 130 {
+            largest = largest.max(wu.triangle_count());
+        }
+    }
+    wu_step_to(&hierarchy, &mut reference_everywhere, 0, &looking(eye, 0.0));
+    let whole = reference_everywhere.triangle_count();
+    assert!(
+        (largest as f64) < 0.6 * whole as f64,
+        "the whole mesh reached {largest} triangles; refined everywhere: {whole}"
+    );
+}
+
+#[test]
+fn a_budget_without_a_given_tau_meets_its_budget_from_the_first_frame() {
+    let hierarchy = bumpy_terrain(6);
+    let budget = 1500;
+    for cone in [false, true] {
+        let base = WuConfig {
+            tau_px: None,
+            zone: ZoneVariant::Paper,
+            wheel_links: 16,
+            ..wu_budget(1.0, budget, 1000)
+        };
+        let config = if cone { in_view(base) } else { base };
+        let mut wu = Wu::new(&hierarchy, config, &view_600(), TURNING);
+        let paper_tau = wu.tau_px();
+        wu_step_to(
+            &hierarchy,
+            &mut wu,
+            0,
+            &looking(DVec3::new(20.0, 300.0, 150.0), 0.0),
+        );
+        wu.validate_queues(false).unwrap();
+        let counted = wu.in_view_triangles().unwrap_or(wu.triangle_count());
+        assert!(
+            counted <= budget && counted as f64 >= 0.7 * budget as f64,
+            "cone {cone}: {counted} triangles on the first frame for a budget of {budget}"
+        );
+        let facts = wu.run_facts();
+        let fact = |name: &str| facts.iter().find(|(n, _)| *n == name).map(|&(_, v)| v);
+        assert_eq!(fact("paper_initial_tau_px"), Some(paper_tau));
+        assert_eq!(fact("initial_tau_px"), Some(wu.tau_px()));
+    }
 }

@@ -44,8 +44,13 @@ pub(super) fn for_each_triangle(
     }
 }
 
-/// The triangles a draw call submits (degenerate ones included).
+/// The triangles a draw call submits (degenerate ones included). O(1) for a list (three
+/// indices a triangle, no restart), so that an incremental algorithm's frame does not pay a walk
+/// over its whole index buffer; strips and fans are walked for their restarts.
 pub(super) fn triangles_submitted(call: &DrawCall, indices: &[u32]) -> u64 {
+    if call.topology == Topology::TriangleList {
+        return u64::from(call.index_count / 3);
+    }
     let range = call.first_index as usize..(call.first_index + call.index_count) as usize;
     let mut count = 0;
     for_each_triangle(call.topology, &indices[range], |_| count += 1);

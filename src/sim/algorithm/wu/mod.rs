@@ -39,7 +39,7 @@
 //! view has every ancestor in view. `everywhere` splits and merges by life alone (the mesh behind
 //! the camera is refined like the rest), kept so that its cost stays measurable.
 //!
-//! **The in-view count** (with `cone_culling`, on by default with `in_view`): the triangles of the
+//! **The in-view count** (with `cone_culling` and a budget, the only reader of it): the triangles of the
 //! active blocks whose sphere meets the view cone, each triangle counted with the smallest active
 //! block holding it — what a renderer culling Wu's nodes against the cone draws. Every active node
 //! carries an in-view flag, kept exact by view keys (non-mergeable active nodes wait in a third
@@ -54,7 +54,17 @@
 //! recomputes the two top links of the split queue and defers the due merges (their view flags
 //! are still brought up to date). An optional dead band restores the paper's third branch (the top
 //! link of each queue); b is clamped and the clamp reported. Optional τ re-centring moves τ slowly
-//! so that b's mean stays near 0. Without a budget, b stays 0 (fixed τ).
+//! so that b's mean stays near 0. Without a budget, b stays 0 (fixed τ). A budget entry without a
+//! given τ starts from the smallest τ whose first frame holds the budget, searched at the first
+//! frame from the paper's initial τ (`search_initial_tau`; roamsim's choice: the paper's formula
+//! alone can start several times over the budget, and b then needs hundreds of frames).
+//!
+//! **GPU buffers** (`draw.rs`, issue #31): a vertex buffer with a slot per active vertex and an
+//! index buffer with a slot per leaf triangle, drawn as one triangle list, changed in place by
+//! each vertex a split or merge inserts or deletes (at most 300 bytes a split or merge), so that
+//! the upkeep is O(splits + merges), as a renderer of Wu's incremental mesh keeps it. The whole
+//! mesh is in them (the in-view refinement already keeps what is outside the cone coarse). The
+//! paper's incremental strips (§7) are not built; `draw.rs` says why a list.
 //!
 //! **Traversal options.** Block-priority traversal tests a split node's children by decreasing
 //! error and stops at the first whose life does not let it split: its untested siblings take its
@@ -77,6 +87,7 @@
 
 mod budget;
 mod cull;
+mod draw;
 mod in_view;
 mod merge;
 mod nodes;
@@ -85,10 +96,10 @@ mod validate;
 mod visibility;
 mod wheel;
 
-use crate::sim::draw::emit::RebuiltBuffers;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 pub use budget::initial_tau_px;
 pub(super) use cull::Cone;
+use draw::WuBuffers;
 use visibility::SphereShape;
 pub(super) use visibility::{ConeMotion, NodeSphere, Sight};
 
@@ -129,7 +140,8 @@ impl Refinement {
 /// Parameters of Wu's algorithm.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WuConfig {
-    /// τ in pixels; `None` in budget mode means the paper's initial τ from the budget.
+    /// τ in pixels; `None` in budget mode: searched at the first frame, from the paper's
+    /// initial τ, for the smallest τ that holds the budget on that frame.
     pub tau_px: Option<f64>,
     /// A triangle budget (constant frame rate by base shifting), or `None` for fixed τ (b = 0).
     pub budget: Option<BudgetConfig>,
@@ -137,9 +149,10 @@ pub struct WuConfig {
     pub block_priority: bool,
     /// Most levels one frame may split below a node taken from the queues; `None`: no limit.
     pub depth_limit: Option<u32>,
-    /// Keep the in-view count (triangles of active blocks whose sphere meets the view cone); the
-    /// budget then counts those, else the whole mesh. [`Refinement::InView`] follows the cone
-    /// either way.
+    /// With a budget, keep the in-view count (triangles of active blocks whose sphere meets the
+    /// view cone) and let the budget count those, else the whole mesh. Without a budget nothing
+    /// would read the count, so it is not kept ([`WuConfig::keeps_in_view_count`]).
+    /// [`Refinement::InView`] follows the cone either way.
     pub cone_culling: bool,
     pub refine: Refinement,
     /// Wheel links per queue (≥ 2).
@@ -153,6 +166,14 @@ impl WuConfig {
     /// Whether the run follows the view cone (for the count, the refinement, or both).
     pub fn tracks_view(&self) -> bool {
         self.cone_culling || self.refine == Refinement::InView
+    }
+
+    /// Whether the in-view flags and count are kept: only when a budget counts them
+    /// (`cone_culling` with a budget). A fixed-τ entry's mesh does not depend on them (they
+    /// only schedule when a flag is brought up to date), so leaving them out changes no mesh and
+    /// saves their cone tests and view queue.
+    pub fn keeps_in_view_count(&self) -> bool {
+        self.cone_culling && self.budget.is_some()
     }
 }
 
@@ -226,8 +247,8 @@ const COLUMNS_COUNT_TAU: &[&str] = column_list!(
 
 /// Wu's algorithm over one terrain.
 pub struct Wu<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
+    /// The buffers a GPU draws the mesh from, kept incrementally (`draw.rs`).
+    draw: WuBuffers,
     hierarchy: &'h Hierarchy,
     lattice: Lattice,
     nodes: Nodes,
@@ -237,6 +258,13 @@ pub struct Wu<'h> {
     tau_px: f64,
     /// The τ the run started from (τ re-centring moves `tau_px`).
     initial_tau_px: f64,
+    /// With a budget and no τ given: the paper's initial τ, from which the first frame searches
+    /// for a τ that meets the budget (`None` once searched, or when τ was given).
+    tau_search_from: Option<f64>,
+    /// The paper's initial τ, when the run searched from it.
+    paper_tau_px: Option<f64>,
+    view_settings: ViewSettings,
+    speed: SpeedBound,
     mesh: VertexSet,
     n_triangles: u64,
     /// Inactive nodes with both corner parents active (the paper's splittable nodes).
@@ -274,7 +302,7 @@ impl<'h> Wu<'h> {
         let lattice = *hierarchy.lattice();
         let nodes = Nodes::new(hierarchy);
         Wu {
-            draw: RebuiltBuffers::new(),
+            draw: WuBuffers::new(&lattice, hierarchy),
             hierarchy,
             lattice,
             nodes,
@@ -289,12 +317,20 @@ impl<'h> Wu<'h> {
             pixel_angle: view.pixel_angle(),
             tau_px,
             initial_tau_px: tau_px,
+            tau_search_from: (config.tau_px.is_none() && config.budget.is_some()).then_some(tau_px),
+            paper_tau_px: None,
+            view_settings: *view,
+            speed,
             mesh: VertexSet::base_mesh(&lattice),
             n_triangles: 2,
             // The root: inactive, its parents (two corners) always active.
             paper_splittable: 1,
             view: config.tracks_view().then(|| {
-                ViewTracking::new(nodes.count(), ConeMotion::new(speed), config.cone_culling)
+                ViewTracking::new(
+                    nodes.count(),
+                    ConeMotion::new(speed),
+                    config.keeps_in_view_count(),
+                )
             }),
             wheels: Wheels::new(nodes.count(), config.wheel_links.max(2)),
             base: 0,
@@ -311,7 +347,8 @@ impl<'h> Wu<'h> {
         }
     }
 
-    /// The threshold in use (given, or from the budget formula, or as last re-centred).
+    /// The threshold in use (given, or from the budget formula until the first frame's search,
+    /// or as last re-centred).
     pub fn tau_px(&self) -> f64 {
         self.tau_px
     }
@@ -332,6 +369,7 @@ impl<'h> Wu<'h> {
         if !self.mesh.insert(self.lattice.id(p)) {
             return false;
         }
+        self.draw.record(p, true);
         match self.lattice.classify(p) {
             VertexClass::Corner => {}
             // A node that activates was splittable (its parents are active).
@@ -360,6 +398,7 @@ impl<'h> Wu<'h> {
             }
         }
         self.mesh.remove(self.lattice.id(p));
+        self.draw.record(p, false);
         true
     }
 
@@ -715,6 +754,76 @@ impl<'h> Wu<'h> {
     }
 }
 
+/// Most halvings or doublings of τ while bracketing the budget, and bisection steps after.
+const TAU_SEARCH_BRACKET_STEPS: u32 = 40;
+const TAU_SEARCH_BISECTIONS: u32 = 14;
+
+impl Wu<'_> {
+    /// The count the entry's first frame would have at τ = `tau_px`: a probe run of this entry
+    /// with that τ, flown to this frame's camera.
+    fn first_frame_count(&self, input: &FrameInput, tau_px: f64) -> u64 {
+        let config = WuConfig {
+            tau_px: Some(tau_px),
+            ..self.config
+        };
+        let mut probe = Wu::new(self.hierarchy, config, &self.view_settings, self.speed);
+        probe.update(input, &mut FrameStats::default());
+        probe.previous_count
+    }
+
+    /// The first frame of a budget entry without a given τ: from the paper's initial τ, find the
+    /// smallest τ (to a relative 2^-14 of its bracket) whose first frame holds at most the budget
+    /// (what the budget counts: the in-view count with `cone_culling`, else the mesh), so that
+    /// the run meets its budget from the first frame; base shifting takes over from there. The
+    /// search doubles or halves τ until the budget lies between two τs, then bisects. An
+    /// unreachable budget ends the search at the last τ tried. Once, at the first frame; each
+    /// probe is a from-scratch first frame (reported: `paper_initial_tau_px`, `initial_tau_px`).
+    fn search_initial_tau(&mut self, input: &FrameInput, paper_tau: f64) {
+        let Some(budget) = self.config.budget else {
+            return;
+        };
+        let fits = |wu: &Self, tau: f64| wu.first_frame_count(input, tau) <= budget.triangles;
+        // `low` does not fit (too many triangles), `high` fits.
+        let (mut low, mut high) = (paper_tau, paper_tau);
+        if fits(self, paper_tau) {
+            let mut steps = 0;
+            while fits(self, low) {
+                high = low;
+                low *= 0.5;
+                steps += 1;
+                if steps > TAU_SEARCH_BRACKET_STEPS {
+                    low = high; // Even the finest mesh fits: keep the smallest τ tried.
+                    break;
+                }
+            }
+        } else {
+            let mut steps = 0;
+            while !fits(self, high) {
+                low = high;
+                high *= 2.0;
+                steps += 1;
+                if steps > TAU_SEARCH_BRACKET_STEPS {
+                    break; // Nothing fits: the coarsest τ tried.
+                }
+            }
+        }
+        if low < high {
+            for _ in 0..TAU_SEARCH_BISECTIONS {
+                let middle = (low * high).sqrt();
+                if fits(self, middle) {
+                    high = middle;
+                } else {
+                    low = middle;
+                }
+            }
+        }
+        self.paper_tau_px = Some(paper_tau);
+        self.tau_px = high;
+        self.initial_tau_px = high;
+        self.rule.radius_per_error = radius_per_error(high * self.pixel_angle);
+    }
+}
+
 impl Wu<'_> {
     /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
     pub fn vertex_set(&self) -> &VertexSet {
@@ -740,6 +849,9 @@ impl LodAlgorithm for Wu<'_> {
     }
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
+        if let Some(paper_tau) = self.tau_search_from.take() {
+            self.search_initial_tau(input, paper_tau);
+        }
         self.frame = input.frame;
         self.eye = input.camera.eye;
         self.counters = Counters::default();
@@ -823,8 +935,7 @@ impl LodAlgorithm for Wu<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw
-            .prepare(MeshOutput::lattice(&self.mesh), self.hierarchy)
+        self.draw.prepare(&self.lattice, self.hierarchy)
     }
 
     fn buffers(&self) -> &GpuBuffers {
@@ -844,6 +955,7 @@ impl LodAlgorithm for Wu<'_> {
             + self.mesh.memory_bytes()
             + self.wheels.memory_bytes()
             + self.view.as_ref().map_or(0, ViewTracking::memory_bytes)
+            + self.draw.memory_bytes()
             + self.due.capacity() * std::mem::size_of::<u32>()
             + self.due_marked.capacity() * std::mem::size_of::<(u32, bool)>()
             + self.split_work.capacity() * std::mem::size_of::<(u32, NodeLook, u32)>()
@@ -855,8 +967,11 @@ impl LodAlgorithm for Wu<'_> {
             ("tau_px", self.tau_px),
             ("wheel_links", f64::from(self.wheels.n_links())),
         ];
-        if self.recentres_tau() {
+        if self.recentres_tau() || self.paper_tau_px.is_some() {
             facts.push(("initial_tau_px", self.initial_tau_px));
+        }
+        if let Some(paper_tau) = self.paper_tau_px {
+            facts.push(("paper_initial_tau_px", paper_tau));
         }
         facts
     }

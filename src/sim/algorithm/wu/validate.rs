@@ -222,7 +222,14 @@ mod tests {
         );
         let config = WuConfig {
             tau_px: Some(10.0),
-            budget: None,
+            // A budget keeps the in-view count; b cannot move from 0 (a fixed τ).
+            budget: Some(crate::sim::algorithm::wu::BudgetConfig {
+                triangles: 1,
+                dead_band: 0,
+                base_limit: 0,
+                initial_tau_k: 1.5,
+                tau_recentring: None,
+            }),
             zone: ZoneVariant::Conservative,
             block_priority: false,
             depth_limit: None,

@@ -1,0 +1,328 @@
+//! Wu's GPU buffers, kept incrementally (issue #31): one vertex buffer with a slot per active
+//! vertex and one index buffer with a slot per leaf triangle, drawn by one indexed triangle-list
+//! call. Each vertex inserted or deleted by a split or a merge changes them in place, so the
+//! upkeep costs O(vertices changed), never O(mesh). It is not the mesh (the vertex set in
+//! `mod.rs` is); it only follows it.
+//!
+//! **What a vertex change does.** Inserting a vertex p of a closed 4-8 mesh (its parents active,
+//! its children not) splits the one or two leaf triangles of its diamond (apex a parent of p,
+//! hypotenuse the edge p bisects) into two each, with p as their apex; deleting p (its children
+//! inactive) merges them back. So an insertion writes p (12 bytes, into a free slot of the vertex
+//! buffer), overwrites each diamond triangle's slot with one half and appends the other (12 bytes
+//! of indices each): at most 12 + 4·12 = 60 bytes. A deletion writes each merged triangle over one
+//! half and removes the other by **swap-remove**: the last triangle moves into the hole (12 bytes)
+//! and the list shrinks, so the draw stays one range with no holes; it frees p's vertex slot
+//! (nothing written): at most 4·12 = 48 bytes. A Wu split inserts its centre and at most four
+//! boundary vertices, a merge deletes as many: at most 5·60 = 300 bytes per split or merge.
+//!
+//! **Bookkeeping.** Per active vertex (a hash map by vertex id, O(mesh), nothing per sample): its
+//! vertex slot and the slots of the at most four leaf triangles whose right angle it is, by the
+//! direction from it to their hypotenuse (axis directions for block centres, diagonals for edge
+//! midpoints and the base corners); per triangle slot, the triangle it holds (apex and direction),
+//! so that a moved triangle's owner learns its new slot. `update` only records each vertex
+//! inserted or deleted (a push, in the order the mesh changed); `prepare_draw` replays them,
+//! which is the timed buffer upkeep of `frame_ns`.
+//!
+//! **Why a list, one draw.** The buffers hold the whole mesh, drawn by one call: Wu's in-view
+//! refinement (§3.2) already leaves what is outside the cone coarse, so culling blocks on the
+//! CPU would buy little and cost a draw call per block and holes in the buffers; the GPU clips
+//! the rest. (The in-view count `triangles_in_view_blocks` is the budget's measure, not a
+//! culling of the buffers.) Wu §7 adopts incremental triangle stripping ("in average there are
+//! 3.7 triangles in a strip"): with restarts, a 3.7-triangle strip costs 5.7 + 1 indices against
+//! 11.1 for a list, 40 % fewer indices resident, but each split or merge must then re-strip its
+//! neighbourhood and compact a buffer of variable-length strips. The list is the default because
+//! its upkeep is the simplest to bound (fixed 12-byte slots, swap-remove) and is the
+//! best-known implementation of an incremental 4-8 mesh on today's GPUs, where the index bytes
+//! saved by strips matter less than in 2001; incremental stripping is an option not yet built.
+
+use crate::sim::draw::{
+    BufferId, DrawCall, DrawCounts, DrawVertex, GpuBuffers, Topology, VERTEX_BYTES,
+};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice};
+use crate::sim::mesh::SubgridPoint;
+use crate::sim::mesh::triangles::base_triangles;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// No slot.
+const NO_SLOT: u32 = u32::MAX;
+
+/// A fast, fixed hash of vertex ids (a multiply and a fold: ids are dense integers).
+#[derive(Clone, Copy, Debug, Default)]
+struct IdHasher(u64);
+
+impl Hasher for IdHasher {
+    fn finish(&self) -> u64 {
+        self.0 ^ (self.0 >> 29)
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            self.write_u64(u64::from(byte));
+        }
+    }
+
+    fn write_u32(&mut self, value: u32) {
+        self.write_u64(u64::from(value));
+    }
+
+    fn write_u64(&mut self, value: u64) {
+        self.0 = (self.0.rotate_left(5) ^ value).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+}
+
+/// An active vertex's slots.
+#[derive(Clone, Copy, Debug)]
+struct VertexSlots {
+    vertex: u32,
+    /// The slots of the leaf triangles with their right angle here, by [`direction`].
+    triangles: [u32; 4],
+}
+
+/// A leaf triangle as the buffers know it: its right-angle corner and hypotenuse ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Leaf {
+    apex: GridPoint,
+    ends: [GridPoint; 2],
+}
+
+impl Leaf {
+    /// Which of the apex's four triangles this is: the direction from the apex to the
+    /// hypotenuse's midpoint, an axis or a diagonal (a vertex has triangles of one kind only).
+    fn direction(&self) -> usize {
+        let d = |end: u32, apex: u32| i64::from(end) - i64::from(apex);
+        let di = d(self.ends[0].i, self.apex.i) + d(self.ends[1].i, self.apex.i);
+        let dj = d(self.ends[0].j, self.apex.j) + d(self.ends[1].j, self.apex.j);
+        match (di.signum(), dj.signum()) {
+            (1, 0) | (1, 1) => 0,
+            (0, 1) | (-1, 1) => 1,
+            (-1, 0) | (-1, -1) => 2,
+            _ => 3,
+        }
+    }
+
+    /// The corners counter-clockwise seen from above (the winding every drawn triangle keeps).
+    fn corners(&self) -> [GridPoint; 3] {
+        let [a, b, c] = [self.apex, self.ends[0], self.ends[1]].map(|p| (p.i as i64, p.j as i64));
+        let area2 = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+        if area2 >= 0 {
+            [self.apex, self.ends[0], self.ends[1]]
+        } else {
+            [self.apex, self.ends[1], self.ends[0]]
+        }
+    }
+}
+
+/// A change of the mesh recorded during `update`: a vertex inserted (`true`) or deleted.
+type Change = (GridPoint, bool);
+
+/// Wu's buffers (see the module docs).
+pub(super) struct WuBuffers {
+    gpu: GpuBuffers,
+    vertex_buffer: BufferId,
+    index_buffer: BufferId,
+    slots: HashMap<u32, VertexSlots, BuildHasherDefault<IdHasher>>,
+    free_vertex_slots: Vec<u32>,
+    vertex_slots_used: u32,
+    /// Per triangle slot, the leaf in it; its length is the number of triangles drawn.
+    leaves: Vec<Leaf>,
+    /// The mesh's changes since the last `prepare`, in order.
+    pending: Vec<Change>,
+}
+
+impl WuBuffers {
+    /// The buffers of the base mesh (the four corners, two triangles), counted as this first
+    /// frame's upload.
+    pub fn new(lattice: &Lattice, hierarchy: &Hierarchy) -> WuBuffers {
+        let mut gpu = GpuBuffers::new();
+        let vertex_buffer = gpu.create_vertices(Vec::new(), VERTEX_BYTES);
+        let index_buffer = gpu.create_indices(Vec::new());
+        let mut buffers = WuBuffers {
+            gpu,
+            vertex_buffer,
+            index_buffer,
+            slots: HashMap::default(),
+            free_vertex_slots: Vec::new(),
+            vertex_slots_used: 0,
+            leaves: Vec::new(),
+            pending: Vec::new(),
+        };
+        for corner in lattice.corners() {
+            buffers.add_vertex(lattice, hierarchy, corner);
+        }
+        for t in base_triangles(lattice) {
+            let leaf = Leaf {
+                apex: t.apex,
+                ends: [t.left, t.right],
+            };
+            let slot = buffers.leaves.len() as u32;
+            buffers.leaves.push(leaf);
+            buffers.write_leaf(lattice, slot, leaf);
+        }
+        buffers
+    }
+
+    /// Records that the mesh gained (`inserted`) or lost vertex `p`.
+    pub fn record(&mut self, p: GridPoint, inserted: bool) {
+        self.pending.push((p, inserted));
+    }
+
+    /// Applies the recorded changes in order and issues the frame's one draw; what the frame
+    /// uploaded and issued.
+    pub fn prepare(&mut self, lattice: &Lattice, hierarchy: &Hierarchy) -> DrawCounts {
+        let pending = std::mem::take(&mut self.pending);
+        for &(p, inserted) in &pending {
+            if inserted {
+                self.insert(lattice, hierarchy, p);
+            } else {
+                self.delete(lattice, p);
+            }
+        }
+        self.pending = pending;
+        self.pending.clear();
+        self.gpu.clear_draws();
+        self.gpu.draw(DrawCall {
+            vertices: self.vertex_buffer,
+            indices: self.index_buffer,
+            first_index: 0,
+            index_count: 3 * self.leaves.len() as u32,
+            topology: Topology::TriangleList,
+            blend: 0.0,
+        });
+        self.gpu.end_frame()
+    }
+
+    pub fn gpu(&self) -> &GpuBuffers {
+        &self.gpu
+    }
+
+    /// Heap bytes on the CPU side: the model of the GPU buffers and the slot bookkeeping.
+    pub fn memory_bytes(&self) -> usize {
+        self.gpu.memory_bytes()
+            + self.slots.capacity()
+                * (size_of::<u32>() + size_of::<VertexSlots>() + size_of::<u64>())
+            + self.free_vertex_slots.capacity() * size_of::<u32>()
+            + self.leaves.capacity() * size_of::<Leaf>()
+            + self.pending.capacity() * size_of::<Change>()
+    }
+
+    /// Splits the diamond of `p` around it.
+    fn insert(&mut self, lattice: &Lattice, hierarchy: &Hierarchy, p: GridPoint) {
+        self.add_vertex(lattice, hierarchy, p);
+        let ends = lattice
+            .bisected_edge(p)
+            .expect("a corner is never inserted");
+        for &a in lattice.parents(p).as_slice() {
+            let parent = Leaf { apex: a, ends };
+            let slot = self.take_triangle_slot(lattice, parent);
+            let [first, second] = halves(p, parent);
+            self.put(lattice, slot, first);
+            let appended = self.leaves.len() as u32;
+            self.leaves.push(second);
+            self.put(lattice, appended, second);
+        }
+    }
+
+    /// Merges the diamond of `p` back and frees its vertex slot.
+    fn delete(&mut self, lattice: &Lattice, p: GridPoint) {
+        let ends = lattice.bisected_edge(p).expect("a corner is never deleted");
+        for &a in lattice.parents(p).as_slice() {
+            let parent = Leaf { apex: a, ends };
+            let [first, second] = halves(p, parent);
+            let slot = self.take_triangle_slot(lattice, first);
+            self.put(lattice, slot, parent);
+            let hole = self.take_triangle_slot(lattice, second);
+            self.swap_remove(lattice, hole);
+        }
+        let id = lattice.id(p);
+        let removed = self.slots.remove(&id).expect("a deleted vertex had a slot");
+        debug_assert!(removed.triangles.iter().all(|&t| t == NO_SLOT));
+        self.free_vertex_slots.push(removed.vertex);
+    }
+
+    /// Gives `p` a vertex slot and writes it.
+    fn add_vertex(&mut self, lattice: &Lattice, hierarchy: &Hierarchy, p: GridPoint) {
+        let slot = self.free_vertex_slots.pop().unwrap_or_else(|| {
+            self.vertex_slots_used += 1;
+            self.vertex_slots_used - 1
+        });
+        let previous = self.slots.insert(
+            lattice.id(p),
+            VertexSlots {
+                vertex: slot,
+                triangles: [NO_SLOT; 4],
+            },
+        );
+        debug_assert!(previous.is_none(), "{p:?} inserted twice");
+        let vertex = DrawVertex::fixed(SubgridPoint::from(p), hierarchy.height(p));
+        self.gpu
+            .write_vertices(self.vertex_buffer, slot as usize, &[vertex]);
+    }
+
+    /// The slot of a leaf, forgotten by its apex (the caller fills or removes it).
+    fn take_triangle_slot(&mut self, lattice: &Lattice, leaf: Leaf) -> u32 {
+        let entry = self
+            .slots
+            .get_mut(&lattice.id(leaf.apex))
+            .expect("a leaf's apex is active");
+        let slot = std::mem::replace(&mut entry.triangles[leaf.direction()], NO_SLOT);
+        debug_assert_ne!(slot, NO_SLOT, "{leaf:?} is not a leaf of the buffers");
+        slot
+    }
+
+    /// Puts `leaf` into triangle slot `slot` (an existing one) and writes its indices.
+    fn put(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
+        self.leaves[slot as usize] = leaf;
+        self.write_leaf(lattice, slot, leaf);
+    }
+
+    /// Writes a leaf's indices into its slot and tells its apex where it is.
+    fn write_leaf(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
+        let mut indices = [0u32; 3];
+        for (index, corner) in indices.iter_mut().zip(leaf.corners()) {
+            *index = self.slots[&lattice.id(corner)].vertex;
+        }
+        self.slots
+            .get_mut(&lattice.id(leaf.apex))
+            .expect("a leaf's apex is active")
+            .triangles[leaf.direction()] = slot;
+        self.gpu
+            .write_indices(self.index_buffer, 3 * slot as usize, &indices);
+    }
+
+    /// Removes the triangle in `hole`: the last one moves into it (its indices copied, 12 bytes)
+    /// and the list shrinks by one.
+    fn swap_remove(&mut self, lattice: &Lattice, hole: u32) {
+        let last = self.leaves.len() as u32 - 1;
+        let moved = self.leaves.pop().expect("a triangle to remove");
+        if hole == last {
+            return;
+        }
+        self.leaves[hole as usize] = moved;
+        let from = 3 * last as usize;
+        let indices: [u32; 3] = self.gpu.indices(self.index_buffer)[from..from + 3]
+            .try_into()
+            .expect("three indices a triangle");
+        self.slots
+            .get_mut(&lattice.id(moved.apex))
+            .expect("a leaf's apex is active")
+            .triangles[moved.direction()] = hole;
+        self.gpu
+            .write_indices(self.index_buffer, 3 * hole as usize, &indices);
+    }
+}
+
+/// The two halves of `parent` split at its hypotenuse's midpoint `p`: right-angled at `p`, each
+/// with a leg of the parent's as its hypotenuse.
+fn halves(p: GridPoint, parent: Leaf) -> [Leaf; 2] {
+    [
+        Leaf {
+            apex: p,
+            ends: [parent.apex, parent.ends[0]],
+        },
+        Leaf {
+            apex: p,
+            ends: [parent.apex, parent.ends[1]],
+        },
+    ]
+}
