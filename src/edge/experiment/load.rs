@@ -42,6 +42,7 @@ use crate::sim::view::ViewSettings;
 use crate::sim::zone::SpeedBound;
 use glam::{DVec2, DVec3};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A checked, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -50,7 +51,8 @@ pub struct Experiment {
     pub file: PathBuf,
     /// SHA-256 of the experiment file's bytes, hex.
     pub content_sha256: String,
-    pub field: Heightfield,
+    /// The terrain, shared with the run's hierarchy (one copy of the heights per run).
+    pub field: Arc<Heightfield>,
     pub terrain: TerrainReport,
     pub view: ViewSettings,
     /// `view.fovy_deg` as the experiment gives it (the view holds radians): echoed as written.
@@ -232,19 +234,7 @@ fn read_terrain_file(
     let path = folder.join(&file.path);
     let field_error =
         |problem: String| ExperimentError::single(experiment, "terrain.file", problem);
-    let format = match &file.format {
-        None => format_from_extension(&path).map_err(|e| field_error(e.to_string()))?,
-        Some(TerrainFormatEntry::Hgt) => TerrainFormat::Hgt,
-        Some(TerrainFormatEntry::Png) => TerrainFormat::Png,
-        Some(TerrainFormatEntry::Geotiff) => TerrainFormat::GeoTiff,
-        Some(TerrainFormatEntry::AsciiGrid) => TerrainFormat::AsciiGrid,
-        Some(TerrainFormatEntry::Raw(raw)) => TerrainFormat::Raw(RawLayout {
-            columns: raw.columns,
-            rows: raw.rows,
-            sample: raw_sample(raw.sample),
-            north_first: raw.north_first,
-        }),
-    };
+    let format = terrain_format(experiment, &path, file)?;
     let options = ReadOptions {
         height_scale: file.height_scale.unwrap_or(1.0),
         height_offset: file.height_offset_m.unwrap_or(0.0),
@@ -281,6 +271,28 @@ fn read_terrain_file(
         height_max_m: hi,
     };
     Ok((field, report))
+}
+
+/// The terrain file's format: the one declared, else the one its extension names.
+pub(super) fn terrain_format(
+    experiment: &Path,
+    path: &Path,
+    file: &TerrainFileEntry,
+) -> Result<TerrainFormat, ExperimentError> {
+    Ok(match &file.format {
+        None => format_from_extension(path)
+            .map_err(|e| ExperimentError::single(experiment, "terrain.file", e.to_string()))?,
+        Some(TerrainFormatEntry::Hgt) => TerrainFormat::Hgt,
+        Some(TerrainFormatEntry::Png) => TerrainFormat::Png,
+        Some(TerrainFormatEntry::Geotiff) => TerrainFormat::GeoTiff,
+        Some(TerrainFormatEntry::AsciiGrid) => TerrainFormat::AsciiGrid,
+        Some(TerrainFormatEntry::Raw(raw)) => TerrainFormat::Raw(RawLayout {
+            columns: raw.columns,
+            rows: raw.rows,
+            sample: raw_sample(raw.sample),
+            north_first: raw.north_first,
+        }),
+    })
 }
 
 /// The terrain file's grid spacing and where it came from: the experiment's `spacing_m` when it

@@ -10,17 +10,20 @@
 //! **Every point checked before any is loaded.** A swept experiment's points are all parsed and
 //! checked up front, and every problem of every point is reported at once (each prefixed with
 //! its point's choice) before any terrain is read; loading, one terrain at a time, waits for the
-//! run.
+//! run. Then, still before any is read, every point's terrain is sized from its declared layout
+//! or its file's header and refused if the run could not hold it (`terrain_size.rs`).
 
 use super::check::{Checked, check, path_kind};
 use super::format::ExperimentFile;
 use super::load::{Experiment, build_flight, load_terrain};
 use super::problems::{ExperimentError, FieldProblem};
 use super::sweep::{ExperimentPoint, SweepChoice, choice_label, expand_experiment};
+use super::terrain_size::check_terrain_size;
 use crate::sim::flight::speed_violations;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Reads, checks and loads an experiment file without a top-level sweep (an experiment with
 /// one is run point by point: see [`plan`]).
@@ -53,12 +56,41 @@ struct PlannedPoint {
 }
 
 /// Stages 1 and 2 for every point of the experiment's top-level sweep (one point without a
-/// sweep): every problem of every point is reported at once, before any terrain is read.
+/// sweep): every problem of every point is reported at once, before any terrain is read; then
+/// every point's terrain sized against the run's limits, reading at most file headers.
 pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
     let bytes = std::fs::read(path).map_err(|error| {
         ExperimentError::single(path, "", format!("cannot read the file: {error}"))
     })?;
-    plan_bytes(path, &bytes)
+    let plan = plan_bytes(path, &bytes)?;
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let mut problems = Vec::new();
+    for point in &plan.points {
+        let sized = check_terrain_size(
+            path,
+            folder,
+            &point.parsed.terrain,
+            &point.checked.algorithms,
+        );
+        if let Err(error) = sized {
+            let prefix = point
+                .choice
+                .as_ref()
+                .map(|c| format!("({}) ", choice_label(c)))
+                .unwrap_or_default();
+            problems.extend(error.problems.into_iter().map(|p| FieldProblem {
+                field: format!("{prefix}{}", p.field),
+                problem: p.problem,
+            }));
+        }
+    }
+    if !problems.is_empty() {
+        return Err(ExperimentError {
+            file: path.to_path_buf(),
+            problems,
+        });
+    }
+    Ok(plan)
 }
 
 /// Stages 1 and 2 only: parses an experiment's bytes and checks their meaning, every sweep point
@@ -192,7 +224,7 @@ impl Plan {
             description: parsed.description.clone(),
             file: path.to_path_buf(),
             content_sha256: self.content_sha256.clone(),
-            field,
+            field: Arc::new(field),
             terrain,
             view: checked.view,
             fovy_deg: parsed.view.fovy_deg,

@@ -202,8 +202,8 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
          rebuild (merges 0): not comparable with an incremental algorithm's splits and merges, and \
          neither are its evaluations per split or merge. *evaluations per split or merge*: metric (or valid-life) \
          evaluations over the flight divided by its splits and merges. *bytes per sample*: the \
-         shared preprocessed terrain (heights and Wu's node table above the finest level, 5 B/sample) plus the \
-         algorithm's own state at the end of the run, per height sample."
+         shared preprocessed terrain (heights, 4 B/sample, and Wu's node table above the finest level, 1 B/sample, \
+         when an entry reads it) plus the algorithm's own state at the end of the run, per height sample."
     );
     let settled: Vec<Option<Settling>> = inputs
         .runs
