@@ -149,7 +149,7 @@ impl<'h> Lindstrom<'h> {
         );
         let lattice = hierarchy.lattice();
         let nested_errors = hierarchy.nested_vertex_errors(config.nesting);
-        let blocks = BlockTree::new(hierarchy, &nested_errors, config.block_level);
+        let blocks = BlockTree::new(hierarchy, nested_errors, config.block_level);
         Lindstrom {
             hierarchy,
             config,
