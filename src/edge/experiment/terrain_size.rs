@@ -11,8 +11,9 @@
 //! each); generating a synthetic terrain holds 6 B a sample (`sim::terrain::synthetic`). Flying
 //! holds the heights (4 B a sample), Wu's node table (1 B a sample, when an entry reads it) and
 //! the largest entry's own state, from the bytes per sample measured on the 16385² point of
-//! `experiments/study-scaling.json` (docs/performance.md, "Memory"); entries running side by
-//! side add theirs, so the estimate is the least a run needs with `--threads 1`.
+//! `experiments/study-scaling.json` (Lindstrom's and ROAM's preprocessing peaks at 8193²:
+//! docs/performance.md, "Memory per sample"); entries running side by side add theirs, so the
+//! estimate is what a run needs with `--threads 1`.
 
 use super::entries::AlgorithmSpec;
 use super::format::{FitEntry, TerrainEntry, TerrainFileEntry};
@@ -153,11 +154,12 @@ fn flying_bytes(side: usize, entries: &[AlgorithmSpec]) -> f64 {
 
 /// An entry's own state, bytes per sample, as measured at 16385² (`study-scaling`, the
 /// entries' *bytes per sample* less the shared 5; the stitching strips' at 1025², from
-/// `study-circle`, as the study does not run them larger).
+/// `study-circle`, as the study does not run them larger); for Lindstrom's and ROAM's, the
+/// larger peak of their preprocessing, measured at 8193² (docs/performance.md).
 fn own_bytes_per_sample(config: &AlgorithmConfig) -> f64 {
     match config {
-        AlgorithmConfig::Lindstrom(_) => 8.7,
-        AlgorithmConfig::Roam(_) | AlgorithmConfig::RoamRebuild(_) => 8.2,
+        AlgorithmConfig::Lindstrom(_) => 17.0,
+        AlgorithmConfig::Roam(_) | AlgorithmConfig::RoamRebuild(_) => 11.4,
         AlgorithmConfig::Stitching(_) => 3.2,
         AlgorithmConfig::Wu(_) => 1.5,
         AlgorithmConfig::Rottger(_) => 1.3,

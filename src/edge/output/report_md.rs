@@ -378,7 +378,7 @@ fn write_preprocessing(out: &mut String, inputs: &ReportInputs) {
     let terrain = inputs.terrain_preprocessing;
     let _ = writeln!(
         out,
-        "\n## Preprocessing\n\nShared terrain (heights and Wu's node table): {:.3} s, {:.2} B/sample.\n\n| entry | algorithm | own preprocessing (s) | own bytes per sample after it |\n|---|---|---|---|",
+        "\n## Preprocessing\n\nShared terrain (heights, and Wu's node table when an entry reads it): {:.3} s, {:.2} B/sample.\n\n| entry | algorithm | own preprocessing (s) | own bytes per sample after it |\n|---|---|---|---|",
         terrain.seconds, terrain.bytes_per_sample
     );
     for (k, (run, own)) in inputs
