@@ -11,6 +11,7 @@ use crate::edge::experiment::TerrainReport;
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::terrain::Heightfield;
 use std::fmt::Write;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The width of the label column.
@@ -69,11 +70,13 @@ pub fn describe_terrain(report: &TerrainReport) -> String {
 }
 
 /// Builds Wu's hierarchy on the field, timing it: preprocessing time, memory, the root's error.
-pub fn describe_preprocessing(field: Heightfield) -> String {
+pub fn describe_preprocessing(field: impl Into<Arc<Heightfield>>) -> String {
+    let field: Arc<Heightfield> = field.into();
     let mut out = String::new();
     let n_samples = field.n_samples();
     let start = Instant::now();
     let hierarchy = Hierarchy::new(field);
+    hierarchy.build_node_table();
     let seconds = start.elapsed().as_secs_f64();
     line(
         &mut out,

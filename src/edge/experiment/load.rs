@@ -46,6 +46,7 @@ use crate::sim::view::ViewSettings;
 use crate::sim::zone::SpeedBound;
 use glam::{DVec2, DVec3};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A checked, loaded experiment: everything a run needs.
 pub struct Experiment {
@@ -54,7 +55,8 @@ pub struct Experiment {
     pub file: PathBuf,
     /// SHA-256 of the experiment file's bytes, hex.
     pub content_sha256: String,
-    pub field: Heightfield,
+    /// The terrain, shared with the run's hierarchy (one copy of the heights per run).
+    pub field: Arc<Heightfield>,
     pub terrain: TerrainReport,
     pub view: ViewSettings,
     /// `view.fovy_deg` as the experiment gives it (the view holds radians): echoed as written.
@@ -396,8 +398,37 @@ fn read_terrain_file(
     let path = folder.join(&file.path);
     let field_error =
         |problem: String| ExperimentError::single(experiment, "terrain.file", problem);
-    let format = match &file.format {
-        None => format_from_extension(&path).map_err(|e| field_error(e.to_string()))?,
+    let format = terrain_format(experiment, &path, file)?;
+    let options = ReadOptions {
+        height_scale: file.height_scale.unwrap_or(1.0),
+        height_offset: file.height_offset_m.unwrap_or(0.0),
+        nodata: file.nodata,
+    };
+    let loaded = read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
+    let grid_keys = GridKeys {
+        field: "terrain.file",
+        path,
+        source: file.path.clone(),
+        format: format.name().to_string(),
+        spacing_m: file.spacing_m,
+        assumed,
+        fit: file.fit,
+        crop_origin: file.crop_origin,
+        origin_m: file.origin_m,
+    };
+    embed_loaded(experiment, &grid_keys, loaded)
+}
+
+/// The terrain file's format: the one declared, else the one its extension names.
+pub(super) fn terrain_format(
+    experiment: &Path,
+    path: &Path,
+    file: &TerrainFileEntry,
+) -> Result<TerrainFormat, ExperimentError> {
+    let field_error =
+        |problem: String| ExperimentError::single(experiment, "terrain.file", problem);
+    Ok(match &file.format {
+        None => format_from_extension(path).map_err(|e| field_error(e.to_string()))?,
         Some(TerrainFormatEntry::Hgt) => TerrainFormat::Hgt,
         Some(TerrainFormatEntry::Png) => TerrainFormat::Png,
         Some(TerrainFormatEntry::Geotiff) => TerrainFormat::GeoTiff,
@@ -417,25 +448,7 @@ fn read_terrain_file(
                 "\"gdal\": this roamsim was built without GDAL".to_string(),
             ));
         }
-    };
-    let options = ReadOptions {
-        height_scale: file.height_scale.unwrap_or(1.0),
-        height_offset: file.height_offset_m.unwrap_or(0.0),
-        nodata: file.nodata,
-    };
-    let loaded = read_terrain(&path, format, &options).map_err(|e| field_error(e.to_string()))?;
-    let grid_keys = GridKeys {
-        field: "terrain.file",
-        path,
-        source: file.path.clone(),
-        format: format.name().to_string(),
-        spacing_m: file.spacing_m,
-        assumed,
-        fit: file.fit,
-        crop_origin: file.crop_origin,
-        origin_m: file.origin_m,
-    };
-    embed_loaded(experiment, &grid_keys, loaded)
+    })
 }
 
 /// The terrain's grid spacing and where it came from: the experiment's `spacing_m` when it gives

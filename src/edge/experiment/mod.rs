@@ -11,8 +11,9 @@
 //!    `block_lod.rs`, `block_strips.rs` and `parameters.rs` (one entry's parameters into its
 //!    `AlgorithmConfig`); `tune.rs` (an entry's `"tune"`); `entries.rs` (the entries: sweeps
 //!    expanded, labels, [`AlgorithmSpec`], [`tuned_spec`]); `check.rs` (the whole file).
-//! 3. *Load* (the IO): `load.rs` reads or generates the terrain, reads a recorded flight, builds
-//!    the flight: the [`Experiment`].
+//! 3. *Load* (the IO): `terrain_size.rs` first refuses a terrain the run cannot hold, from its
+//!    declared layout or its header; `load.rs` reads or generates the terrain, reads a recorded
+//!    flight, builds the flight: the [`Experiment`].
 //!
 //! `terrain_alone.rs` runs stages 1 to 3 on a terrain entry alone (`roamsim info`'s options).
 //! `plan.rs` drives them: stages 1 and 2 for every point of the file at once ([`plan`], so every
@@ -31,6 +32,7 @@ mod plan;
 mod problems;
 mod sweep;
 mod terrain_alone;
+mod terrain_size;
 mod tune;
 
 pub use check::MeshExports;

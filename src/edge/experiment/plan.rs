@@ -12,18 +12,22 @@
 //! its point's choice) before any terrain is read; loading, one terrain at a time, waits for the
 //! run. A mosaic terrain's files are laid out from their headers alone (they exist, their names
 //! and sizes fit, no gap) for every point by [`plan`], with the same prefixes, before any
-//! height is read; [`check_bytes`] does no IO and leaves them.
+//! height is read; [`check_bytes`] does no IO and leaves them. Then, still before any is read,
+//! every point's terrain is sized from its declared layout or its file's header and refused if
+//! the run could not hold it (`terrain_size.rs`).
 
 use super::check::{Checked, check, path_kind};
 use super::format::{ExperimentFile, TerrainEntry};
 use super::load::{Experiment, build_flight, lay_out_terrain_mosaic, load_terrain};
 use super::problems::{ExperimentError, FieldProblem};
 use super::sweep::{ExperimentPoint, SweepChoice, choice_label, expand_experiment};
+use super::terrain_size::check_terrain_size;
 use crate::edge::terrain_readers::MosaicLayout;
 use crate::sim::flight::speed_violations;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Reads, checks and loads an experiment file without a top-level sweep (an experiment with
 /// one is run point by point: see [`plan`]).
@@ -60,14 +64,52 @@ struct PlannedPoint {
 }
 
 /// Stages 1 and 2 for every point of the experiment's top-level sweep (one point without a
-/// sweep): every problem of every point is reported at once, before any terrain is read.
+/// sweep): every problem of every point is reported at once, before any terrain is read; then
+/// every point's terrain sized against the run's limits, reading at most file headers.
 pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
     let bytes = std::fs::read(path).map_err(|error| {
         ExperimentError::single(path, "", format!("cannot read the file: {error}"))
     })?;
     let mut plan = plan_bytes(path, &bytes)?;
     lay_out_mosaics(&mut plan)?;
+    check_sizes(&plan)?;
     Ok(plan)
+}
+
+/// Every point's terrain sized from its declared layout or its file's header and refused when
+/// the run could not hold it (`terrain_size.rs`), every point's problems reported at once.
+fn check_sizes(plan: &Plan) -> Result<(), ExperimentError> {
+    let path = plan.file.as_path();
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let mut problems = Vec::new();
+    for point in &plan.points {
+        let sized = check_terrain_size(
+            path,
+            folder,
+            &point.parsed.terrain,
+            point.mosaic_layout.as_ref(),
+            &point.checked.algorithms,
+        );
+        if let Err(error) = sized {
+            let prefix = point
+                .choice
+                .as_ref()
+                .map(|c| format!("({}) ", choice_label(c)))
+                .unwrap_or_default();
+            problems.extend(error.problems.into_iter().map(|p| FieldProblem {
+                field: format!("{prefix}{}", p.field),
+                problem: p.problem,
+            }));
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(ExperimentError {
+            file: plan.file.clone(),
+            problems,
+        })
+    }
 }
 
 /// Every point's mosaic laid out from its files' headers (existence, names, sizes,
@@ -248,7 +290,7 @@ impl Plan {
             description: parsed.description.clone(),
             file: path.to_path_buf(),
             content_sha256: self.content_sha256.clone(),
-            field,
+            field: Arc::new(field),
             terrain,
             view: checked.view,
             fovy_deg: parsed.view.fovy_deg,

@@ -237,8 +237,8 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
          rebuild (merges 0): not comparable with an incremental algorithm's splits and merges, and \
          neither are its evaluations per split or merge. *evaluations per split or merge*: metric (or valid-life) \
          evaluations over the flight divided by its splits and merges. *bytes per sample*: the \
-         shared preprocessed terrain (heights and Wu's node table above the finest level, 5 B/sample) plus the \
-         algorithm's own state at the end of the run, per height sample."
+         shared preprocessed terrain (heights, 4 B/sample, and Wu's node table above the finest level, 1 B/sample, \
+         when an entry reads it) plus the algorithm's own state at the end of the run, per height sample."
     );
     let settled: Vec<Option<Settling>> = inputs
         .runs
@@ -412,7 +412,7 @@ fn write_preprocessing(out: &mut String, inputs: &ReportInputs) {
     let terrain = inputs.terrain_preprocessing;
     let _ = writeln!(
         out,
-        "\n## Preprocessing\n\nShared terrain (heights and Wu's node table): {:.3} s, {:.2} B/sample.\n\n| entry | algorithm | own preprocessing (s) | own bytes per sample after it |\n|---|---|---|---|",
+        "\n## Preprocessing\n\nShared terrain (heights, and Wu's node table when an entry reads it): {:.3} s, {:.2} B/sample.\n\n| entry | algorithm | own preprocessing (s) | own bytes per sample after it |\n|---|---|---|---|",
         terrain.seconds, terrain.bytes_per_sample
     );
     for (k, (run, own)) in inputs

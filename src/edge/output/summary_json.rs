@@ -63,10 +63,21 @@ impl RunRecord {
 /// where the system does not say (not Linux). Measured when the summary is written, so it
 /// covers every point run before it.
 pub fn peak_resident_bytes() -> Option<u64> {
+    proc_status_bytes("VmHWM:")
+}
+
+/// The process's resident set now, bytes (`VmRSS` of `/proc/self/status`); `None` where the
+/// system does not say (not Linux).
+pub fn resident_bytes() -> Option<u64> {
+    proc_status_bytes("VmRSS:")
+}
+
+/// A `kB` figure of `/proc/self/status`, in bytes.
+fn proc_status_bytes(key: &str) -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
+    let line = status.lines().find(|line| line.starts_with(key))?;
     let kib: u64 = line
-        .trim_start_matches("VmHWM:")
+        .trim_start_matches(key)
         .trim()
         .trim_end_matches("kB")
         .trim()
@@ -87,6 +98,7 @@ pub fn summary_json(
     facts: &[Vec<(&str, f64)>],
     entry_preprocessing: &[Preprocessing],
     tunings: &[Option<&TuningRecord>],
+    frames_resident: Option<u64>,
 ) -> Value {
     let audited = experiment.effects.audit.is_some();
     let columns = numeric_columns(runs, audited);
@@ -188,11 +200,16 @@ pub fn summary_json(
             .count()
     };
     let meshes: u64 = runs.iter().map(|r| r.frames.len() as u64).sum();
+    // A point's own measure of what its frames held, beside the process's peak.
+    let mut run = record.to_json(meshes);
+    run["frames_resident_bytes"] = json!(frames_resident);
+    run["frames_resident_bytes_per_sample"] =
+        json!(frames_resident.map(|bytes| bytes as f64 / experiment.field.n_samples() as f64));
     json!({
         "format_version": SUMMARY_FORMAT_VERSION,
         "roamsim_version": env!("CARGO_PKG_VERSION"),
         "time_axis": TIME_AXIS,
-        "run": record.to_json(meshes),
+        "run": run,
         "experiment": {
             "name": experiment.name,
             "description": experiment.description,

@@ -32,7 +32,7 @@ impl Scene {
     /// Loads and preprocesses an experiment file.
     pub fn load(path: &Path) -> Result<Scene, ExperimentError> {
         let experiment = experiment::load(path)?;
-        let hierarchy = Hierarchy::new(experiment.field.clone());
+        let hierarchy = Hierarchy::new(std::sync::Arc::clone(&experiment.field));
         Ok(Scene {
             experiment,
             hierarchy,

@@ -86,6 +86,7 @@ impl RunAssembly {
             experiment,
             preprocessing: &point.preprocessing,
             hierarchy_bytes: point.hierarchy_bytes,
+            frames_resident_bytes: point.frames_resident_bytes,
             record: &self.record,
         };
         let folder = match (point_label, plan_choice) {
@@ -412,6 +413,8 @@ struct OutputContext<'a> {
     preprocessing: &'a Preprocessing,
     /// Bytes of the shared preprocessed terrain (heights and Wu's node table).
     hierarchy_bytes: f64,
+    /// The process's resident set measured during the point's frames (`None` for a merge).
+    frames_resident_bytes: Option<u64>,
     record: &'a RunRecord,
 }
 
@@ -555,6 +558,7 @@ fn write_summary(
         &facts,
         &tables.entry_preprocessing,
         &tables.tunings,
+        context.frames_resident_bytes,
     );
     let summary_path = dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";

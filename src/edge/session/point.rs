@@ -23,18 +23,22 @@ use super::timing::{Timing, TimingPasses};
 use super::tune::tune_entry;
 use crate::edge::experiment::{AlgorithmSpec, Experiment};
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
-use crate::edge::output::summary_json::Preprocessing;
+use crate::edge::output::summary_json::{Preprocessing, resident_bytes};
 use crate::edge::output::tuning::{TuningRecord, mean_of_target};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::run::{RunError, RunInputs, run_algorithm_with};
 use crate::sim::stats::FrameStats;
 use rayon::prelude::*;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// One point's run: preprocessing and every entry's result.
 pub(super) struct PointRun<'a> {
     pub(super) preprocessing: Preprocessing,
     pub(super) hierarchy_bytes: f64,
+    /// The process's largest resident set measured at the end of an entry's measured frames,
+    /// its algorithm still alive (`None` where the system does not say).
+    pub(super) frames_resident_bytes: Option<u64>,
     pub(super) violation_frames: Vec<u64>,
     pub(super) results: Vec<AlgorithmResult<'a>>,
 }
@@ -63,7 +67,15 @@ pub(super) fn run_point<'a>(
     progress: &dyn ProgressSink,
 ) -> Result<PointRun<'a>, RunFailure> {
     let start = Instant::now();
-    let hierarchy = Hierarchy::new(experiment.field.clone());
+    // The run shares the experiment's heights; Wu's node table is built only for entries that
+    // read it, here so that its time is the terrain's preprocessing.
+    let hierarchy = Hierarchy::new(Arc::clone(&experiment.field));
+    if entries
+        .iter()
+        .any(|&k| experiment.algorithms[k].config.reads_node_table())
+    {
+        hierarchy.build_node_table();
+    }
     let preprocessing = Preprocessing {
         seconds: start.elapsed().as_secs_f64(),
         bytes_per_sample: hierarchy.bytes_per_sample(),
@@ -81,13 +93,18 @@ pub(super) fn run_point<'a>(
         .sum();
     progress.entries(entries.len());
     progress.start(experiment.flight.n_frames() * (entries.len() as u64 + passes_in_all));
-    let results: Vec<Result<AlgorithmResult, RunError>> =
+    let results: Vec<Result<(AlgorithmResult, Option<u64>), RunError>> =
         pool.install(|| entries.par_iter().map(|&k| point.run_entry(k)).collect());
     progress.finish();
-    let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
+    let (results, resident): (Vec<_>, Vec<_>) = results
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
     Ok(PointRun {
         preprocessing,
         hierarchy_bytes: hierarchy.bytes_per_sample() * hierarchy.field().n_samples() as f64,
+        frames_resident_bytes: resident.into_iter().flatten().max(),
         violation_frames,
         results,
     })
@@ -109,6 +126,8 @@ struct MeasuredPass {
     memory_bytes: usize,
     extra_columns: Vec<&'static str>,
     meshes: Vec<(u64, String)>,
+    /// The process's resident set right after the frames, the algorithm still alive.
+    resident_bytes: Option<u64>,
 }
 
 impl<'p> PointEntries<'p> {
@@ -126,8 +145,9 @@ impl<'p> PointEntries<'p> {
         self.timing.passes(effects_on)
     }
 
-    /// Runs entry `k`: its search when it is tuned, its measured pass, its timing passes.
-    fn run_entry(&self, k: usize) -> Result<AlgorithmResult<'static>, RunError> {
+    /// Runs entry `k`: its search when it is tuned, its measured pass, its timing passes; with
+    /// the resident set at the end of its measured frames.
+    fn run_entry(&self, k: usize) -> Result<(AlgorithmResult<'static>, Option<u64>), RunError> {
         let experiment = self.experiment;
         let written: &AlgorithmSpec = &experiment.algorithms[k];
         // A tuned entry runs with the value its search found (the search's probes first).
@@ -175,7 +195,7 @@ impl<'p> PointEntries<'p> {
             record.full_run_mean = mean_of_target(&frames, record.target);
             record
         });
-        Ok(AlgorithmResult {
+        let result = AlgorithmResult {
             memory_bytes: measured.memory_bytes,
             preprocessing: measured.preprocessing,
             frames,
@@ -183,7 +203,8 @@ impl<'p> PointEntries<'p> {
             facts,
             meshes: measured.meshes,
             tuning,
-        })
+        };
+        Ok((result, measured.resident_bytes))
     }
 
     /// Builds entry `k`'s algorithm (its preprocessing, timed) and flies it over the flight with
@@ -242,6 +263,7 @@ impl<'p> PointEntries<'p> {
                 progress.frame_done(frame);
             },
         )?;
+        let resident_bytes = resident_bytes();
         Ok(MeasuredPass {
             preprocessing,
             frames,
@@ -249,6 +271,7 @@ impl<'p> PointEntries<'p> {
             memory_bytes: algorithm.memory_bytes(),
             extra_columns: algorithm.extra_columns().to_vec(),
             meshes,
+            resident_bytes,
         })
     }
 }

@@ -336,6 +336,8 @@ impl MergedPoint<'_> {
                 bytes_per_sample: f64::from_bits(point.bytes_per_sample_bits),
             },
             hierarchy_bytes: f64::from_bits(point.hierarchy_bytes_bits),
+            // The parts' processes measured their own resident sets; the merge ran no frame.
+            frames_resident_bytes: None,
             violation_frames: point.violation_frames.clone(),
             results,
         }))

@@ -126,6 +126,23 @@ impl AlgorithmConfig {
         }
     }
 
+    /// Whether the algorithm reads the hierarchy's Wu node table (node errors or block height
+    /// ranges), so that a run builds it before the first entry (`Hierarchy::build_node_table`;
+    /// an undeclared reader still gets it, built on first read).
+    pub fn reads_node_table(&self) -> bool {
+        match self {
+            AlgorithmConfig::Reference(_) | AlgorithmConfig::Wu(_) => true,
+            AlgorithmConfig::Lindstrom(_) => true,
+            AlgorithmConfig::Rottger(config) => config.clipping,
+            AlgorithmConfig::Roam(_)
+            | AlgorithmConfig::RoamRebuild(_)
+            | AlgorithmConfig::Geomipmap(_)
+            | AlgorithmConfig::Chunked(_)
+            | AlgorithmConfig::Vanek(_)
+            | AlgorithmConfig::Stitching(_) => false,
+        }
+    }
+
     /// The count this entry is asked to hold every frame (a budget or a target), as the name of
     /// the `frames.csv` column that counts it and the number; `None` for tolerance-driven
     /// entries.

@@ -17,6 +17,8 @@
 //! No tables are stored: parents and children are computed in O(1). Vertex ids are
 //! `j · side + i` as `u32` (a 16385² grid has 2^28 vertices).
 
+use crate::sim::terrain::MAX_LEVEL;
+
 /// A vertex of the grid, by column and row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct GridPoint {
@@ -90,11 +92,14 @@ pub struct Lattice {
 }
 
 impl Lattice {
-    /// The lattice of a grid of side 2^level + 1 (1 ≤ level ≤ 15).
+    /// The lattice of a grid of side 2^level + 1 (1 ≤ level ≤ [`MAX_LEVEL`]: vertex ids are
+    /// `u32`, and 65 537² is above 2^32). Not reachable from an input with another level: a
+    /// `Heightfield`, whose level a hierarchy's lattice takes, refuses a larger side with an
+    /// error; the panic is for code that asks for a lattice of a level it made up.
     pub fn new(level: u32) -> Lattice {
         assert!(
-            (1..=15).contains(&level),
-            "lattice level {level} outside 1..=15"
+            (1..=MAX_LEVEL).contains(&level),
+            "lattice level {level} outside 1..={MAX_LEVEL}"
         );
         Lattice {
             level,

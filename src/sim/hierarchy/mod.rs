@@ -11,7 +11,16 @@
 //! order) for every level but the finest. The finest blocks (half-size 1), three quarters of all
 //! nodes, store nothing: their δ and height range are computed on demand from the block's 9
 //! samples, O(1) and bit-identical to what storing them would give. That is 12 bytes per 12
-//! samples, i.e. 1 byte per sample on top of the 4-byte heights. Other papers' nested errors over
+//! samples, i.e. 1 byte per sample on top of the 4-byte heights.
+//!
+//! **The node table is built when first read.** Only some algorithms read it (Wu's, the reference,
+//! Lindstrom's block ranges, Röttger's clipping boxes: `AlgorithmConfig::reads_node_table`); a
+//! run of the others never pays its byte per sample. [`Hierarchy::build_node_table`] builds it
+//! up front (the session does, inside the terrain's timed preprocessing, when an entry reads it);
+//! any reader that comes first builds it itself, so what is read never depends on when it was
+//! built. The heights are held by an [`Arc`], so a run shares the experiment's one copy.
+//!
+//! Other papers' nested errors over
 //! all vertices ([`NestingRule`]) are built on demand by [`Hierarchy::nested_vertex_errors`], so a
 //! run pays only for the rules its algorithms use.
 //! Errors are rounded up to `f32`, never down, so they stay bounds.
@@ -21,6 +30,7 @@ mod lattice;
 pub use lattice::{Few, GridPoint, Lattice, VertexClass};
 
 use crate::sim::terrain::Heightfield;
+use std::sync::{Arc, OnceLock};
 
 /// How a vertex's error is nested over its descendants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,12 +66,13 @@ impl SquareIndex {
 /// A height field with its 4-8 hierarchy and Wu's per-node data.
 #[derive(Clone, Debug)]
 pub struct Hierarchy {
-    field: Heightfield,
+    field: Arc<Heightfield>,
     lattice: Lattice,
     square_index: SquareIndex,
     /// Per square node of half-size ≥ 2 (the first `nodes.len()` indices of [`SquareIndex`]),
     /// contiguous so that one node's data is one cache access. The finest level is not stored.
-    nodes: Vec<NodeData>,
+    /// Built when first read (the module docs).
+    nodes: OnceLock<Vec<NodeData>>,
 }
 
 /// What preprocessing stores per square node.
@@ -73,23 +84,31 @@ struct NodeData {
 }
 
 impl Hierarchy {
-    /// Preprocesses a height field: O(samples) time, 12 bytes per square node above the finest
-    /// level.
-    pub fn new(field: Heightfield) -> Hierarchy {
+    /// The hierarchy of a height field, sharing it (a `Heightfield` given by value is moved in,
+    /// not copied). O(1): Wu's node table (O(samples) time, 12 bytes per square node above the
+    /// finest level) is built by [`Hierarchy::build_node_table`] or by its first reader.
+    pub fn new(field: impl Into<Arc<Heightfield>>) -> Hierarchy {
+        let field = field.into();
+        // A `Heightfield`'s level is within the lattice's (`terrain::MAX_LEVEL`).
         let lattice = Lattice::new(field.level());
-        let square_index = SquareIndex {
-            cells: lattice.cells(),
-        };
-        // The finest level is the last of the index: everything before it is stored.
-        let n_stored = square_index.n_squares() - (lattice.cells() as usize / 2).pow(2);
-        let mut hierarchy = Hierarchy {
+        Hierarchy {
             field,
             lattice,
-            square_index,
-            nodes: vec![NodeData::default(); n_stored],
-        };
-        hierarchy.compute_node_data();
-        hierarchy
+            square_index: SquareIndex {
+                cells: lattice.cells(),
+            },
+            nodes: OnceLock::new(),
+        }
+    }
+
+    /// Builds Wu's node table now (once: later calls do nothing). O(samples).
+    pub fn build_node_table(&self) {
+        self.node_table();
+    }
+
+    /// Whether Wu's node table has been built.
+    pub fn has_node_table(&self) -> bool {
+        self.nodes.get().is_some()
     }
 
     pub fn field(&self) -> &Heightfield {
@@ -136,10 +155,12 @@ impl Hierarchy {
         (node.error, node.z_min, node.z_max)
     }
 
-    /// Bytes per sample of the heights and Wu's node data (the heap capacity held).
+    /// Bytes per sample of the heights and Wu's node data if built (the heap capacity held).
     pub fn bytes_per_sample(&self) -> f64 {
         let heights = std::mem::size_of_val(self.field.heights());
-        let nodes = self.nodes.capacity() * std::mem::size_of::<NodeData>();
+        let nodes = self.nodes.get().map_or(0, |nodes| {
+            nodes.capacity() * std::mem::size_of::<NodeData>()
+        });
         (heights + nodes) as f64 / self.field.n_samples() as f64
     }
 
@@ -150,8 +171,14 @@ impl Hierarchy {
         if half == 1 {
             self.finest_node_data(p)
         } else {
-            self.nodes[self.square_index.index(p, half)]
+            self.node_table()[self.square_index.index(p, half)]
         }
+    }
+
+    /// Wu's node table, built on first use.
+    #[inline]
+    fn node_table(&self) -> &[NodeData] {
+        self.nodes.get_or_init(|| self.compute_node_table())
     }
 
     /// δ and height range of the finest block centred at `p` (half-size 1), from its 3 × 3 samples:
@@ -237,9 +264,12 @@ impl Hierarchy {
         })
     }
 
-    /// Fills the stored levels (half-size ≥ 2), finest first; their sub-blocks are stored or, at
+    /// The stored levels (half-size ≥ 2), finest first; their sub-blocks are stored or, at
     /// half-size 2, computed from samples.
-    fn compute_node_data(&mut self) {
+    fn compute_node_table(&self) -> Vec<NodeData> {
+        // The finest level is the last of the index: everything before it is stored.
+        let n_stored = self.square_index.n_squares() - (self.lattice.cells() as usize / 2).pow(2);
+        let mut nodes = vec![NodeData::default(); n_stored];
         let mut half = 2;
         while half < self.lattice.cells() {
             for p in square_points(&self.lattice, half) {
@@ -251,13 +281,17 @@ impl Hierarchy {
                 let (mut z_min, mut z_max) = (f32::INFINITY, f32::NEG_INFINITY);
                 if let Some(sub_blocks) = self.lattice.sub_blocks(p, half) {
                     for sub in sub_blocks {
-                        let sub = self.node_data(sub, half / 2);
+                        let sub = if half == 2 {
+                            self.finest_node_data(sub)
+                        } else {
+                            nodes[self.square_index.index(sub, half / 2)]
+                        };
                         error = error.max(f64::from(sub.error));
                         z_min = z_min.min(sub.z_min);
                         z_max = z_max.max(sub.z_max);
                     }
                 }
-                self.nodes[k] = NodeData {
+                nodes[k] = NodeData {
                     error: round_up(error),
                     z_min,
                     z_max,
@@ -265,6 +299,7 @@ impl Hierarchy {
             }
             half *= 2;
         }
+        nodes
     }
 }
 
@@ -441,9 +476,38 @@ mod tests {
     }
 
     #[test]
+    fn the_node_table_is_built_only_when_read_and_reads_the_same_either_way() {
+        let height = |i: usize, j: usize| ((i * 7 + j * 13) % 11) as f32;
+        let lazy = hierarchy(65, height);
+        assert!(!lazy.has_node_table());
+        assert_eq!(lazy.bytes_per_sample(), 4.0);
+        let eager = hierarchy(65, height);
+        eager.build_node_table();
+        assert!(eager.has_node_table());
+        // Reading builds it, with the values building it first gives.
+        let root = lazy.lattice().root();
+        assert_eq!(
+            lazy.node_error_and_range(root, 32),
+            eager.node_error_and_range(root, 32)
+        );
+        assert!(lazy.has_node_table());
+        assert_eq!(lazy.node_table(), eager.node_table());
+        assert!(lazy.bytes_per_sample() > 4.0);
+    }
+
+    #[test]
+    fn a_hierarchy_shares_its_field_rather_than_copying_it() {
+        let field = Arc::new(
+            Heightfield::new(17, vec![1.0; 17 * 17], Spacing { dx: 1.0, dy: 1.0 }).unwrap(),
+        );
+        let h = Hierarchy::new(Arc::clone(&field));
+        assert!(std::ptr::eq(h.field(), field.as_ref()));
+    }
+
+    #[test]
     fn only_the_levels_above_the_finest_are_stored() {
         let h = hierarchy(129, |i, j| ((i * 7 + j * 13) % 11) as f32);
-        assert_eq!(h.nodes.len(), (64 * 64 - 1) / 3);
+        assert_eq!(h.node_table().len(), (64 * 64 - 1) / 3);
         // 4 bytes of height per sample, 12 bytes per stored node: one node per 12 samples.
         assert!(h.bytes_per_sample() < 5.0, "{}", h.bytes_per_sample());
     }

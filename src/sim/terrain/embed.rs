@@ -6,18 +6,19 @@
 //! replicating the nearest border sample, so the padding adds no new relief across the border
 //! (though a border whose profile varies still has vertex errors along it, and the padding repeats
 //! that profile). The height field remembers the real data extent so the audit ignores the
-//! padding samples. Cropping takes the largest (2^n+1)² window that fits, at a chosen origin (by
-//! default centred).
+//! padding samples. Cropping takes the largest (2^n+1)² window that fits, at most
+//! [`MAX_SIDE`]², at a chosen origin (by default centred). A padded side above [`MAX_SIDE`] is
+//! refused before anything is allocated; [`fitted_side`] says the side before the grid is read.
 
-use super::{Heightfield, HeightfieldError, SampleGrid, Spacing};
+use super::{Heightfield, HeightfieldError, MAX_SIDE, SampleGrid, Spacing};
 
 /// How a grid that is not (2^n+1)² becomes one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Fit {
     /// Grow to the smallest 2^n+1 side that holds the grid, replicating the border.
     Pad,
-    /// Cut the largest 2^n+1 square that fits; `origin` is its south-west sample
-    /// (column, row), or `None` to centre it.
+    /// Cut the largest 2^n+1 square that fits, at most [`MAX_SIDE`]; `origin` is its south-west
+    /// sample (column, row), or `None` to centre it.
     Crop { origin: Option<(usize, usize)> },
 }
 
@@ -65,9 +66,12 @@ pub fn embed(
         });
     }
     let (columns, rows) = (grid.width(), grid.height());
+    let side = fitted_side(columns, rows, fit);
+    if side > MAX_SIDE {
+        return Err(HeightfieldError::TooLarge { side }.into());
+    }
     match fit {
         Fit::Pad => {
-            let side = (columns.max(rows) - 1).next_power_of_two() + 1;
             let mut heights = Vec::with_capacity(side * side);
             for j in 0..side {
                 let row = j.min(rows - 1);
@@ -87,7 +91,6 @@ pub fn embed(
             Ok((field, report))
         }
         Fit::Crop { origin } => {
-            let side = largest_side_within(columns.min(rows));
             let (column, row) = origin.unwrap_or(((columns - side) / 2, (rows - side) / 2));
             if column + side > columns || row + side > rows {
                 return Err(EmbedError::CropOutside {
@@ -115,6 +118,15 @@ pub fn embed(
             };
             Ok((field, report))
         }
+    }
+}
+
+/// The side of the height field a `columns` × `rows` grid (both ≥ 3) becomes under `fit`,
+/// before it is read: above [`MAX_SIDE`] only when padding, and then refused by [`embed`].
+pub fn fitted_side(columns: usize, rows: usize, fit: Fit) -> usize {
+    match fit {
+        Fit::Pad => (columns.max(rows) - 1).next_power_of_two() + 1,
+        Fit::Crop { .. } => largest_side_within(columns.min(rows)).min(MAX_SIDE),
     }
 }
 
@@ -152,6 +164,31 @@ mod tests {
         let (field, report) = embed(&ramp(5, 5), Fit::Pad, UNIT).unwrap();
         assert_eq!(field.side(), 5);
         assert_eq!((report.padded_columns, report.padded_rows), (0, 0));
+    }
+
+    #[test]
+    fn a_grid_padded_past_the_largest_side_is_refused_before_it_is_allocated() {
+        // 40 000 columns pad to 65 537²: 17 GB of heights, never allocated.
+        let error = embed(&ramp(40_000, 3), Fit::Pad, UNIT).unwrap_err();
+        assert_eq!(
+            error,
+            EmbedError::Heightfield(HeightfieldError::TooLarge { side: 65_537 })
+        );
+        assert!(error.to_string().contains("32769"), "{error}");
+    }
+
+    #[test]
+    fn cropping_keeps_within_the_largest_side() {
+        assert_eq!(
+            fitted_side(70_000, 80_000, Fit::Crop { origin: None }),
+            MAX_SIDE
+        );
+        assert_eq!(
+            fitted_side(40_000, 40_000, Fit::Crop { origin: None }),
+            MAX_SIDE
+        );
+        assert_eq!(fitted_side(40_000, 40_000, Fit::Pad), 65_537);
+        assert_eq!(fitted_side(1201, 1201, Fit::Crop { origin: None }), 1025);
     }
 
     #[test]

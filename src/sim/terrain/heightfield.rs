@@ -1,5 +1,5 @@
 //! The (2^n+1)² height field every algorithm runs on (SPEC §2's conventions). Its constructors
-//! hold its invariants: side 2^n+1 (n ≥ 1), finite heights, positive spacing; nothing downstream
+//! hold its invariants: side 2^n+1 (1 ≤ n ≤ [`MAX_LEVEL`]), finite heights, positive spacing; nothing downstream
 //! checks them again. It is not a reader (`edge::terrain_readers`) nor a preprocessed hierarchy
 //! (`crate::sim::hierarchy`).
 //!
@@ -16,6 +16,14 @@
 
 use crate::sim::view::Pose;
 use glam::{DVec2, DVec3};
+
+/// The largest level n of a height field (side 2^n + 1 = 32 769): the 4-8 hierarchy numbers its
+/// vertices with 32-bit ids, and 65 537² is above 2^32. A larger terrain is refused by the
+/// constructors (an error, not a panic further on).
+pub const MAX_LEVEL: u32 = 15;
+
+/// The largest side of a height field, 2^[`MAX_LEVEL`] + 1.
+pub const MAX_SIDE: usize = (1 << MAX_LEVEL) + 1;
 
 /// Grid spacing in metres along x (columns) and y (rows).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,6 +49,11 @@ pub struct Heightfield {
 pub enum HeightfieldError {
     #[error("side {side} is not 2^n+1 with n ≥ 1")]
     SideNotPowerOfTwoPlusOne { side: usize },
+    #[error(
+        "side {side} is above the largest side the in-memory hierarchy holds, 32769 (2^15 + 1: \
+         its vertex ids are 32-bit)"
+    )]
+    TooLarge { side: usize },
     #[error("{found} heights for side {side} ({expected} expected)")]
     WrongLength {
         side: usize,
@@ -83,6 +96,9 @@ impl Heightfield {
         data_rows: usize,
     ) -> Result<Heightfield, HeightfieldError> {
         let level = side_level(side).ok_or(HeightfieldError::SideNotPowerOfTwoPlusOne { side })?;
+        if level > MAX_LEVEL {
+            return Err(HeightfieldError::TooLarge { side });
+        }
         let expected = side * side;
         if heights.len() != expected {
             return Err(HeightfieldError::WrongLength {
@@ -238,6 +254,18 @@ mod tests {
     use super::*;
 
     const UNIT: Spacing = Spacing { dx: 1.0, dy: 1.0 };
+
+    #[test]
+    fn a_side_above_the_hierarchys_limit_is_an_error() {
+        let error = Heightfield::new(65_537, Vec::new(), UNIT).unwrap_err();
+        assert_eq!(error, HeightfieldError::TooLarge { side: 65_537 });
+        assert_eq!(MAX_SIDE, 32_769);
+        // The largest side passes the size check (and fails on the empty heights).
+        assert!(matches!(
+            Heightfield::new(MAX_SIDE, Vec::new(), UNIT),
+            Err(HeightfieldError::WrongLength { .. })
+        ));
+    }
 
     #[test]
     fn sides_of_the_form_two_to_the_n_plus_one_are_accepted() {

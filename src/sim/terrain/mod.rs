@@ -14,5 +14,5 @@ mod heightfield;
 mod sample_grid;
 pub mod synthetic;
 
-pub use heightfield::{Heightfield, HeightfieldError, Spacing};
+pub use heightfield::{Heightfield, HeightfieldError, MAX_LEVEL, MAX_SIDE, Spacing};
 pub use sample_grid::{SampleGrid, SampleGridError};

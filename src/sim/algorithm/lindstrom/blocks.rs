@@ -66,8 +66,14 @@ impl BlockTree {
     }
 
     /// Builds the tree for blocks of (2^`block_level` + 1)² samples; a `block_level` beyond the
-    /// terrain's level means one block (the root) and 0 is taken as 1.
-    pub(super) fn new(hierarchy: &Hierarchy, nested_errors: &[f32], block_level: u32) -> BlockTree {
+    /// terrain's level means one block (the root) and 0 is taken as 1. It holds 16 bytes per
+    /// sample while it builds (the 12-byte (node, δ, id) list it sorts, with the nested errors,
+    /// dropped once read, or with the δ array kept), 8 once built.
+    pub(super) fn new(
+        hierarchy: &Hierarchy,
+        nested_errors: Vec<f32>,
+        block_level: u32,
+    ) -> BlockTree {
         let lattice = hierarchy.lattice();
         let block_level = block_level.clamp(1, lattice.level());
         let depth = lattice.level() - block_level;
@@ -87,6 +93,7 @@ impl BlockTree {
                 owned.push((node, nested_errors[id as usize], id));
             }
         }
+        drop(nested_errors);
         owned.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)).then(a.2.cmp(&b.2)));
 
         let mut nodes = Vec::with_capacity(n_nodes as usize);
@@ -136,12 +143,16 @@ impl BlockTree {
             parent_node.subtree_delta_max = parent_node.subtree_delta_max.max(delta);
             parent_node.subtree_vertices += vertices;
         }
+        let owned_deltas = owned.iter().map(|entry| entry.1).collect();
+        // In place: the list's buffer becomes the ids' (same alignment), and gives its tail back.
+        let mut owned_ids: Vec<u32> = owned.into_iter().map(|entry| entry.2).collect();
+        owned_ids.shrink_to_fit();
         BlockTree {
             block_level,
             depth,
             nodes,
-            owned_ids: owned.iter().map(|entry| entry.2).collect(),
-            owned_deltas: owned.iter().map(|entry| entry.1).collect(),
+            owned_ids,
+            owned_deltas,
         }
     }
 

@@ -161,7 +161,7 @@ impl<'h> Lindstrom<'h> {
         );
         let lattice = hierarchy.lattice();
         let nested_errors = hierarchy.nested_vertex_errors(config.nesting);
-        let blocks = BlockTree::new(hierarchy, &nested_errors, config.block_level);
+        let blocks = BlockTree::new(hierarchy, nested_errors, config.block_level);
         Lindstrom {
             draw: RebuiltBuffers::new(),
             hierarchy,

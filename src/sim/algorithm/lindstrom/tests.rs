@@ -25,7 +25,7 @@ fn block_trees_of_every_block_level_partition_the_vertices_into_their_boxes() {
         let hierarchy = bumpy(level);
         let nested = hierarchy.nested_vertex_errors(NestingRule::Max);
         for block_level in 0..=level + 1 {
-            let blocks = BlockTree::new(&hierarchy, &nested, block_level);
+            let blocks = BlockTree::new(&hierarchy, nested.clone(), block_level);
             assert_eq!(blocks.block_level(), block_level.clamp(1, level));
             assert_eq!(blocks.depth(), level - blocks.block_level());
             if let Err(error) = validate_blocks(&blocks, &hierarchy, &nested) {
@@ -39,7 +39,7 @@ fn block_trees_of_every_block_level_partition_the_vertices_into_their_boxes() {
 fn a_33_grid_with_blocks_of_9_samples_has_21_nodes_and_the_leaves_own_the_finest_level() {
     let hierarchy = bumpy(5);
     let nested = hierarchy.nested_vertex_errors(NestingRule::Max);
-    let blocks = BlockTree::new(&hierarchy, &nested, 3);
+    let blocks = BlockTree::new(&hierarchy, nested, 3);
     assert_eq!(blocks.nodes().len(), 1 + 4 + 16);
     let lattice = hierarchy.lattice();
     for node in &blocks.nodes()[5..] {
