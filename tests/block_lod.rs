@@ -14,17 +14,20 @@ use roamsim::sim::algorithm::chunked::{ChunkId, chunks_from_scratch};
 use roamsim::sim::algorithm::columns::chunked::{
     CHUNKS_CULLED, ORDER_INVERSIONS, TARGET_UNREACHABLE,
 };
+use roamsim::sim::algorithm::columns::geomipmap::{PATCHES_CULLED, QUADTREE_NODES_VISITED};
 use roamsim::sim::algorithm::geomipmap::levels_from_scratch;
 use roamsim::sim::algorithm::{
     BlockGoal, Chunked, ChunkedConfig, Geomipmap, GeomipmapConfig, LevelDifference, LodAlgorithm,
     Projection, SkirtDepth,
 };
 use roamsim::sim::audit::{AuditSettings, Auditor};
+use roamsim::sim::draw::DrawCounts;
+use roamsim::sim::draw::check::check_buffers_draw_mesh;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::{CrackPolicy, MeshOutput, TriangleList, TriangleRole};
 use roamsim::sim::stats::{FrameStats, SurfaceCoverage};
 use roamsim::sim::terrain::{Heightfield, Spacing};
-use roamsim::sim::view::{Camera, Pose};
+use roamsim::sim::view::{Camera, Pose, ViewSettings};
 
 /// Eyes over a terrain of side `side` with 10 m posts: above every sample, at 4 m and 70 m
 /// over the highest ground, looking along +x and 25° down.
@@ -647,5 +650,186 @@ fn morphing_makes_level_changes_continuous() {
     assert!(
         morphed < plain / 3.0,
         "geomipmap: {morphed} m with morphing, {plain} m without"
+    );
+}
+
+/// [`checked_step`], then the buffers made drawable (what the runner times as `frame_ns`) and
+/// checked against the mesh as `--check` does; what the frame uploaded and issued.
+fn drawn_step(
+    hierarchy: &Hierarchy,
+    algorithm: &mut dyn LodAlgorithm,
+    frame: u64,
+    camera: &Camera,
+    context: &str,
+) -> (FrameStats, DrawCounts) {
+    let stats = checked_step(hierarchy, algorithm, frame, camera, frame == 0, context);
+    let counts = algorithm.prepare_draw();
+    if let Err(error) = check_buffers_draw_mesh(algorithm.buffers(), algorithm.mesh(), hierarchy) {
+        panic!("{context}, frame {frame}: {error}");
+    }
+    assert_eq!(
+        counts.triangles_submitted, stats.triangles,
+        "{context}, frame {frame}: a patch's list submits its triangles"
+    );
+    (stats, counts)
+}
+
+/// A flight over a 129² terrain: a low pass that turns (levels change, patches leave and
+/// enter the view), a hover (the same camera twice), then a teleport to the far corner.
+fn patch_flight() -> Vec<Camera> {
+    let mut cameras: Vec<Camera> = (0..24)
+        .map(|t| {
+            let t = f64::from(t);
+            Camera::new(
+                &Pose {
+                    position: DVec3::new(60.0 + 25.0 * t, 100.0 + 12.0 * t, 60.0 - 1.5 * t),
+                    yaw: 0.12 * t,
+                    pitch: -0.35,
+                },
+                view_600(),
+            )
+        })
+        .collect();
+    cameras.push(cameras[23]);
+    cameras.push(Camera::new(
+        &Pose {
+            position: DVec3::new(1200.0, 1150.0, 45.0),
+            yaw: 3.5,
+            pitch: -0.4,
+        },
+        view_600(),
+    ));
+    cameras.push(cameras[25]);
+    cameras
+}
+
+#[test]
+fn geomipmap_buffers_are_the_mesh_and_only_a_level_or_morph_change_writes_a_vertex() {
+    let hierarchy = bumpy_terrain(7);
+    for box_culling in [false, true] {
+        for config in [
+            GeomipmapConfig {
+                box_culling,
+                ..geomipmap(8.0, 3)
+            },
+            GeomipmapConfig {
+                morph: true,
+                box_culling,
+                ..geomipmap(5.0, 3)
+            },
+            GeomipmapConfig {
+                morph: true,
+                level_difference: LevelDifference::Any,
+                box_culling,
+                goal: BlockGoal::TargetTriangles(4000),
+                ..geomipmap(1.0, 2)
+            },
+        ] {
+            let context = format!("{config:?}");
+            let mut algorithm = Geomipmap::new(&hierarchy, config, &view_600());
+            let n_patches = algorithm.patches_per_side().pow(2) as u64;
+            let mut previous: Option<(Vec<u32>, Vec<f64>)> = None;
+            let mut level_changes = 0;
+            let mut uploaded_after_the_first_frame = 0;
+            for (frame, camera) in patch_flight().iter().enumerate() {
+                let (stats, counts) =
+                    drawn_step(&hierarchy, &mut algorithm, frame as u64, camera, &context);
+                algorithm
+                    .validate(camera)
+                    .unwrap_or_else(|e| panic!("{context}, frame {frame}: {e}"));
+                let culled = if box_culling {
+                    common::extra(&algorithm, &stats, PATCHES_CULLED) as u64
+                } else {
+                    0
+                };
+                assert_eq!(
+                    counts.draw_calls,
+                    n_patches - culled,
+                    "{context}, frame {frame}: one draw per patch drawn"
+                );
+                let now = (
+                    algorithm.levels().to_vec(),
+                    algorithm.morph_factors().to_vec(),
+                );
+                if let Some(before) = &previous {
+                    level_changes += u64::from(*before != now);
+                    if *before == now && stats.splits + stats.merges == 0 {
+                        // The camera hovered (or the levels and factors did not move): nothing
+                        // is written, whatever the culling did (buffers are kept).
+                        if frame == 24 || frame == 26 {
+                            assert_eq!(counts.upload_bytes, 0, "{context}, frame {frame}");
+                        }
+                    }
+                }
+                if !config.morph && frame > 0 && !box_culling {
+                    // Every vertex buffer exists from the first frame on: a later frame writes
+                    // only index buffers for a (level, sides) not drawn before, never a vertex.
+                    uploaded_after_the_first_frame += counts.upload_bytes;
+                }
+                previous = Some(now);
+            }
+            let k = algorithm.patch_level();
+            let largest_index_buffer = 2 * 4u64.pow(k) * 3 * 4;
+            assert!(
+                uploaded_after_the_first_frame <= u64::from(k + 1) * 16 * largest_index_buffer,
+                "{context}: {uploaded_after_the_first_frame} bytes after the first frame: more \
+                 than one index buffer per (level, stitched sides)"
+            );
+            assert!(
+                level_changes > 3,
+                "{context}: the flight changes levels or factors ({level_changes} times)"
+            );
+        }
+    }
+}
+
+#[test]
+fn geomipmap_with_box_culling_visits_the_patches_in_view_not_the_terrain() {
+    // The same view over a terrain 16 times larger: the quadtree visits a few more nodes (its
+    // depth), the level tests stay those of the patches in view.
+    let terrain = |level: u32| {
+        let side = (1usize << level) + 1;
+        let heights = (0..side * side)
+            .map(|k| {
+                let (i, j) = (k % side, k / side);
+                20.0 * (0.9 * i as f32).sin() * (0.7 * j as f32).cos()
+                    + ((i * 7919 + j * 104_729) % 97) as f32 * 0.3
+            })
+            .collect();
+        Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 10.0, dy: 10.0 }).unwrap())
+    };
+    let (small, large) = (terrain(7), terrain(9));
+    let camera = Camera::new(
+        &Pose {
+            position: DVec3::new(300.0, 300.0, 80.0),
+            yaw: 0.6,
+            pitch: -0.3,
+        },
+        ViewSettings {
+            far: 600.0,
+            ..view_600()
+        },
+    );
+    let run = |hierarchy: &Hierarchy| {
+        let config = GeomipmapConfig {
+            box_culling: true,
+            ..geomipmap(1.0, 3)
+        };
+        let mut algorithm = Geomipmap::new(hierarchy, config, &view_600());
+        let (stats, counts) = drawn_step(hierarchy, &mut algorithm, 0, &camera, "culled");
+        (
+            stats.metric_evaluations,
+            common::extra(&algorithm, &stats, QUADTREE_NODES_VISITED),
+            counts.draw_calls,
+        )
+    };
+    let (small_tests, small_nodes, small_draws) = run(&small);
+    let (large_tests, large_nodes, large_draws) = run(&large);
+    assert_eq!(small_draws, large_draws, "the same patches are in view");
+    assert_eq!(small_tests, large_tests);
+    assert!(
+        // Two more quadtree levels above the same patches: at most four nodes each, twice.
+        large_nodes <= small_nodes + 16.0,
+        "{large_nodes} nodes visited over the large terrain, {small_nodes} over the small one"
     );
 }

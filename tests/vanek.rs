@@ -18,6 +18,7 @@ use roamsim::sim::algorithm::vanek::lods_from_scratch;
 use roamsim::sim::algorithm::{
     LodAlgorithm, LodCurve, LodRounding, PatchDistance, Vanek, VanekConfig,
 };
+use roamsim::sim::draw::check::check_buffers_draw_mesh;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::TriangleRole;
 use roamsim::sim::mesh::check::MeshChecker;
@@ -315,4 +316,117 @@ fn splits_merges_and_vertices_count_the_patches_that_changed() {
     assert!(finer > 0 && coarser > 0, "{before:?} → {after:?}");
     assert_eq!((moved.splits, moved.merges), (finer, coarser));
     assert!(moved.vertices_inserted > 0 && moved.vertices_deleted > 0);
+}
+
+/// A flight over a 129² terrain: a low pass that turns (levels change, patches leave and
+/// enter the view), a hover (the same camera twice), then a teleport and a hover there.
+fn patch_flight() -> Vec<Camera> {
+    let mut cameras: Vec<Camera> = (0..24)
+        .map(|t| {
+            let t = f64::from(t);
+            Camera::new(
+                &Pose {
+                    position: DVec3::new(60.0 + 25.0 * t, 100.0 + 12.0 * t, 60.0 - 1.5 * t),
+                    yaw: 0.12 * t,
+                    pitch: -0.35,
+                },
+                view_600(),
+            )
+        })
+        .collect();
+    cameras.push(cameras[23]);
+    cameras.push(Camera::new(
+        &Pose {
+            position: DVec3::new(1200.0, 1150.0, 45.0),
+            yaw: 3.5,
+            pitch: -0.4,
+        },
+        view_600(),
+    ));
+    cameras.push(cameras[25]);
+    cameras
+}
+
+#[test]
+fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_rewritten() {
+    let hierarchy = bumpy_terrain(7);
+    for config in [
+        vanek(3, 100.0, 900.0),
+        VanekConfig {
+            box_culling: true,
+            ..vanek(3, 100.0, 900.0)
+        },
+        VanekConfig {
+            target_triangles: Some(3000),
+            box_culling: true,
+            ..vanek(2, 50.0, 700.0)
+        },
+    ] {
+        let context = format!("{config:?}");
+        let mut algorithm = Vanek::new(&hierarchy, config);
+        let mut previous: Option<Vec<u32>> = None;
+        let mut level_changes = 0;
+        for (frame, camera) in patch_flight().iter().enumerate() {
+            let stats = checked_step(
+                &hierarchy,
+                &mut algorithm,
+                frame as u64,
+                camera,
+                frame == 0,
+                &context,
+            );
+            let counts = algorithm.prepare_draw();
+            if let Err(error) =
+                check_buffers_draw_mesh(algorithm.buffers(), algorithm.mesh(), &hierarchy)
+            {
+                panic!("{context}, frame {frame}: {error}");
+            }
+            let culled = extra(&algorithm, &stats, PATCHES_CULLED) as u64;
+            let drawn = algorithm.lods().len() as u64 - culled;
+            assert_eq!(
+                counts.draw_calls, drawn,
+                "{context}, frame {frame}: a draw per patch"
+            );
+            assert_eq!(
+                counts.triangles_submitted,
+                stats.triangles + drawn,
+                "{context}, frame {frame}: the strips, one parity index each"
+            );
+            let lods = algorithm.lods().to_vec();
+            if let Some(before) = &previous {
+                level_changes += u64::from(*before != lods);
+                if *before == lods && frame > 0 && (frame == 24 || frame == 26) {
+                    assert_eq!(
+                        counts.upload_bytes, 0,
+                        "{context}, frame {frame}: nothing changed, nothing is written"
+                    );
+                }
+                if frame > 0 && frame != 25 && !config.box_culling {
+                    // Only patches whose level or a neighbour's changed are rewritten: at most
+                    // every patch whose own or a neighbour's level moved.
+                    let per_side = algorithm.patches_per_side() as usize;
+                    let changed = |p: usize| before[p] != lods[p];
+                    let touched = (0..lods.len())
+                        .filter(|&p| {
+                            let (x, y) = (p % per_side, p / per_side);
+                            changed(p)
+                                || (x > 0 && changed(p - 1))
+                                || (x + 1 < per_side && changed(p + 1))
+                                || (y > 0 && changed(p - per_side))
+                                || (y + 1 < per_side && changed(p + per_side))
+                        })
+                        .map(|p| ((1u64 << lods[p]) + 1).pow(2) * 12)
+                        .sum::<u64>();
+                    assert!(
+                        counts.upload_bytes <= touched + 4 * 4 * 300,
+                        "{context}, frame {frame}: {} bytes written, {touched} for the patches \
+                         whose level or neighbours changed",
+                        counts.upload_bytes
+                    );
+                }
+            }
+            previous = Some(lods);
+        }
+        assert!(level_changes > 3, "{context}: the flight changes levels");
+    }
 }

@@ -143,6 +143,7 @@ pub fn geomipmap(tau_px: f64, patch_level: u32) -> GeomipmapConfig {
         level_difference: LevelDifference::AtMostOne,
         morph: false,
         projection: Projection::HorizontalView,
+        box_culling: false,
     }
 }
 

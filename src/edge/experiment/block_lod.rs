@@ -40,6 +40,9 @@ struct GeomipmapParameters {
     /// Default `horizontal_view` (the papers').
     #[serde(default)]
     projection: Option<ProjectionEntry>,
+    /// Default false: every patch drawn.
+    #[serde(default)]
+    box_culling: bool,
 }
 
 /// `chunked`: exactly one of `tau_px` and `target_triangles`; the chunk level c (chunks of
@@ -136,6 +139,7 @@ pub(super) fn geomipmap_config(
             },
             morph: p.morph,
             projection: projection(p.projection),
+            box_culling: p.box_culling,
         })),
         _ => Err(problems),
     }
@@ -377,6 +381,7 @@ mod tests {
                 level_difference: LevelDifference::Any,
                 morph: true,
                 projection: Projection::Exact,
+                box_culling: false,
             })
         );
     }

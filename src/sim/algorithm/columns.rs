@@ -56,6 +56,8 @@ pub mod geomipmap {
     pub const PATCH_LEVEL_MEAN: &str = "patch_level_mean";
     pub const TAU: &str = "tau_px";
     pub const TARGET_UNREACHABLE: &str = "target_unreachable";
+    pub const PATCHES_CULLED: &str = "patches_culled";
+    pub const QUADTREE_NODES_VISITED: &str = "quadtree_nodes_visited";
 }
 
 /// `chunked` (Lauritsen and Nielsen 2005).
@@ -169,6 +171,8 @@ pub const ALL: &[&str] = &[
     geomipmap::PATCH_LEVEL_MEAN,
     geomipmap::TAU,
     geomipmap::TARGET_UNREACHABLE,
+    geomipmap::PATCHES_CULLED,
+    geomipmap::QUADTREE_NODES_VISITED,
     chunked::CHUNKS_DRAWN,
     chunked::CHUNKS_CULLED,
     chunked::SKIRT_DEPTH_MAX,

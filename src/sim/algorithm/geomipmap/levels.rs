@@ -40,7 +40,10 @@ pub(super) const EAST: usize = 1;
 pub(super) const SOUTH: usize = 2;
 pub(super) const NORTH: usize = 3;
 
-/// One frame's levels, factors and distances, per patch (row by row).
+/// One frame's drawn patches, and their levels, factors and distances. Indexed by patch (row
+/// by row) and sized once for every patch; only the entries of this frame's drawn patches
+/// ([`PatchLevels::drawn`]) are this frame's, so that a frame touches only what it draws (with
+/// box culling, the patches in view, not the whole terrain).
 #[derive(Clone, Debug, Default)]
 pub(super) struct PatchLevels {
     /// d per patch (does not depend on τ).
@@ -51,32 +54,80 @@ pub(super) struct PatchLevels {
     pub(super) level: Vec<u32>,
     /// The morph factor (1 with morphing off).
     pub(super) morph: Vec<f64>,
+    /// This frame's drawn patches, ascending.
+    pub(super) drawn: Vec<u32>,
+    /// Per patch, the number of the last frame that drew it.
+    drawn_in: Vec<u32>,
+    /// This frame's number (from 1).
+    frame: u32,
+    /// Per level, the patches whose level is being relaxed (reused).
+    buckets: Vec<Vec<u32>>,
 }
 
 impl PatchLevels {
+    /// Room for every patch of `grid`; nothing drawn yet.
+    pub(super) fn new(grid: &PatchGrid) -> PatchLevels {
+        let n = grid.n_patches();
+        PatchLevels {
+            distance: vec![0.0; n],
+            own: vec![0; n],
+            level: vec![0; n],
+            morph: vec![1.0; n],
+            drawn: Vec::new(),
+            drawn_in: vec![0; n],
+            frame: 0,
+            buckets: vec![Vec::new(); grid.patch_level() as usize + 1],
+        }
+    }
+
     /// Heap bytes held.
     pub(super) fn memory_bytes(&self) -> usize {
         (self.distance.capacity() + self.morph.capacity()) * std::mem::size_of::<f64>()
-            + (self.own.capacity() + self.level.capacity()) * std::mem::size_of::<u32>()
+            + (self.own.capacity()
+                + self.level.capacity()
+                + self.drawn.capacity()
+                + self.drawn_in.capacity())
+                * std::mem::size_of::<u32>()
+            + self
+                .buckets
+                .iter()
+                .map(|b| b.capacity() * std::mem::size_of::<u32>())
+                .sum::<usize>()
+    }
+
+    /// Whether `patch` is drawn this frame.
+    pub(super) fn is_drawn(&self, patch: usize) -> bool {
+        self.drawn_in[patch] == self.frame
+    }
+
+    /// This frame's number (from 1).
+    pub(super) fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// The drawn neighbours of `patch` (WEST, EAST, SOUTH, NORTH); `None` at the terrain's
+    /// edge and where the neighbour is not drawn (a culled neighbour needs no stitch).
+    pub(super) fn neighbours(&self, grid: &PatchGrid, patch: usize) -> [Option<usize>; 4] {
+        let per_side = grid.per_side() as usize;
+        let (px, py) = (patch % per_side, patch / per_side);
+        [
+            (px > 0).then(|| patch - 1),
+            (px + 1 < per_side).then(|| patch + 1),
+            (py > 0).then(|| patch - per_side),
+            (py + 1 < per_side).then(|| patch + per_side),
+        ]
+        .map(|q| q.filter(|&q| self.is_drawn(q)))
     }
 
     /// The level and factor each side (WEST, EAST, SOUTH, NORTH) of patch `patch` is drawn at:
-    /// its own, or its neighbour's where that looks coarser. Written out, without an array
-    /// map's closure calls (the update asks it of every patch every frame).
+    /// its own, or its drawn neighbour's where that looks coarser.
     pub(super) fn sides(&self, grid: &PatchGrid, patch: usize) -> [(u32, f64); 4] {
-        let per_side = grid.per_side() as usize;
-        let (px, py) = (patch % per_side, patch / per_side);
         let own = (self.level[patch], self.morph[patch]);
-        let with = |neighbour: Option<usize>| match neighbour {
-            None => own,
-            Some(q) => coarser(own, (self.level[q], self.morph[q])),
-        };
-        [
-            with((px > 0).then(|| patch - 1)),
-            with((px + 1 < per_side).then(|| patch + 1)),
-            with((py > 0).then(|| patch - per_side)),
-            with((py + 1 < per_side).then(|| patch + per_side)),
-        ]
+        self.neighbours(grid, patch)
+            .map(|neighbour| match neighbour {
+                None => own,
+                Some(q) => coarser(own, (self.level[q], self.morph[q])),
+            })
     }
 }
 
@@ -89,13 +140,19 @@ pub(super) fn coarser(a: (u32, f64), b: (u32, f64)) -> (u32, f64) {
     }
 }
 
-/// Measures every patch's distance (once per frame).
-pub(super) fn measure(grid: &PatchGrid, distance: impl Fn(usize) -> f64, out: &mut PatchLevels) {
-    out.distance.clear();
-    out.distance.extend((0..grid.n_patches()).map(distance));
+/// Starts a frame drawing the patches `drawn` (ascending) and measures their distances.
+pub(super) fn measure(drawn: &[u32], distance: impl Fn(usize) -> f64, out: &mut PatchLevels) {
+    out.frame += 1;
+    out.drawn.clear();
+    out.drawn.extend_from_slice(drawn);
+    for &patch in drawn {
+        out.drawn_in[patch as usize] = out.frame;
+        out.distance[patch as usize] = distance(patch as usize);
+    }
 }
 
-/// Chooses every patch's level for `threshold` (steps 1 and 2); returns the level tests made.
+/// Chooses every drawn patch's level for `threshold` (steps 1 and 2); returns the level tests
+/// made. O(drawn patches · levels).
 pub(super) fn choose_levels(
     grid: &PatchGrid,
     threshold: &DetailThreshold,
@@ -104,8 +161,10 @@ pub(super) fn choose_levels(
 ) -> u64 {
     let k = grid.patch_level();
     let mut tests = 0;
-    out.own.clear();
-    for (errors, &d) in grid.errors_by_patch().zip(&out.distance) {
+    for &patch in &out.drawn {
+        let patch = patch as usize;
+        let errors = grid.errors(patch);
+        let d = out.distance[patch];
         let mut level = k;
         loop {
             tests += 1;
@@ -114,42 +173,35 @@ pub(super) fn choose_levels(
             }
             level -= 1;
         }
-        out.own.push(level);
+        out.own[patch] = level;
+        out.level[patch] = level;
     }
-    out.level.clear();
-    out.level.extend_from_slice(&out.own);
     if difference == LevelDifference::AtMostOne {
-        let n = grid.per_side() as usize;
-        let level = &mut out.level;
-        for y in 0..n {
-            for x in 0..n {
-                let mut l = level[y * n + x];
-                if x > 0 {
-                    l = l.min(level[y * n + x - 1] + 1);
+        // ℓ(P) = min over drawn Q of ℓ_own(Q) + |P − Q|₁ along drawn patches: a breadth-first
+        // relaxation by level (every patch drawn: the city-block distance transform).
+        let mut buckets = std::mem::take(&mut out.buckets);
+        for &patch in &out.drawn {
+            buckets[out.level[patch as usize] as usize].push(patch);
+        }
+        for l in 0..buckets.len() {
+            while let Some(patch) = buckets[l].pop() {
+                if out.level[patch as usize] != l as u32 {
+                    continue;
                 }
-                if y > 0 {
-                    l = l.min(level[(y - 1) * n + x] + 1);
+                for q in out.neighbours(grid, patch as usize).into_iter().flatten() {
+                    if out.level[q] > l as u32 + 1 {
+                        out.level[q] = l as u32 + 1;
+                        buckets[l + 1].push(q as u32);
+                    }
                 }
-                level[y * n + x] = l;
             }
         }
-        for y in (0..n).rev() {
-            for x in (0..n).rev() {
-                let mut l = level[y * n + x];
-                if x + 1 < n {
-                    l = l.min(level[y * n + x + 1] + 1);
-                }
-                if y + 1 < n {
-                    l = l.min(level[(y + 1) * n + x] + 1);
-                }
-                level[y * n + x] = l;
-            }
-        }
+        out.buckets = buckets;
     }
     tests
 }
 
-/// Sets every patch's morph factor from its level (step 3).
+/// Sets every drawn patch's morph factor from its level (step 3).
 pub(super) fn set_morph_factors(
     grid: &PatchGrid,
     threshold: &DetailThreshold,
@@ -157,10 +209,10 @@ pub(super) fn set_morph_factors(
     out: &mut PatchLevels,
 ) {
     let k = grid.patch_level();
-    out.morph.clear();
-    for patch in 0..grid.n_patches() {
+    for &patch in &out.drawn {
+        let patch = patch as usize;
         let level = out.level[patch];
-        let f = if morph && level < k {
+        out.morph[patch] = if morph && level < k {
             threshold.morph_factor(
                 grid.error(patch, level),
                 grid.error(patch, level + 1),
@@ -169,7 +221,6 @@ pub(super) fn set_morph_factors(
         } else {
             1.0
         };
-        out.morph.push(f);
     }
 }
 

@@ -1,7 +1,7 @@
 //! `geomipmap`: de Boer's geometrical mipmapping (2000; not in `papers/`), as Lauritsen and
-//! Nielsen survey it (§2.5, eq. 3.3): fixed patches of (2^k + 1)² samples, each drawn every frame
-//! at the level its distance allows, borders between levels stitched, optional geomorphing. It
-//! culls nothing: the quadtree over the patches the survey mentions for culling is not built.
+//! Nielsen survey it (§2.5, eq. 3.3): fixed patches of (2^k + 1)² samples, each drawn at the
+//! level its distance allows, borders between levels stitched, optional geomorphing, and with
+//! `box_culling` the patches outside the view left out through a quadtree over them.
 //!
 //! # The algorithm
 //!
@@ -13,6 +13,16 @@
 //! - **Stitching** (`stitch.rs`): a patch whose neighbour is coarser leaves out the border
 //!   vertices the neighbour lacks and fans its border strip to the ones it keeps (role stitch);
 //!   the surface is closed (crack policy `stitched`).
+//! - **Culling** (`quadtree.rs`, option `box_culling`): a quadtree over the patches, each node
+//!   with its patches' height range; a node outside the view is left with everything below it
+//!   and declared to the mesh as a culled region. Levels, stitching and factors are then chosen
+//!   over the drawn patches only (a culled neighbour is no neighbour: nothing to stitch to), so
+//!   a frame costs O(patches in view), whatever the terrain's size. Without it every patch is
+//!   drawn, as before.
+//! - **GPU side** (`buffers.rs`, issue #31): per patch a static vertex buffer of its
+//!   full-resolution samples, index buffers shared per (level, stitched sides), one draw per
+//!   patch; a level change picks another index buffer and writes no vertex; geomorphing writes
+//!   the morphing patches' heights from the CPU, as de Boer does (decision and reasons there).
 //! - **Geomorphing**, an effect: odd vertices move towards the coarser level by de Boer's
 //!   factor (eq. 3.5), patch borders by the coarser-looking side's factor, so the surface stays
 //!   closed while it morphs.
@@ -37,14 +47,18 @@
 //!   tests (δ·C against d), over every pass of the frame. Columns:
 //!   `patches_refined_for_neighbours` (patches drawn finer than their criterion for the level
 //!   limit), `stitched_sides`, `patch_level_mean` (0 = full resolution), `tau_px`,
-//!   `target_unreachable`. Every patch is drawn every frame, one draw batch each.
+//!   `target_unreachable`; with `box_culling` also `patches_culled` and
+//!   `quadtree_nodes_visited`. One draw per drawn patch.
 //!
 //! Memory: the patch grid (about 0.1 B per sample for 17² patches), per patch a few words of
-//! frame state, the triangle list. Per frame: O(patches · levels + drawn triangles).
+//! frame state, the quadtree, the triangle list, the vertex buffers of the patches drawn so
+//! far. Per frame: O(drawn patches · levels + drawn triangles + quadtree nodes visited).
 
 mod brute_force;
+mod buffers;
 mod levels;
 mod patches;
+mod quadtree;
 mod stitch;
 mod validate;
 
@@ -57,14 +71,15 @@ use super::block_lod::threshold::DetailThreshold;
 use super::block_lod::{BlockGoal, Projection};
 use super::columns::geomipmap as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::emit::RebuiltBuffers;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
-use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
+use crate::sim::mesh::{CrackPolicy, MeshOutput, SubgridPoint, TriangleList};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
+use buffers::{MorphKey, PatchBuffers};
 use levels::{PatchLevels, choose_levels, measure, set_morph_factors};
 use patches::PatchGrid;
+use quadtree::PatchQuadtree;
 use stitch::{PatchDraw, PatchScratch, add_patch};
 
 pub(super) const NAME: &str = "geomipmap";
@@ -77,6 +92,17 @@ const EXTRA_COLUMNS: &[&str] = &[
     columns::TARGET_UNREACHABLE,
 ];
 
+/// With box culling, also what the quadtree culled and visited.
+const CULLING_COLUMNS: &[&str] = &[
+    columns::PATCHES_REFINED_FOR_NEIGHBOURS,
+    columns::STITCHED_SIDES,
+    columns::PATCH_LEVEL_MEAN,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::PATCHES_CULLED,
+    columns::QUADTREE_NODES_VISITED,
+];
+
 /// Parameters of geometrical mipmapping.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GeomipmapConfig {
@@ -87,6 +113,9 @@ pub struct GeomipmapConfig {
     /// Geomorphing by de Boer's factor.
     pub morph: bool,
     pub projection: Projection,
+    /// Patches whose box is outside the view are not drawn, found through the quadtree over
+    /// the patches (de Boer's; default false: every patch drawn, as before).
+    pub box_culling: bool,
 }
 
 /// What a patch drew last frame: its triangulation, its morph state, its vertices.
@@ -103,16 +132,8 @@ struct PatchState {
 /// The stitch step of each side (WEST, EAST, SOUTH, NORTH) of `patch` at the current levels:
 /// `None` where the neighbour is not coarser (or there is none).
 fn stitch_steps(grid: &PatchGrid, levels: &PatchLevels, patch: usize) -> [Option<u32>; 4] {
-    let per_side = grid.per_side() as usize;
-    let (px, py) = (patch % per_side, patch / per_side);
     let own = levels.level[patch];
-    [
-        (px > 0).then(|| patch - 1),
-        (px + 1 < per_side).then(|| patch + 1),
-        (py > 0).then(|| patch - per_side),
-        (py + 1 < per_side).then(|| patch + per_side),
-    ]
-    .map(|neighbour| {
+    levels.neighbours(grid, patch).map(|neighbour| {
         neighbour
             .map(|q| levels.level[q])
             .filter(|&side| side > own)
@@ -120,10 +141,19 @@ fn stitch_steps(grid: &PatchGrid, levels: &PatchLevels, patch: usize) -> [Option
     })
 }
 
-/// Geometrical mipmapping. Per frame: O(patches · levels + drawn triangles); buffers reused.
+/// Geometrical mipmapping. Per frame: O(drawn patches · levels + drawn triangles); buffers
+/// reused.
 pub struct Geomipmap<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
+    /// The buffers a GPU draws this frame's mesh from (`buffers.rs`).
+    draw: PatchBuffers,
+    quadtree: PatchQuadtree,
+    /// This frame's patches not culled, and the squares of the quadtree nodes culled (reused).
+    visible: Vec<u32>,
+    culled_squares: Vec<((u32, u32), u32)>,
+    /// This frame's drawn patches as drawn, for `prepare_draw` (reused).
+    patch_draws: Vec<(usize, PatchDraw, Option<MorphKey>)>,
+    /// Quadtree nodes visited this frame.
+    nodes_visited: u64,
     hierarchy: &'h Hierarchy,
     config: GeomipmapConfig,
     lambda: f64,
@@ -133,8 +163,10 @@ pub struct Geomipmap<'h> {
     scratch: PatchScratch,
     tau_px: f64,
     target_unreachable: bool,
-    previous: Vec<Option<PatchState>>,
-    current: Vec<Option<PatchState>>,
+    /// Per patch, the frame it was last drawn in and what it drew.
+    states: Vec<Option<(u32, PatchState)>>,
+    /// Last frame's drawn patches, ascending.
+    previous_drawn: Vec<u32>,
 }
 
 impl<'h> Geomipmap<'h> {
@@ -158,18 +190,23 @@ impl<'h> Geomipmap<'h> {
         let grid = PatchGrid::new(hierarchy, config.patch_level);
         let n = grid.n_patches();
         Geomipmap {
-            draw: RebuiltBuffers::new(),
+            draw: PatchBuffers::new(n),
+            quadtree: PatchQuadtree::new(&grid),
+            visible: Vec::new(),
+            culled_squares: Vec::new(),
+            patch_draws: Vec::new(),
+            nodes_visited: 0,
             hierarchy,
             config,
             lambda: view.pixels_per_unit(),
+            levels: PatchLevels::new(&grid),
             grid,
-            levels: PatchLevels::default(),
             list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Stitched),
             scratch: PatchScratch::default(),
             tau_px,
             target_unreachable: false,
-            previous: vec![None; n],
-            current: vec![None; n],
+            states: vec![None; n],
+            previous_drawn: Vec::new(),
         }
     }
 
@@ -213,40 +250,28 @@ impl<'h> Geomipmap<'h> {
         })
     }
 
-    /// Triangles the current levels draw (without building them): per patch of n cells a side,
+    /// Triangles the current levels draw (without building them): per drawn patch of n cells a side,
     /// 2n² less, per side stitched at step 2^Δ, the n − n/2^Δ triangles its zipped strip saves
     /// (the sum of [`stitch::patch_triangles`] over the patches, in closed form: the target search
     /// runs this about ten times a frame). O(patches), no allocation.
     fn count_triangles(grid: &PatchGrid, levels: &PatchLevels) -> u64 {
-        let per_side = grid.per_side() as usize;
         let cells = u64::from(grid.cells());
-        let level = &levels.level;
         let mut total = 0;
-        for (py, row) in level.chunks_exact(per_side).enumerate() {
-            for (px, &own) in row.iter().enumerate() {
-                let n = cells >> own;
-                let saved = |neighbour: u32| {
-                    if neighbour > own {
-                        n - (n >> (neighbour - own))
-                    } else {
-                        0
-                    }
-                };
-                let mut triangles = 2 * n * n;
-                if px > 0 {
-                    triangles -= saved(row[px - 1]);
+        for &patch in &levels.drawn {
+            let own = levels.level[patch as usize];
+            let n = cells >> own;
+            let mut triangles = 2 * n * n;
+            for neighbour in levels
+                .neighbours(grid, patch as usize)
+                .into_iter()
+                .flatten()
+            {
+                let side = levels.level[neighbour];
+                if side > own {
+                    triangles -= n - (n >> (side - own));
                 }
-                if px + 1 < per_side {
-                    triangles -= saved(row[px + 1]);
-                }
-                if py > 0 {
-                    triangles -= saved(level[(py - 1) * per_side + px]);
-                }
-                if py + 1 < per_side {
-                    triangles -= saved(level[(py + 1) * per_side + px]);
-                }
-                total += triangles;
             }
+            total += triangles;
         }
         total
     }
@@ -276,14 +301,24 @@ impl LodAlgorithm for Geomipmap<'_> {
     }
 
     fn extra_columns(&self) -> &'static [&'static str] {
-        EXTRA_COLUMNS
+        if self.config.box_culling {
+            CULLING_COLUMNS
+        } else {
+            EXTRA_COLUMNS
+        }
     }
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let eye = input.camera.eye;
         let (grid, projection) = (&self.grid, self.config.projection);
-        measure(
+        self.nodes_visited = self.quadtree.visible_patches(
             grid,
+            self.config.box_culling.then_some(input.camera),
+            &mut self.visible,
+            &mut self.culled_squares,
+        );
+        measure(
+            &self.visible,
             |patch| grid.block_box(patch).lod_distance(eye, projection),
             &mut self.levels,
         );
@@ -298,10 +333,19 @@ impl LodAlgorithm for Geomipmap<'_> {
         set_morph_factors(&self.grid, &threshold, self.config.morph, &mut self.levels);
 
         self.list.clear();
+        for &((x0, y0), cells) in &self.culled_squares {
+            self.list.add_culled_region(
+                SubgridPoint::grid(x0, y0),
+                SubgridPoint::grid(x0 + cells, y0 + cells),
+            );
+        }
+        self.patch_draws.clear();
         let k = self.grid.patch_level();
         let per_side = self.grid.per_side();
         let mut stitched_sides = 0;
-        for patch in 0..self.grid.n_patches() {
+        let (mut finer, mut coarser, mut inserted, mut deleted) = (0, 0, 0, 0);
+        for &patch in &self.levels.drawn {
+            let patch = patch as usize;
             let (px, py) = (patch as u32 % per_side, patch as u32 / per_side);
             let level = self.levels.level[patch];
             let sides = self.levels.sides(&self.grid, patch);
@@ -316,7 +360,7 @@ impl LodAlgorithm for Geomipmap<'_> {
                 list_level: k - level,
             };
             let added = add_patch(&mut self.list, self.hierarchy, &draw, &mut self.scratch);
-            self.current[patch] = Some(PatchState {
+            let now = PatchState {
                 shape: [level, sides[0].0, sides[1].0, sides[2].0, sides[3].0],
                 morph: [
                     draw.morph.to_bits(),
@@ -327,12 +371,11 @@ impl LodAlgorithm for Geomipmap<'_> {
                 ],
                 vertices: added.vertices,
                 morphing_vertices: added.morphing_vertices,
-            });
-        }
-
-        let (mut finer, mut coarser, mut inserted, mut deleted) = (0, 0, 0, 0);
-        for (now, before) in self.current.iter().zip(&self.previous) {
-            let Some(now) = now else { continue };
+            };
+            let frame = self.levels.frame();
+            let before = self.states[patch]
+                .filter(|&(drawn_in, _)| drawn_in + 1 == frame)
+                .map(|(_, state)| state);
             match before {
                 None => inserted += now.vertices,
                 Some(before) if before.shape != now.shape => {
@@ -343,15 +386,32 @@ impl LodAlgorithm for Geomipmap<'_> {
                 }
                 Some(_) => {}
             }
+            self.states[patch] = Some((frame, now));
+            let morphing = draw.morph < 1.0 || sides.iter().any(|side| side.1 < 1.0);
+            self.patch_draws
+                .push((patch, draw, morphing.then_some((now.shape, now.morph))));
         }
-        std::mem::swap(&mut self.previous, &mut self.current);
+        for &patch in &self.previous_drawn {
+            if !self.levels.is_drawn(patch as usize) {
+                deleted += self.states[patch as usize].map_or(0, |(_, state)| state.vertices);
+            }
+        }
+        self.previous_drawn.clone_from(&self.levels.drawn);
 
-        let n_patches = self.grid.n_patches();
-        let refined_for_neighbours = (0..n_patches)
-            .filter(|&p| self.levels.level[p] < self.levels.own[p])
+        let n_drawn = self.levels.drawn.len();
+        let refined_for_neighbours = self
+            .levels
+            .drawn
+            .iter()
+            .filter(|&&p| self.levels.level[p as usize] < self.levels.own[p as usize])
             .count();
-        let level_mean =
-            self.levels.level.iter().map(|&l| f64::from(l)).sum::<f64>() / n_patches as f64;
+        let level_mean = self
+            .levels
+            .drawn
+            .iter()
+            .map(|&p| f64::from(self.levels.level[p as usize]))
+            .sum::<f64>()
+            / n_drawn.max(1) as f64;
         stats.triangles = self.list.n_triangles();
         stats.splits = finer;
         stats.merges = coarser;
@@ -365,11 +425,18 @@ impl LodAlgorithm for Geomipmap<'_> {
             self.tau_px,
             f64::from(u8::from(self.target_unreachable)),
         ];
+        if self.config.box_culling {
+            stats.extra.push((self.grid.n_patches() - n_drawn) as f64);
+            stats.extra.push(self.nodes_visited as f64);
+        }
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw
-            .prepare(MeshOutput::triangles(&self.list), self.hierarchy)
+        self.draw.begin_frame();
+        for (patch, draw, morph) in &self.patch_draws {
+            self.draw.draw_patch(self.hierarchy, *patch, draw, *morph);
+        }
+        self.draw.end_frame()
     }
 
     fn buffers(&self) -> &GpuBuffers {
@@ -389,8 +456,14 @@ impl LodAlgorithm for Geomipmap<'_> {
             + self.levels.memory_bytes()
             + self.list.memory_bytes()
             + self.scratch.memory_bytes()
-            + (self.previous.capacity() + self.current.capacity())
-                * std::mem::size_of::<Option<PatchState>>()
+            + self.states.capacity() * std::mem::size_of::<Option<(u32, PatchState)>>()
+            + self.previous_drawn.capacity() * std::mem::size_of::<u32>()
+            + self.quadtree.memory_bytes()
+            + self.visible.capacity() * std::mem::size_of::<u32>()
+            + self.culled_squares.capacity() * std::mem::size_of::<((u32, u32), u32)>()
+            + self.patch_draws.capacity()
+                * std::mem::size_of::<(usize, PatchDraw, Option<MorphKey>)>()
+            + self.draw.memory_bytes()
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
@@ -424,10 +497,10 @@ mod tests {
                     ((state >> 33) % 4) as u32
                 })
                 .collect();
-            let levels = PatchLevels {
-                level,
-                ..PatchLevels::default()
-            };
+            let mut levels = PatchLevels::new(&grid);
+            let every: Vec<u32> = (0..grid.n_patches() as u32).collect();
+            measure(&every, |_| 0.0, &mut levels);
+            levels.level = level;
             let summed: u64 = (0..grid.n_patches())
                 .map(|patch| {
                     patch_triangles(

@@ -103,9 +103,10 @@ impl PatchGrid {
         self.errors[patch * (self.patch_level as usize + 1) + level as usize]
     }
 
-    /// Every patch's nested errors D_0 .. D_k, patch by patch (row by row).
-    pub(super) fn errors_by_patch(&self) -> std::slice::ChunksExact<'_, f32> {
-        self.errors.chunks_exact(self.patch_level as usize + 1)
+    /// Patch `patch`'s nested errors D_0 .. D_k.
+    pub(super) fn errors(&self, patch: usize) -> &[f32] {
+        let levels = self.patch_level as usize + 1;
+        &self.errors[patch * levels..(patch + 1) * levels]
     }
 
     /// The patch's box: its square times its samples' height range.
@@ -126,6 +127,11 @@ impl PatchGrid {
                 f64::from(high),
             ),
         }
+    }
+
+    /// Patch `patch`'s lowest and highest sample.
+    pub(super) fn z_range(&self, patch: usize) -> (f32, f32) {
+        self.z_range[patch]
     }
 
     /// Heap bytes held.

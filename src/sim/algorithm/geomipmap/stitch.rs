@@ -54,7 +54,7 @@ pub(super) struct PatchDraw {
 
 impl PatchDraw {
     /// Cells a side at the patch's level.
-    fn n(&self) -> u32 {
+    pub(super) fn n(&self) -> u32 {
         self.patch_cells >> self.level
     }
 
@@ -126,39 +126,51 @@ pub(super) struct PatchAdded {
     pub(super) morphing_vertices: u64,
 }
 
-/// Adds `patch` to `list`.
-pub(super) fn add_patch(
-    list: &mut TriangleList,
-    hierarchy: &Hierarchy,
-    patch: &PatchDraw,
-    scratch: &mut PatchScratch,
-) -> PatchAdded {
-    let n = patch.n();
-    let stitched = [WEST, EAST, SOUTH, NORTH].map(|side| patch.stitch_step(side));
-    scratch.indices.clear();
-    scratch
-        .indices
-        .resize(((n + 1) * (n + 1)) as usize, u32::MAX);
-    let mut added = PatchAdded::default();
-    let mut vertex = |list: &mut TriangleList, a: u32, b: u32| -> u32 {
-        let slot = (b * (n + 1) + a) as usize;
-        if scratch.indices[slot] == u32::MAX {
-            let (position, z, morphing) = vertex_at(hierarchy, patch, a, b);
-            scratch.indices[slot] = if morphing {
-                added.morphing_vertices += 1;
-                list.add_morphing_vertex(position, z)
-            } else {
-                list.add_vertex(position, z)
-            };
-            added.vertices += 1;
+/// One primitive of a patch, in the patch's grid steps (a, b) at its level.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum PatchPrimitive {
+    /// A regular cell, its corners in the order its vertices are first taken (south-west,
+    /// south-east, north-west, north-east); two triangles by [`cell_triangles`].
+    Cell([(u32, u32); 4]),
+    /// A stitch triangle: its corners in the zip's order and whether its last two corners
+    /// are swapped to run counter-clockwise.
+    Stitch([(u32, u32); 3], bool),
+}
+
+impl PatchPrimitive {
+    /// The triangles of the primitive (counter-clockwise), given each corner's index.
+    pub(super) fn triangles(
+        self,
+        mut index: impl FnMut((u32, u32)) -> u32,
+    ) -> ([[u32; 3]; 2], usize) {
+        match self {
+            PatchPrimitive::Cell(corners) => {
+                let [sw, se, nw, ne] = corners.map(&mut index);
+                (cell_triangles(sw, se, nw, ne), 2)
+            }
+            PatchPrimitive::Stitch(corners, swapped) => {
+                let [first, second, third] = corners.map(&mut index);
+                let triangle = if swapped {
+                    [first, third, second]
+                } else {
+                    [first, second, third]
+                };
+                ([triangle, triangle], 1)
+            }
         }
-        scratch.indices[slot]
-    };
-    let info = |role| TriangleInfo {
-        role,
-        group: patch.group,
-        level: patch.list_level,
-    };
+    }
+}
+
+/// Walks the primitives of a patch of `n` cells a side whose sides are stitched at the steps
+/// `stitched` (WEST, EAST, SOUTH, NORTH; `None`: not stitched), in drawing order: the regular
+/// cells row by row, then each stitched side's zipped strip. The one walk both the mesh
+/// ([`add_patch`]) and the shared index buffers (`buffers.rs`) are made from, so that they
+/// list the same triangles with the same corners and winding.
+pub(super) fn for_each_patch_primitive(
+    n: u32,
+    stitched: [Option<u32>; 4],
+    mut visit: impl FnMut(PatchPrimitive),
+) {
     for b in 0..n {
         for a in 0..n {
             let touches_stitch = (a == 0 && stitched[WEST].is_some())
@@ -168,11 +180,12 @@ pub(super) fn add_patch(
             if touches_stitch {
                 continue;
             }
-            let (sw, se) = (vertex(list, a, b), vertex(list, a + 1, b));
-            let (nw, ne) = (vertex(list, a, b + 1), vertex(list, a + 1, b + 1));
-            for corners in cell_triangles(sw, se, nw, ne) {
-                list.add_triangle(corners, info(TriangleRole::Surface));
-            }
+            visit(PatchPrimitive::Cell([
+                (a, b),
+                (a + 1, b),
+                (a, b + 1),
+                (a + 1, b + 1),
+            ]));
         }
     }
     for side in [WEST, EAST, SOUTH, NORTH] {
@@ -226,23 +239,67 @@ pub(super) fn add_patch(
                 inner += 1;
                 [o, i, next]
             };
-            // The vertices are added in the zip's order; the triangle is listed
-            // counter-clockwise.
-            let [first, second, third] = corners.map(|(a, b)| vertex(list, a, b));
-            let corners = if advance_outer == inner_on_the_right {
-                [first, third, second]
-            } else {
-                [first, second, third]
-            };
-            list.add_triangle(corners, info(TriangleRole::Stitch));
+            visit(PatchPrimitive::Stitch(
+                corners,
+                advance_outer == inner_on_the_right,
+            ));
         }
     }
+}
+
+/// The stitch steps of `patch`'s sides (WEST, EAST, SOUTH, NORTH).
+pub(super) fn stitch_steps_of(patch: &PatchDraw) -> [Option<u32>; 4] {
+    [WEST, EAST, SOUTH, NORTH].map(|side| patch.stitch_step(side))
+}
+
+/// Adds `patch` to `list`.
+pub(super) fn add_patch(
+    list: &mut TriangleList,
+    hierarchy: &Hierarchy,
+    patch: &PatchDraw,
+    scratch: &mut PatchScratch,
+) -> PatchAdded {
+    let n = patch.n();
+    scratch.indices.clear();
+    scratch
+        .indices
+        .resize(((n + 1) * (n + 1)) as usize, u32::MAX);
+    let mut added = PatchAdded::default();
+    let info = |role| TriangleInfo {
+        role,
+        group: patch.group,
+        level: patch.list_level,
+    };
+    for_each_patch_primitive(n, stitch_steps_of(patch), |primitive| {
+        // The vertices are added in the walk's order.
+        let (triangles, count) = primitive.triangles(|(a, b)| {
+            let slot = (b * (n + 1) + a) as usize;
+            if scratch.indices[slot] == u32::MAX {
+                let (position, z, morphing) = vertex_at(hierarchy, patch, a, b);
+                scratch.indices[slot] = if morphing {
+                    added.morphing_vertices += 1;
+                    list.add_morphing_vertex(position, z)
+                } else {
+                    list.add_vertex(position, z)
+                };
+                added.vertices += 1;
+            }
+            scratch.indices[slot]
+        });
+        let role = match primitive {
+            PatchPrimitive::Cell(_) => TriangleRole::Surface,
+            PatchPrimitive::Stitch(..) => TriangleRole::Stitch,
+        };
+        for corners in &triangles[..count] {
+            list.add_triangle(*corners, info(role));
+        }
+    });
     added
 }
 
 /// Vertex (a, b) of the patch's grid: its position, its height (morphed or not), and whether
 /// it is morphing.
-fn vertex_at(
+pub(super) fn vertex_at(
     hierarchy: &Hierarchy,
     patch: &PatchDraw,
     a: u32,

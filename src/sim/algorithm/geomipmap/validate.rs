@@ -12,6 +12,9 @@
 //!    neighbour holds it there (ℓ = neighbour's + 1); with `Any` the levels are the criterion's;
 //! 4. every morph factor is eq. 3.5's for the drawn level (1 at the coarsest, in [0, 1]);
 //! 5. the triangle list has the triangles the levels imply, the stitch triangles among them.
+//!
+//! With box culling, steps 2–5 are over the drawn patches, and a culled neighbour is no
+//! neighbour (nothing is drawn to stitch to); without it, every patch must be drawn.
 
 use super::super::block_lod::threshold::DetailThreshold;
 use super::levels::PatchLevels;
@@ -107,6 +110,16 @@ pub(super) fn validate(view: &FrameView) -> Result<(), GeomipmapError> {
                 });
             }
         }
+        if !levels.is_drawn(patch) {
+            if !view.config.box_culling {
+                return Err(GeomipmapError::LevelWrong {
+                    patch,
+                    level: levels.level[patch],
+                    problem: "not drawn although nothing is culled",
+                });
+            }
+            continue;
+        }
         let d = block.lod_distance(view.camera.eye, view.config.projection);
         let acceptable = |level: u32| level == 0 || !threshold.refines(grid.error(patch, level), d);
         let own = levels.own[patch];
@@ -119,15 +132,11 @@ pub(super) fn validate(view: &FrameView) -> Result<(), GeomipmapError> {
             });
         }
         let level = levels.level[patch];
-        let neighbours: Vec<usize> = [
-            (px > 0).then(|| patch - 1),
-            (px + 1 < per_side).then(|| patch + 1),
-            (py > 0).then(|| patch - per_side as usize),
-            (py + 1 < per_side).then(|| patch + per_side as usize),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
+        let neighbours: Vec<usize> = levels
+            .neighbours(grid, patch)
+            .into_iter()
+            .flatten()
+            .collect();
         let problem = match view.config.level_difference {
             _ if level > own => Some("coarser than its criterion"),
             LevelDifference::Any if level != own => Some("not its criterion's level"),
@@ -168,7 +177,8 @@ pub(super) fn validate(view: &FrameView) -> Result<(), GeomipmapError> {
     }
     let mut triangles = 0;
     let mut stitches = 0;
-    for patch in 0..grid.n_patches() {
+    for &patch in &levels.drawn {
+        let patch = patch as usize;
         let n = cells >> levels.level[patch];
         let stitched = stitch_steps(grid, levels, patch);
         triangles += patch_triangles(n, stitched);

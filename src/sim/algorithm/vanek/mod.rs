@@ -22,6 +22,15 @@
 //!   k′ < k, the side's vertices that the neighbour lacks are moved (in the vertex buffer, the
 //!   index buffer unchanged) onto one the neighbour has; the triangles this flattens are
 //!   degenerate too, and the rest of the patch meets the neighbour edge for edge.
+//! - **GPU side** (issue #31, §2–3): the paper keeps "one index buffer for all patches of the
+//!   same level" (the strip, built once per level on first use) and per patch a vertex buffer
+//!   holding its level's vertices, border ones already moved onto the coarser neighbour's, so a
+//!   patch's vertex buffer is rewritten only when its level or a neighbour's collapsing level
+//!   changes (its shape: k and the four side levels), never otherwise; a culled patch keeps its
+//!   buffer. One strip draw per drawn patch. The index buffer starts with its first index
+//!   repeated, which makes a GPU read the paper's strip with the parity roamsim draws it with
+//!   (counter-clockwise; see Winding below): one more degenerate triangle per draw, counted in
+//!   `triangles_submitted`, not in the mesh.
 //! - **Box culling** (§3), an effect (`box_culling`): a patch whose box (square × its samples'
 //!   height range) lies entirely outside the view volume is not drawn and is declared to the
 //!   mesh as a culled region. Levels and collapses are chosen as without culling, so the drawn
@@ -85,8 +94,9 @@ use super::block_lod::cull::box_outside_view;
 use super::block_lod::threshold::BlockBox;
 use super::columns::vanek as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::emit::RebuiltBuffers;
-use crate::sim::draw::{DrawCounts, GpuBuffers};
+use crate::sim::draw::{
+    BufferId, DrawCall, DrawCounts, DrawVertex, GpuBuffers, Topology, VERTEX_BYTES,
+};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::{
     CrackPolicy, MeshOutput, SubgridPoint, TriangleInfo, TriangleList, TriangleRole,
@@ -138,7 +148,16 @@ struct PatchState {
 /// The Vaněk–Ježek patches. Per frame: O(patches + drawn indices); buffers reused.
 pub struct Vanek<'h> {
     /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
+    /// The buffers a GPU draws this frame's mesh from (see the module docs, "GPU side").
+    gpu: GpuBuffers,
+    /// Per level k, the paper's strip as one shared index buffer and its index count.
+    level_strips: Vec<Option<(BufferId, u32)>>,
+    /// Per patch, its vertex buffer and the shape (level, side levels) it holds.
+    patch_vertices: Vec<Option<(BufferId, [u32; 5])>>,
+    /// This frame's drawn patches: patch, first vertex in the list, shape.
+    drawn: Vec<(usize, u32, [u32; 5])>,
+    /// Vertex buffers written this frame (made or rewritten).
+    patches_rewritten: u64,
     hierarchy: &'h Hierarchy,
     config: VanekConfig,
     /// n, clamped.
@@ -194,7 +213,11 @@ impl<'h> Vanek<'h> {
         }
         let n = z_range.len();
         Vanek {
-            draw: RebuiltBuffers::new(),
+            gpu: GpuBuffers::new(),
+            level_strips: vec![None; patch_level as usize + 1],
+            patch_vertices: vec![None; n],
+            drawn: Vec::new(),
+            patches_rewritten: 0,
             hierarchy,
             config,
             patch_level,
@@ -341,6 +364,8 @@ impl<'h> Vanek<'h> {
                 self.moved.push((cc, rr));
             }
         }
+        let shape = [k, sides[0], sides[1], sides[2], sides[3]];
+        self.drawn.push((patch, base, shape));
         let mut indices = std::mem::take(&mut self.strip);
         strip::degenerate_strip_into(m, m, &mut indices);
         self.strip_indices += indices.len() as u64;
@@ -370,7 +395,7 @@ impl<'h> Vanek<'h> {
         }
         self.strip = indices;
         PatchState {
-            shape: Some([k, sides[0], sides[1], sides[2], sides[3]]),
+            shape: Some(shape),
             vertices: u64::from(m) * u64::from(m),
         }
     }
@@ -390,6 +415,7 @@ impl<'h> Vanek<'h> {
     /// Builds the list from this frame's levels and culling; sets `current`.
     fn draw(&mut self) {
         self.list.clear();
+        self.drawn.clear();
         self.strip_indices = 0;
         self.collapsed = 0;
         let cells = self.cells();
@@ -501,12 +527,55 @@ impl LodAlgorithm for Vanek<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw
-            .prepare(MeshOutput::triangles(&self.list), self.hierarchy)
+        self.gpu.clear_draws();
+        self.patches_rewritten = 0;
+        for &(patch, base, shape) in &self.drawn {
+            let k = shape[0];
+            let m = (1u32 << k) + 1;
+            let (indices, index_count) = *self.level_strips[k as usize].get_or_insert_with(|| {
+                // The paper's strip, after one repeated first index: a GPU then reads it with
+                // the parity roamsim draws it with (counter-clockwise, `strip.rs`), at the cost
+                // of one more degenerate triangle per draw.
+                let mut indices = strip::degenerate_strip(m, m);
+                indices.insert(0, indices[0]);
+                let count = indices.len() as u32;
+                (self.gpu.create_indices(indices), count)
+            });
+            let patch_vertices = &self.list.vertices()[base as usize..(base + m * m) as usize];
+            let vertices = match self.patch_vertices[patch] {
+                Some((buffer, held)) if held == shape => buffer,
+                Some((buffer, _)) => {
+                    self.gpu.replace_vertices(buffer, |out| {
+                        out.extend(patch_vertices.iter().map(|&v| DrawVertex::of(v)));
+                    });
+                    self.patch_vertices[patch] = Some((buffer, shape));
+                    self.patches_rewritten += 1;
+                    buffer
+                }
+                None => {
+                    let buffer = self.gpu.create_vertices(
+                        patch_vertices.iter().map(|&v| DrawVertex::of(v)).collect(),
+                        VERTEX_BYTES,
+                    );
+                    self.patch_vertices[patch] = Some((buffer, shape));
+                    self.patches_rewritten += 1;
+                    buffer
+                }
+            };
+            self.gpu.draw(DrawCall {
+                vertices,
+                indices,
+                first_index: 0,
+                index_count,
+                topology: Topology::TriangleStrip,
+                blend: 0.0,
+            });
+        }
+        self.gpu.end_frame()
     }
 
     fn buffers(&self) -> &GpuBuffers {
-        self.draw.gpu()
+        &self.gpu
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
@@ -527,6 +596,9 @@ impl LodAlgorithm for Vanek<'_> {
             + self.moved.capacity() * std::mem::size_of::<(u32, u32)>()
             + (self.previous.capacity() + self.current.capacity())
                 * std::mem::size_of::<Option<PatchState>>()
+            + self.gpu.memory_bytes()
+            + self.patch_vertices.capacity() * std::mem::size_of::<Option<(BufferId, [u32; 5])>>()
+            + self.drawn.capacity() * std::mem::size_of::<(usize, u32, [u32; 5])>()
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
