@@ -216,7 +216,7 @@ fn every_frames_csv_column_of_a_run_with_every_effect_is_documented_and_no_docum
             {"name": "roam-rebuild", "tau_px": 4},
             {"name": "rottger", "minimum_resolution": 8, "desired_resolution": 30,
              "target_triangles": 1500, "clipping": true, "geomorphing": true},
-            {"name": "geomipmap", "tau_px": 4, "patch_level": 3, "morph": true},
+            {"name": "geomipmap", "tau_px": 4, "patch_level": 3, "morph": true, "box_culling": true},
             {"name": "chunked", "tau_px": 4, "chunk_level": 3, "box_culling": true, "morph": true,
              "detail": {"levels": 1, "seed": 1, "amplitude_m": 3, "max_created_per_frame": 8,
                         "cache_chunks": 64},
