@@ -663,7 +663,7 @@ fn drawn_step(
     context: &str,
 ) -> (FrameStats, DrawCounts) {
     let stats = checked_step(hierarchy, algorithm, frame, camera, frame == 0, context);
-    let counts = algorithm.prepare_draw();
+    let counts = common::draw_counts(&stats);
     if let Err(error) = check_buffers_draw_mesh(algorithm.buffers(), algorithm.mesh(), hierarchy) {
         panic!("{context}, frame {frame}: {error}");
     }

@@ -2579,7 +2579,7 @@ fn the_buffers_of_the_reference_lindstrom_roam_and_rottger_draw_their_mesh_every
                 frame == 0 || *teleport,
                 &context,
             );
-            let counts = algorithm.prepare_draw();
+            let counts = common::draw_counts(&stats);
             if let Err(error) = roamsim::sim::draw::check::check_buffers_draw_mesh(
                 algorithm.buffers(),
                 algorithm.mesh(),

@@ -787,7 +787,7 @@ fn the_fans_drawn_are_the_mesh_at_its_morphed_heights_every_frame_one_draw_per_f
                     *teleport,
                     &context,
                 );
-                let counts = algorithm.prepare_draw();
+                let counts = common::draw_counts(&stats);
                 if let Err(error) = roamsim::sim::draw::check::check_buffers_draw_mesh(
                     algorithm.buffers(),
                     algorithm.mesh(),

@@ -375,7 +375,7 @@ fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_r
                 frame == 0,
                 &context,
             );
-            let counts = algorithm.prepare_draw();
+            let counts = common::draw_counts(&stats);
             if let Err(error) =
                 check_buffers_draw_mesh(algorithm.buffers(), algorithm.mesh(), &hierarchy)
             {

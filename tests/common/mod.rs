@@ -12,6 +12,7 @@ pub mod patches;
 
 use glam::DVec3;
 use roamsim::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
+use roamsim::sim::draw::DrawCounts;
 use roamsim::sim::draw::check::check_buffers_draw_mesh;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::VertexSet;
@@ -63,6 +64,15 @@ pub fn step_breaking(
     stats.draw_calls = draw.draw_calls;
     stats.triangles_submitted = draw.triangles_submitted;
     stats
+}
+
+/// What a stepped frame uploaded into its GPU buffers and issued ([`step`] made them drawable).
+pub fn draw_counts(stats: &FrameStats) -> DrawCounts {
+    DrawCounts {
+        upload_bytes: stats.upload_bytes,
+        draw_calls: stats.draw_calls,
+        triangles_submitted: stats.triangles_submitted,
+    }
 }
 
 /// [`step`], then what `roamsim run --check` runs after every frame: the mesh (either form)

@@ -30,10 +30,11 @@
 //! breaks either revalidates them. An experiment that declares no rotation bound gets its
 //! flight's largest turn (derived at load), which no frame breaks; a flight that never turns gets
 //! ω = 0, and the margins and keys are those of the eye's motion alone. π
-//! (`SpeedBound::NO_ROTATION_BOUND`) bounds nothing, and the view keys then defer little. The
-//! margins allow for at most [`MARGIN_ROTATION_CAP`] of rotation whatever the bound: a margin of
-//! π·(d + ρ) is wider than any node is far from the cone, so nothing would merge for leaving the
-//! view and the whole mesh would grow without bound as the view swept the terrain (issue #30).
+//! (`SpeedBound::NO_ROTATION_BOUND`) bounds nothing, and the view keys then defer little; a
+//! margin of π·(d + ρ) is wider than any node is far from the cone, so under such a bound nothing
+//! merges for leaving the view (issue #30, item 3, open: capping the margins' rotation bounds the
+//! mesh but makes a fixed-τ mesh depend on the declared bounds, which
+//! `tests/hard_cases.rs::zero_and_huge_speed_bounds_change_no_fixed_tau_mesh` forbids).
 //!
 //! **Owned triangles.** Each mesh triangle lies in exactly one smallest active block (or, while
 //! the root is inactive, in none: the two base triangles). [`owned_triangles`] counts a block's
@@ -49,13 +50,6 @@ use glam::DVec3;
 /// into frames, so that a state which rounding alone could flip is looked at every frame.
 const GAP_ROUNDING_SLACK: f64 = 1e-9;
 
-/// The most rotation a margin allows for, radians per frame (5.7°, 344° a second at 60 frames a
-/// second: faster than any flight turns). A margin sized by a larger bound — π, which bounds
-/// nothing — exceeds every node's distance from the cone, so nothing would ever merge for
-/// leaving the view and the whole mesh would grow as the view swept the terrain; capped, what
-/// has left the view merges whatever the declared bound (roamsim's choice, not the paper's).
-pub(in crate::sim::algorithm) const MARGIN_ROTATION_CAP: f64 = 0.1;
-
 /// How far the view cone can move in a frame: the motion bounds, as the view keys use them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(in crate::sim::algorithm) struct ConeMotion {
@@ -63,8 +57,6 @@ pub(in crate::sim::algorithm) struct ConeMotion {
     eye_step: f64,
     /// The rotation bound, radians per frame.
     rotation: f64,
-    /// The rotation the margins allow for: the bound, at most [`MARGIN_ROTATION_CAP`].
-    margin_rotation: f64,
 }
 
 impl ConeMotion {
@@ -72,14 +64,12 @@ impl ConeMotion {
         ConeMotion {
             eye_step: speed.eye_step(),
             rotation: speed.rotation,
-            margin_rotation: speed.rotation.min(MARGIN_ROTATION_CAP),
         }
     }
 
-    /// A node's margin: one frame of cone motion at its farthest point, v + ω·(d + ρ), with ω
-    /// the rotation bound capped at [`MARGIN_ROTATION_CAP`].
+    /// A node's margin: one frame of cone motion at its farthest point, v + ω·(d + ρ).
     pub fn margin(&self, sight: &Sight) -> f64 {
-        self.eye_step + self.margin_rotation * (sight.distance + sight.radius)
+        self.eye_step + self.rotation * (sight.distance + sight.radius)
     }
 
     /// The real k ≥ 0 at which (ωv/2)·k² + (v + ω·(d + v/2) + extra)·k reaches `gap` (after the
@@ -207,7 +197,7 @@ impl Sight {
         } else {
             let to_go = motion.margin(self) - self.gap;
             motion
-                .frames_to_close(to_go, self, motion.margin_rotation * motion.eye_step)
+                .frames_to_close(to_go, self, motion.rotation * motion.eye_step)
                 .max(1.0)
         }
     }
