@@ -189,7 +189,7 @@ impl Sight {
     }
 
     /// Frames before the node may be beyond its margin: 0 when it is, else at least 1. The margin
-    /// itself shrinks by at most ω'·v a frame (ω' its capped rotation; the distance changes by at
+    /// itself shrinks by at most ω·v a frame (ω the rotation bound; the distance changes by at
     /// most v).
     pub fn frames_until_beyond_margin(&self, motion: &ConeMotion) -> f64 {
         if self.beyond_margin(motion) {
