@@ -31,9 +31,10 @@ use roamsim::edge::preview::headless::{
 use roamsim::edge::preview::renderer::{DrawOptions, Pane};
 use roamsim::edge::preview::replay::{Replay, Scene};
 use roamsim::sim::algorithm::LodAlgorithm;
+use roamsim::sim::draw::GpuBuffers;
 use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::mesh::TriangleRole;
 use roamsim::sim::mesh::triangles::count_triangles;
-use roamsim::sim::mesh::{MeshOutput, TriangleRole};
 use roamsim::sim::run::{Effects, FrameOutcome, FrameRunner, RunInputs};
 use roamsim::sim::view::{Camera, Pose};
 use serde_json::json;
@@ -289,7 +290,7 @@ fn from_the_flight_camera_each_pixel_shows_the_triangle_the_camera_projects_ther
             );
             let (agreeing, checked) = pixels_on_their_projected_triangle(
                 &scene.hierarchy,
-                lane.mesh,
+                lane.buffers,
                 lane.camera,
                 &image,
             );
@@ -316,16 +317,16 @@ fn from_the_flight_camera_each_pixel_shows_the_triangle_the_camera_projects_ther
 /// triangles are the mesh visitor's, in its order (the order the geometry was built in).
 fn pixels_on_their_projected_triangle(
     hierarchy: &Hierarchy,
-    mesh: MeshOutput,
+    buffers: &GpuBuffers,
     camera: &Camera,
     image: &TriangleIdImage,
 ) -> (usize, usize) {
     let spacing = hierarchy.field().spacing();
+    // The preview draws the buffers' triangles in their order: triangle k of the image is the
+    // buffers' k-th.
     let mut projected: Vec<Option<[DVec2; 3]>> = Vec::new();
-    mesh.for_each_triangle(hierarchy, |t| {
-        let corners = t
-            .corners
-            .map(|c| camera.project_camera(camera.to_camera(c.local(spacing))));
+    buffers.for_each_triangle(|drawn| {
+        let corners = drawn.map(|c| camera.project_camera(camera.to_camera(c.local(spacing))));
         projected.push(match corners {
             [Some(a), Some(b), Some(c)] => Some([a, b, c]),
             _ => None,
@@ -633,7 +634,7 @@ fn from_the_flight_camera_each_pixel_of_a_triangle_list_lies_on_its_triangle() {
         let bottom = &image.ids[(height - 1) * width..];
         assert_eq!(covered_fraction(bottom), 1.0, "ground at the bottom");
         let (agreeing, checked) =
-            pixels_on_their_projected_triangle(hierarchy, patches.mesh(), camera, &image);
+            pixels_on_their_projected_triangle(hierarchy, patches.buffers(), camera, &image);
         assert!(
             agreeing as f64 >= 0.995 * checked as f64 && checked > width * height / 4,
             "frame {}: {agreeing} of {checked} covered pixels on their projected triangle",
