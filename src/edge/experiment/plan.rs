@@ -91,25 +91,10 @@ fn check_sizes(plan: &Plan) -> Result<(), ExperimentError> {
             &point.checked.algorithms,
         );
         if let Err(error) = sized {
-            let prefix = point
-                .choice
-                .as_ref()
-                .map(|c| format!("({}) ", choice_label(c)))
-                .unwrap_or_default();
-            problems.extend(error.problems.into_iter().map(|p| FieldProblem {
-                field: format!("{prefix}{}", p.field),
-                problem: p.problem,
-            }));
+            problems.extend(prefixed(point.choice.as_ref(), error));
         }
     }
-    if problems.is_empty() {
-        Ok(())
-    } else {
-        Err(ExperimentError {
-            file: plan.file.clone(),
-            problems,
-        })
-    }
+    none_or_all(&plan.file, problems)
 }
 
 /// Every point's mosaic laid out from its files' headers (existence, names, sizes,
@@ -123,24 +108,33 @@ fn lay_out_mosaics(plan: &mut Plan) -> Result<(), ExperimentError> {
         };
         match lay_out_terrain_mosaic(&plan.file, &folder, mosaic) {
             Ok(layout) => point.mosaic_layout = Some(layout),
-            Err(error) => {
-                let prefix = point
-                    .choice
-                    .as_ref()
-                    .map(|c| format!("({}) ", choice_label(c)))
-                    .unwrap_or_default();
-                problems.extend(error.problems.into_iter().map(|p| FieldProblem {
-                    field: format!("{prefix}{}", p.field),
-                    problem: p.problem,
-                }));
-            }
+            Err(error) => problems.extend(prefixed(point.choice.as_ref(), error)),
         }
     }
+    none_or_all(&plan.file, problems)
+}
+
+/// `error`'s problems, each field prefixed with its point's choice (nothing without a sweep).
+fn prefixed(
+    choice: Option<&SweepChoice>,
+    error: ExperimentError,
+) -> impl Iterator<Item = FieldProblem> {
+    let prefix = choice
+        .map(|c| format!("({}) ", choice_label(c)))
+        .unwrap_or_default();
+    error.problems.into_iter().map(move |p| FieldProblem {
+        field: format!("{prefix}{}", p.field),
+        problem: p.problem,
+    })
+}
+
+/// Nothing when no point had a problem, else every point's problems at once.
+fn none_or_all(file: &Path, problems: Vec<FieldProblem>) -> Result<(), ExperimentError> {
     if problems.is_empty() {
         Ok(())
     } else {
         Err(ExperimentError {
-            file: plan.file.clone(),
+            file: file.to_path_buf(),
             problems,
         })
     }
