@@ -1,0 +1,513 @@
+"""The generators of docs/reproductions/*.md: each paper's tables, printed from the committed
+outputs of the experiments the page runs (`plots/<experiment>/`, made by
+`bash scripts/regenerate-plots.sh reproductions`).
+
+A table is a list of entries (rows) and a list of columns, each column a header and a function
+of (experiment, entry label) giving the printed cell (`entry_table`); the pages' tables differ in
+their columns, which are built from a few shared readers: a mean over frames (from summary.json,
+or from frames.csv over a range of frames where the page says so), a fact, a report.md cell.
+Inline generators print one such figure into a sentence. Nothing here is measured: every figure
+is read, or computed the way the page says (a ratio of two printed figures, a count of frames).
+Not here: the study's generators (`generators.py`), which the lead switches to the new report
+columns at the final regeneration.
+"""
+
+from .outputs import OutputMissing, main_cell, table
+from .runs import column, entry, fact, grouped, mean, reports, stat
+
+
+def source(experiment, note=""):
+    """The line naming the run a table is printed from; `note` says which frames it sums up."""
+    return (f"From `plots/{experiment}/` (`bash scripts/regenerate-plots.sh {experiment}`, "
+            f"{frames_note(experiment)}{note}):\n")
+
+
+def frames_note(experiment):
+    """How many frames the run flew and which the figures summarise."""
+    first = next(iter(_labels(experiment)))
+    record = entry(experiment, first)
+    if record["frames_summarised"] == record["frames"]:
+        return f"{record['frames']} frames"
+    return (f"{record['frames']} frames, the last {record['frames_summarised']} summarised "
+            "after the warm-up")
+
+
+def _labels(experiment):
+    from .outputs import summary
+    return [record["label"] for record in summary(experiment)["algorithms"]]
+
+
+def entry_table(experiment, labels, columns, header_note=True):
+    """A markdown table: one row per entry label, one column per (header, cell function)."""
+    if header_note:
+        print(source(experiment))
+    print("| " + " | ".join(header for header, _cell in columns) + " |")
+    print("|" + "---|" * len(columns))
+    for label in labels:
+        print("| " + " | ".join(cell(experiment, label) for _header, cell in columns) + " |")
+    print()
+
+
+# Cells: each returns a function of (experiment, label).
+
+def label_cell(text=None):
+    return lambda _experiment, label: f"`{label}`" if text is None else text[label]
+
+
+def mean_of(name, digits=0, separator=" ", first=None, last=None):
+    """The mean of a frames.csv column: summary.json's mean, or over frames first…last."""
+    def cell(experiment, label):
+        if first is None and last is None:
+            value = stat(experiment, label, name)
+        else:
+            value = mean(column(experiment, label, name, first or 0, last))
+        return grouped(value, digits, separator)
+    return cell
+
+
+def max_of(name, digits=0, separator=" "):
+    return lambda experiment, label: grouped(stat(experiment, label, name, "max"), digits,
+                                             separator)
+
+
+def report(name):
+    """A report.md comparison-table cell, by its header."""
+    return lambda experiment, label: main_cell(experiment, label, name)
+
+
+def update_p50(experiment, label):
+    """The median update time (µs) of the entry's timing pass, as report.md prints it (outputs
+    written before the frame columns have `update p50 / p95 (µs)`: its first figure)."""
+    try:
+        return main_cell(experiment, label, "update p50 (µs)")
+    except OutputMissing:
+        return main_cell(experiment, label, "update p50 / p95 (µs)").split("/")[0].strip()
+
+
+def section(experiment, heading, label, name):
+    """A cell of the report.md table under `heading` (Popping, Meshes beyond …), by entry."""
+    rows = table(experiment, heading)
+    if label not in rows or name not in rows[label]:
+        raise OutputMissing(f"plots/{experiment}/report.md: no {name!r} of {label!r} under a "
+                            f"heading starting with {heading!r}")
+    return rows[label][name]
+
+
+def joined(*cells, separator=" / "):
+    return lambda experiment, label: separator.join(cell(experiment, label) for cell in cells)
+
+
+# Inline figures.
+
+def frames_mean(experiment, label, name, first="0", last="", digits="1"):
+    """frames-mean EXPERIMENT ENTRY COLUMN [FIRST [LAST [DIGITS]]]: the mean of a frames.csv
+    column over frames FIRST…LAST (LAST empty: to the end); COLUMN may be `a+b`, the sum of
+    two columns per frame."""
+    names = name.split("+")
+    per_name = [column(experiment, label, n, int(first), int(last) if last else None)
+                for n in names]
+    values = [sum(parts) for parts in zip(*per_name)]
+    print(grouped(mean(values), int(digits)), end="")
+
+
+def summary_stat(experiment, label, name, which="mean", digits="1"):
+    """stat EXPERIMENT ENTRY COLUMN [mean|max|p50|p95 [DIGITS]]: summary.json's statistic of a
+    frames.csv column over the summarised frames."""
+    print(grouped(stat(experiment, label, name, which), int(digits)), end="")
+
+
+def summary_fact(experiment, label, name, digits="1"):
+    """fact EXPERIMENT ENTRY FACT [DIGITS]: one of an entry's facts in summary.json."""
+    print(grouped(float(fact(experiment, label, name)), int(digits)), end="")
+
+
+def update_p50_inline(experiment, label):
+    """update-p50 EXPERIMENT ENTRY: the entry's median update time (µs) in report.md."""
+    print(update_p50(experiment, label), end="")
+
+
+def wu_reference_speedup(experiment, *taus):
+    """wu-reference-speedup EXPERIMENT TAU ...: the range over the given τ and both zones of the
+    reference's median update divided by Wu's (entries `wu tau_px=T, zone=Z` and
+    `reference tau_px=T, zone=Z`), as `19–50`."""
+    ratios = []
+    for tau in taus:
+        for zone in ("paper", "conservative"):
+            wu = float(update_p50(experiment, f"wu tau_px={tau}, zone={zone}"))
+            reference = float(update_p50(experiment, f"reference tau_px={tau}, zone={zone}"))
+            ratios.append(reference / wu)
+    print(f"{min(ratios):.0f}–{max(ratios):.0f}", end="")
+
+
+def frames_above(experiment, label, name, threshold, first="0"):
+    """frames-above EXPERIMENT ENTRY COLUMN THRESHOLD [FIRST]: how many frames from FIRST on
+    have COLUMN above THRESHOLD."""
+    values = column(experiment, label, name, int(first))
+    print(sum(1 for value in values if value > float(threshold)), end="")
+
+
+# Lindstrom et al. 1996 (docs/reproductions/lindstrom.md).
+
+LINDSTROM = "lindstrom-tau-sweep"
+LINDSTROM_PAPER = {"0.5": 62497, "1": 23287, "2": 8612, "4": 3385}
+
+
+def _lindstrom_label(tau):
+    return f"lindstrom τ={tau}"
+
+
+def lindstrom_sweep():
+    """The τ sweep's polygon counts beside the paper's, with the ratio per halving of τ."""
+    taus = list(LINDSTROM_PAPER)
+    mesh = [stat(LINDSTROM, _lindstrom_label(t), "triangles") for t in taus]
+    rendered = [stat(LINDSTROM, _lindstrom_label(t), "triangles_rendered") for t in taus]
+    paper = [LINDSTROM_PAPER[t] for t in taus]
+
+    def ratio(values, k):
+        return f"{values[k] / values[k + 1]:.2f}" if k + 1 < len(values) else "—"
+
+    print(source(LINDSTROM))
+    print("| τ (px) | paper polygons | ratio to next τ | triangles (mesh) | ratio "
+          "| triangles rendered | ratio |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    for k, tau in enumerate(taus):
+        print(f"| {tau} | {grouped(paper[k], 0, ',')} | {ratio(paper, k)} "
+              f"| {grouped(mesh[k], 0, ',')} | {ratio(mesh, k)} "
+              f"| {grouped(rendered[k], 0, ',')} | {ratio(rendered, k)} |")
+    print()
+    halvings = len(taus) - 1
+    parts = []
+    for name, values in (("paper", paper), ("mesh", mesh), ("rendered", rendered)):
+        whole = values[0] / values[-1]
+        parts.append(f"{name} ×{whole:.1f} (×{whole ** (1 / halvings):.2f}"
+                     + (" per halving on average)" if name == "paper" else ")"))
+    print(f"Over the three halvings (τ = {taus[0]} → {taus[-1]}): " + ", ".join(parts) + ".\n")
+
+
+def lindstrom_work():
+    """What Lindstrom's algorithm did per frame at each τ, and its audited error."""
+    def blocks(experiment, label):
+        return " / ".join(grouped(stat(experiment, label, name), digits, ",")
+                          for name, digits in (("blocks_coarsest", 0), ("blocks_partial", 0),
+                                               ("blocks_finest", 1)))
+
+    def errors(experiment, label):
+        return (f"{stat(experiment, label, 'audit_projected_max_px'):.2f} / "
+                f"{stat(experiment, label, 'audit_projected_max_px', 'max'):.2f} / "
+                f"{stat(experiment, label, 'audit_projected_mean_px'):.2f}")
+
+    def above(experiment, label):
+        tau = float(label.split("=")[1])
+        values = column(experiment, label, "audit_projected_max_px")
+        return f"{sum(1 for v in values if v > tau)} of {len(values)}"
+
+    taus = {_lindstrom_label(t): t for t in LINDSTROM_PAPER}
+    entry_table(LINDSTROM, list(taus), [
+        ("τ (px)", label_cell(taus)),
+        ("metric evaluations", mean_of("metric_evaluations", 0, ",")),
+        ("vertices decided by interval", mean_of("vertices_by_interval", 0, ",")),
+        ("forced activations", mean_of("forced_activations", 0, ",")),
+        ("blocks coarsest / partial / finest", blocks),
+        ("audited error: mean of maxima / worst / mean (projected px)", errors),
+        ("frames above τ", above),
+        ("update p50 (µs)", update_p50),
+    ])
+
+
+# ROAM'97 (docs/reproductions/roam.md).
+
+def _priorities(experiment, label):
+    return mean(column(experiment, label, "priority_recomputations", 1))
+
+
+def roam_deferral():
+    """Priorities recomputed and update time with and without deferral, one run."""
+    name = "roam-deferral"
+    rows = ["roam τ=8px flags", "roam τ=8px flags deferral", "roam target=6000 flags",
+            "roam target=6000 flags deferral"]
+
+    def priorities(experiment, label):
+        text = grouped(_priorities(experiment, label), 1)
+        if label.endswith(" deferral"):
+            without = _priorities(experiment, label[: -len(" deferral")])
+            text += f" (**{without / _priorities(experiment, label):.1f}× fewer**)"
+        return text
+
+    def update(experiment, label):
+        text = update_p50(experiment, label)
+        if label.endswith(" deferral"):
+            without = float(update_p50(experiment, label[: -len(" deferral")]))
+            text += f" (**{without / float(update_p50(experiment, label)):.1f}× faster**)"
+        return text
+
+    def revalidations(experiment, label):
+        if not reports(experiment, label, "revalidations"):
+            return "—"
+        return grouped(sum(column(experiment, label, "revalidations")))
+
+    entry_table(name, rows, [
+        ("entry", label_cell()),
+        ("priorities recomputed per frame (mean, frames 1–399)", priorities),
+        ("update p50 (µs), this run", update),
+        ("revalidations (flight)", revalidations),
+        ("splits + merges per frame", report("splits + merges per frame")),
+    ])
+
+
+def roam_pop():
+    """The pop test's counts per entry (straight flight and circle), from frame 1 on."""
+    def operations(first):
+        def cell(experiment, label):
+            splits = column(experiment, label, "splits", first)
+            merges = column(experiment, label, "merges", first)
+            return f"{mean([s + m for s, m in zip(splits, merges)]):.1f}"
+        return cell
+
+    def splits(experiment, label):
+        return (f"{mean(column(experiment, label, 'splits', 1)):.1f} "
+                f"({mean(column(experiment, label, 'forced_splits', 1)):.2f})")
+
+    def per_strip(experiment, label):
+        if not reports(experiment, label, "triangles_per_strip"):
+            return "—"
+        return f"{stat(experiment, label, 'triangles_per_strip'):.2f}"
+
+    columns = [
+        ("entry", label_cell()),
+        ("splits + merges per frame, frames 1 on", operations(1)),
+        ("the same, every frame", operations(0)),
+        ("splits (forced), frames 1 on", splits),
+        ("priorities recomputed per frame, frames 1 on",
+         lambda e, label: grouped(_priorities(e, label), 0)),
+        ("wedgie classifications per frame", mean_of("flag_tests", 0)),
+        ("triangles per strip", per_strip),
+        ("update p50 (µs), this run", update_p50),
+    ]
+    entry_table("roam-pop", ["roam 3000", "roam 3000 deferral", "roam 3000 per-vertex",
+                             "roam 3000 heap", "roam-rebuild 3000", "roam tau16",
+                             "roam tau16 deferral", "roam-rebuild tau16", "roam 3000 no strips",
+                             "roam-rebuild 3000 no strips"], columns)
+    entry_table("roam-pop-circle", ["roam 3000", "roam-rebuild 3000", "roam tau16",
+                                    "roam-rebuild tau16"], columns)
+
+
+# Chunked LOD (docs/reproductions/chunked.md).
+
+CHUNKED = "chunked-tau"
+
+
+def chunked_tau():
+    """Polygons, skirts, chunks, error, popping and time over the paper's τ range."""
+    taus = {f"chunked τ={t}px": t for t in ("32", "16", "8", "4", "2")}
+
+    def skirts(experiment, label):
+        skirt = stat(experiment, label, "triangles_skirt")
+        return f"{grouped(skirt)} ({100 * skirt / stat(experiment, label, 'triangles'):.1f} %)"
+
+    def popping(experiment, label):
+        metres = float(section(experiment, "Popping", label, "max (m)"))
+        return f"{metres:.1f} / {section(experiment, 'Popping', label, 'max (px)')}"
+
+    entry_table(CHUNKED, list(taus), [
+        ("τ (px)", label_cell(taus)),
+        ("triangles drawn (mean)", mean_of("triangles")),
+        ("of which skirts", skirts),
+        ("chunks drawn", mean_of("chunks_drawn", 1)),
+        ("in the view volume", mean_of("triangles_rendered")),
+        ("audited error max / mean / p95 (px)", report("error max / mean / mean of p95 (px)")),
+        ("popping max (m / px)", popping),
+        ("update p50 (µs)", update_p50),
+    ])
+
+
+def _metres(heading, name, digits):
+    return lambda e, label: f"{float(section(e, heading, label, name)):.{digits}f}"
+
+
+def chunked_skirts():
+    """The paper's skirt depth against the covering depth at τ = 4 px."""
+    rows = [
+        ("crack gap max (m)", _metres("Meshes", "crack gap max (m)", 1)),
+        ("left open by skirts, max (m)", lambda e, label: f"{float(section(e, 'Meshes', label, 'left open by skirts max (m)')):.2f}".rstrip("0").rstrip(".")),
+        ("triangles", mean_of("triangles")),
+    ]
+    _two_columns(rows, ("chunked τ=4px", "skirt depth δ_c (the paper's)"),
+                 ("chunked τ=4px covering skirts", "covering"))
+
+
+def chunked_morphing():
+    """Chunked LOD at τ = 4 px with and without morphing (eq. 3.5)."""
+    def popping_m(e, label):
+        return (f"{float(section(e, 'Popping', label, 'RMSE (m)')):.3f} / "
+                f"{float(section(e, 'Popping', label, 'max (m)')):.{1 if 'morph' not in label else 2}f}")
+
+    def errors(e, label):
+        largest, average, p95 = (p.strip() for p in main_cell(
+            e, label, "error max / mean / mean of p95 (px)").split("/"))
+        return f"{average} / {p95} / {largest}"
+
+    rows = [
+        ("popping RMSE / max (m)", popping_m),
+        ("popping max (px)", lambda e, label: section(e, "Popping", label, "max (px)")),
+        ("audited error mean / p95 / max (px)", errors),
+        ("morphing vertices / vertices changed per frame",
+         lambda e, label: f"{grouped(stat(e, label, 'morphing_vertices'))} / "
+                          f"{grouped(stat(e, label, 'vertices_changed'))}"),
+        ("crack gap left open by δ_c skirts, max (m)", _metres("Meshes", "left open by skirts max (m)", 2)),
+    ]
+    _two_columns(rows, ("chunked τ=4px", "without morphing"), ("chunked τ=4px morph", "with morphing"))
+
+
+def _two_columns(rows, first, second):
+    """Two entries side by side, one row per (header, cell function): `first` and `second` are
+    (entry label, column heading)."""
+    print(source(CHUNKED))
+    print(f"| τ = 4 px | {first[1]} | {second[1]} |")
+    print("|---|---|---|")
+    for header, cell in rows:
+        print(f"| {header} | {cell(CHUNKED, first[0])} | {cell(CHUNKED, second[0])} |")
+    print()
+
+
+# Röttger et al. 1998 (docs/reproductions/rottger.md): figures over frames 100–999.
+
+ROTTGER = "rottger-fans"
+SETTLED = 100
+
+
+def _settled(experiment, label, name):
+    return column(experiment, label, name, SETTLED)
+
+
+def _settled_mean(name, digits=0):
+    return lambda e, label: grouped(mean(_settled(e, label, name)), digits)
+
+
+def rottger_operating_point():
+    """The controlled entries at the paper's C and load, beside the paper's figures."""
+    def per_fan(e, label):
+        return f"{mean(_settled(e, label, 'fan_vertices')) / mean(_settled(e, label, 'fans')):.2f}"
+
+    def resolution(e, label):
+        values = sorted(_settled(e, label, "desired_resolution_c"))
+        middle = values[len(values) // 2] if len(values) % 2 else (
+            values[len(values) // 2 - 1] + values[len(values) // 2]) / 2
+        if values[0] == values[-1]:
+            return f"{values[0]:g}"
+        return f"{middle:.1f} ({values[0]:.1f}–{values[-1]:.1f})"
+
+    def drawn(e, label):
+        fans = _settled(e, label, "fans")
+        vertices = _settled(e, label, "fan_vertices")
+        triangles = mean([v - 2 * f for v, f in zip(vertices, fans)])
+        return f"{grouped(triangles)} / {grouped(mean(_settled(e, label, 'triangles')))}"
+
+    rows = ["C=8 vertices=15000", "C=8 vertices=15000 euclidean", "C=8 vertices=15000 local d2",
+            "C=8 vertices=15000 whole tile", "C=32 c=0"]
+    print(source(ROTTGER, f"; means over frames {SETTLED}–999"))
+    print("| entry | fans | fan vertices | vertices per fan | c (median, range) "
+          "| triangles drawn / mesh | forced splits | update p50 (µs) |")
+    print("|---|---:|---:|---:|---|---:|---:|---:|")
+    print("| **paper** (Yukon, 25 Hz) | ≈ 1600 | ≈ 15 000 | ≈ 9.4 | chosen for 25 Hz | — | — | — |")
+    for label in rows:
+        cells = [f"`{label}`", _settled_mean("fans")(ROTTGER, label),
+                 _settled_mean("fan_vertices")(ROTTGER, label), per_fan(ROTTGER, label),
+                 resolution(ROTTGER, label), drawn(ROTTGER, label),
+                 _settled_mean("forced_splits", 2)(ROTTGER, label), update_p50(ROTTGER, label)]
+        print("| " + " | ".join(cells) + " |")
+    print()
+
+
+def rottger_geomorphing():
+    """Popping, error and time with and without geomorphing (means over frames 100–999)."""
+    def pair(name, digits_m, digits_px, which):
+        def cell(e, label):
+            if which == "mean":
+                metres, pixels = (mean(_settled(e, label, f"{name}_{unit}")) for unit in ("m", "px"))
+            else:
+                metres, pixels = (max(_settled(e, label, f"{name}_{unit}")) for unit in ("m", "px"))
+            return f"{metres:.{digits_m}f} / {pixels:.{digits_px}f}"
+        return cell
+
+    def morphing(e, label):
+        value = mean(_settled(e, label, "morphing_vertices"))
+        if value == 0:
+            return "—"
+        return f"{grouped(value)} of {grouped(mean(_settled(e, label, 'triangles')))} triangles"
+
+    print(source(ROTTGER, f"; means over frames {SETTLED}–999, maxima over the same frames"))
+    columns = [
+        ("entry", label_cell()),
+        ("popping RMSE (m / px)", pair("popping_rmse", 3, 4, "mean")),
+        ("popping max (m / px)", pair("popping_max", 1, 2, "max")),
+        ("mean of each frame's max (px)", _settled_mean("popping_max_px", 3)),
+        ("audited p95, mean (px)", _settled_mean("audit_projected_p95_px", 3)),
+        ("audited max (px)", lambda e, label: f"{max(_settled(e, label, 'audit_projected_max_px')):.2f}"),
+        ("morphing vertices", morphing),
+        ("vertices changed", _settled_mean("vertices_changed")),
+        ("update p50 (µs)", update_p50),
+    ]
+    print("| " + " | ".join(h for h, _c in columns) + " |")
+    print("|" + "---|" * len(columns))
+    for label in ("C=8 vertices=15000", "C=8 vertices=15000 geomorphing"):
+        print("| " + " | ".join(c(ROTTGER, label) for _h, c in columns) + " |")
+    print()
+
+
+def settled_mean_inline(experiment, label, name, digits="1"):
+    """settled-mean EXPERIMENT ENTRY COLUMN [DIGITS]: the mean over frames 100 to the end."""
+    print(grouped(mean(column(experiment, label, name, SETTLED)), int(digits)), end="")
+
+
+# The 2019 stitching strips (docs/reproductions/stitching-strips.md).
+
+def stitching_peak():
+    """The three methods, the ρ_thr sweep and box distance on the flight towards the peak."""
+    def mean_max(name, digits):
+        return lambda e, label: (f"{stat(e, label, name):.{digits}f} / "
+                                 f"{stat(e, label, name, 'max'):.{digits}f}")
+
+    name = "stitching-strips-peak"
+    entry_table(name, _labels(name), [
+        ("entry", label_cell()),
+        ("triangles", mean_of("triangles")),
+        ("M-blocks", mean_of("m_blocks", 1)),
+        ("strips", mean_of("strips", 1)),
+        ("F mean", mean_of("tessellation_factor_mean", 2)),
+        ("popping RMSE m (mean / max)", mean_max("popping_rmse_m", 2)),
+        ("popping RMSE px (mean / max)", mean_max("popping_rmse_px", 3)),
+        ("popping max m (largest)", max_of("popping_max_m", 1)),
+        ("audit mean px", mean_of("audit_projected_mean_px", 2)),
+    ])
+
+
+GENERATORS = {
+    "frames-mean": (frames_mean, "frames-mean EXPERIMENT ENTRY COLUMN [FIRST [LAST [DIGITS]]]: "
+                                 "a mean over frames of frames.csv, inline"),
+    "stat": (summary_stat, "stat EXPERIMENT ENTRY COLUMN [mean|max|p50|p95 [DIGITS]]: "
+                           "summary.json's statistic of a column, inline"),
+    "fact": (summary_fact, "fact EXPERIMENT ENTRY FACT [DIGITS]: an entry's fact, inline"),
+    "update-p50": (update_p50_inline, "update-p50 EXPERIMENT ENTRY: the median update time "
+                                      "(µs) of report.md, either header, inline"),
+    "wu-reference-speedup": (wu_reference_speedup, "wu-reference-speedup EXPERIMENT TAU ...: "
+                                                   "the reference's update over Wu's, a range"),
+    "frames-above": (frames_above, "frames-above EXPERIMENT ENTRY COLUMN THRESHOLD [FIRST]: "
+                                   "frames whose COLUMN exceeds THRESHOLD, inline"),
+    "lindstrom-sweep": (lindstrom_sweep, "Lindstrom'96: the τ sweep's polygons beside the "
+                                         "paper's (docs/reproductions/lindstrom.md)"),
+    "lindstrom-work": (lindstrom_work, "Lindstrom'96: work per frame and audited error per τ"),
+    "roam-deferral": (roam_deferral, "ROAM'97 §7.3: deferral on the turning circle "
+                                     "(docs/reproductions/roam.md)"),
+    "roam-pop": (roam_pop, "ROAM'97 pop test: counts per entry, line and circle"),
+    "settled-mean": (settled_mean_inline, "settled-mean EXPERIMENT ENTRY COLUMN [DIGITS]: a "
+                                          "mean over frames 100 on, inline"),
+    "rottger-operating-point": (rottger_operating_point, "Röttger'98: the controlled entries "
+                                                         "(docs/reproductions/rottger.md)"),
+    "rottger-geomorphing": (rottger_geomorphing, "Röttger'98: with and without geomorphing"),
+    "stitching-peak": (stitching_peak, "the 2019 stitching strips on the flight towards the "
+                                       "peak (docs/reproductions/stitching-strips.md)"),
+    "chunked-tau": (chunked_tau, "chunked LOD over the paper's τ range "
+                                 "(docs/reproductions/chunked.md)"),
+    "chunked-skirts": (chunked_skirts, "chunked LOD: δ_c skirts against covering skirts"),
+    "chunked-morphing": (chunked_morphing, "chunked LOD: with and without morphing"),
+}
