@@ -54,6 +54,11 @@ def label_cell(text=None):
     return lambda _experiment, label: f"`{label}`" if text is None else text[label]
 
 
+def signed(value, digits=0):
+    """`value` with the typographic minus the pages use: −41."""
+    return f"{value:.{digits}f}".replace("-", "−")
+
+
 def mean_of(name, digits=0, separator=" ", first=None, last=None):
     """The mean of a frames.csv column: summary.json's mean, or over frames first…last."""
     def cell(experiment, label):
@@ -137,6 +142,13 @@ def wu_reference_speedup(experiment, *taus):
             reference = float(update_p50(experiment, f"reference tau_px={tau}, zone={zone}"))
             ratios.append(reference / wu)
     print(f"{min(ratios):.0f}–{max(ratios):.0f}", end="")
+
+
+def section_cell(experiment, heading, label, name, digits=None):
+    """section-cell EXPERIMENT HEADING ENTRY COLUMN [DIGITS]: a cell of the report.md table under
+    the heading starting with HEADING (Popping, Meshes, …); DIGITS rounds it."""
+    value = section(experiment, heading, label, name)
+    print(value if digits is None else f"{float(value):.{int(digits)}f}", end="")
 
 
 def frames_above(experiment, label, name, threshold, first="0"):
@@ -481,6 +493,198 @@ def stitching_peak():
     ])
 
 
+# Lauritsen and Nielsen 2005 (docs/reproductions/lauritsen.md).
+
+LAURITSEN = "lauritsen"
+
+
+def _sum(name):
+    return lambda e, label: grouped(sum(column(e, label, name)))
+
+
+def lauritsen_detail():
+    """The source alone and extended by three levels of detail, both audits."""
+    def source_errors(e, label):
+        return (f"{stat(e, label, 'audit_projected_mean_px'):.3f} / "
+                f"{stat(e, label, 'audit_projected_p95_px'):.2f} / "
+                f"{stat(e, label, 'audit_projected_max_px', 'max'):.2f}")
+
+    def detail_errors(e, label):
+        if not reports(e, label, "audit_detail_projected_mean_px"):
+            return "—"
+        return (f"{stat(e, label, 'audit_detail_projected_mean_px'):.3f} / "
+                f"{stat(e, label, 'audit_detail_projected_p95_px'):.2f}")
+
+    def deepest(e, label):
+        if not reports(e, label, "detail_deepest_level_drawn"):
+            return "— (the source)"
+        return f"{stat(e, label, 'detail_deepest_level_drawn', 'max'):.0f}"
+
+    entry_table(LAURITSEN, ["source", "detail, limit 4", "detail, no limit"], [
+        ("entry", label_cell()),
+        ("triangles (mean)", mean_of("triangles")),
+        ("error vs source: mean / p95 / max (px)", source_errors),
+        ("error vs detail-extended surface: mean / p95 (px)", detail_errors),
+        ("deepest level drawn", deepest),
+        ("update p50 (µs)", update_p50),
+    ])
+
+
+def lauritsen_creation():
+    """Node creation per frame with and without the creation limit (§3.4.4)."""
+    def made(e, label):
+        return (f"{stat(e, label, 'detail_synthesised'):.2f} / "
+                f"{stat(e, label, 'detail_synthesised', 'max'):.0f}")
+
+    entry_table(LAURITSEN, ["detail, limit 4", "detail, no limit"], [
+        ("entry", label_cell()),
+        ("chunks made per frame: mean / max", made),
+        ("requests refused (flight)", _sum("detail_refused")),
+        ("chunks drawn coarser than wanted (sum over frames)", _sum("chunks_coarser")),
+        ("error vs detail surface, mean (px)", mean_of("audit_detail_projected_mean_px", 4)),
+    ])
+
+
+def lauritsen_latency():
+    """The error cost of load latency, against the same flight without it."""
+    pairs = [("source, latency 4", "source", "audit_projected"),
+             ("detail, latency 4", "detail, limit 4", "audit_detail_projected")]
+    print(source(LAURITSEN))
+    print("| entry (against) | frames whose mean error is higher | mean cost (px, over all "
+          "frames): mean / p95 error | largest cost in a frame (px): mean / max error "
+          "| chunks drawn coarser (sum) | resident source chunks: max / bytes |")
+    print("|---|---|---|---|---|---|")
+    for label, against, audit in pairs:
+        def cost(name):
+            return [a - b for a, b in zip(column(LAURITSEN, label, f"{audit}_{name}_px"),
+                                          column(LAURITSEN, against, f"{audit}_{name}_px"))]
+        means, p95s, maxima = cost("mean"), cost("p95"), cost("max")
+        higher = sum(1 for c in means if c > 0)
+        print(f"| `{label}` (`{against}`) | {higher} of {len(means)} "
+              f"| {mean(means):+.3f} / {mean(p95s):+.3f} | {max(means):+.2f} / {max(maxima):+.0f} "
+              f"| {grouped(sum(column(LAURITSEN, label, 'chunks_coarser')))} "
+              f"| {stat(LAURITSEN, label, 'resident_chunks', 'max'):.0f} / "
+              f"{grouped(stat(LAURITSEN, label, 'resident_bytes', 'max'))} |")
+    print()
+
+
+# Wu et al. 2001, Table 1 (docs/reproductions/wu-table1.md): means over frames 1 on.
+
+WU = "wu-table1"
+WU_PAPER_ERROR = {3000: 3.2, 5000: 2.5, 6000: 2.3, 8000: 2.0, 12000: 1.6}
+
+
+def _wu(name, label, which="mean"):
+    values = column(WU, label, name, 1)
+    return {"mean": mean, "min": min, "max": max}[which](values)
+
+
+def _wu_audit(label):
+    return (f"{stat(WU, label, 'audit_projected_mean_px'):.3f} / "
+            f"{stat(WU, label, 'audit_projected_p95_px'):.2f} / "
+            f"{stat(WU, label, 'audit_projected_max_px', 'max'):.2f}")
+
+
+def _wu_counts(label):
+    return [grouped(_wu(name, label)) for name in ("triangles_in_view_blocks",
+                                                   "triangles_rendered", "triangles")]
+
+
+def wu_table1_fixed():
+    """Table 1 at the paper's initial τ: budget against error, beside the paper's."""
+    reference_p95 = stat(WU, "wu budget=6000", "audit_projected_p95_px")
+    print(source(WU, "; means over frames 1 on"))
+    print("| budget | paper: average error (px) | paper · √budget | the paper's formula τ (px) "
+          "| τ · √budget | initial τ in use (px) | Wu's count in view (mean) "
+          "| `triangles_rendered` (mean) | whole mesh (mean) "
+          "| audited projected error: mean / p95 / max (px) "
+          "| our p95 relative to 6000 | paper relative to 6000 |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for budget, paper in WU_PAPER_ERROR.items():
+        label = f"wu budget={budget}"
+        formula = float(fact(WU, label, "paper_initial_tau_px"))
+        initial = float(fact(WU, label, "initial_tau_px"))
+        p95 = stat(WU, label, "audit_projected_p95_px")
+        print(f"| {budget} | {paper} | {paper * budget ** 0.5:.0f} | {formula:.2f} "
+              f"| {formula * budget ** 0.5:.0f} | {initial:.2f} | " + " | ".join(_wu_counts(label))
+              + f" | {_wu_audit(label)} | {p95 / reference_p95:.2f} "
+              f"| {paper / WU_PAPER_ERROR[6000]:.2f} |")
+    print()
+
+
+def wu_table1_recentred():
+    """Table 1 with τ re-centred: τ and b over the flight, counts and error."""
+    reference_p95 = stat(WU, "wu budget=6000 τ re-centred", "audit_projected_p95_px")
+    print(source(WU, "; means over frames 1 on"))
+    print("| budget | τ over the flight: mean [min, max] (px) | b: min / max / mean "
+          "| Wu's count in view | `triangles_rendered` | whole mesh "
+          "| audited error: mean / p95 / max (px) | p95 relative to 6000 |")
+    print("|---|---|---|---|---|---|---|---|")
+    for budget in WU_PAPER_ERROR:
+        label = f"wu budget={budget} τ re-centred"
+        tau = column(WU, label, "tau_px")
+        b = column(WU, label, "base_b", 1)
+        p95 = stat(WU, label, "audit_projected_p95_px")
+        print(f"| {budget} | {mean(tau):.2f} [{min(tau):.2f}, {max(tau):.2f}] "
+              f"| {signed(min(b))} / {signed(max(b))} / {signed(mean(b), 1)} | " + " | ".join(_wu_counts(label))
+              + f" | {_wu_audit(label)} | {p95 / reference_p95:.2f} |")
+    print()
+
+
+def wu_table1_flight():
+    """The 6000-frame flight's statistics at 6000 triangles, beside the paper's §7."""
+    entries = ["wu budget=6000", "wu budget=6000 τ re-centred", "wu budget=6000 everywhere"]
+
+    def b(label):
+        return (f"{signed(_wu('base_b', label, 'max'))} / {signed(_wu('base_b', label, 'min'))} "
+                f"/ {signed(_wu('base_b', label), 1)}")
+
+    def one(name, digits=0):
+        return lambda label: grouped(_wu(name, label), digits)
+
+    def splits(label):
+        return f"{_wu('splits', label):.2f} ({_wu('forced_splits', label):.2f})"
+
+    def vertices(label):
+        return f"{_wu('vertices_inserted', label):.1f} / {_wu('vertices_deleted', label):.1f}"
+
+    def per_operation(label):
+        operations = _wu("splits", label) + _wu("merges", label)
+        return f"{_wu('life_recomputations', label) / operations:.2f}"
+
+    def in_view(label):
+        return (f"{grouped(_wu('triangles_in_view_blocks', label))} / "
+                f"{grouped(_wu('triangles_rendered', label))}")
+
+    def ratio(label):
+        whole = _wu("triangles", label)
+        return (f"{whole / _wu('triangles_in_view_blocks', label):.2f} "
+                f"({whole / _wu('triangles_rendered', label):.2f})")
+
+    rows = [
+        ("b max / min / mean", "54 / −41 / ≈ 0", b),
+        ("splittable nodes (inactive, both corner parents active)", "1238", one("splittable")),
+        ("split queue (inactive, quadtree parent active)", "—", one("split_queue")),
+        ("mergeable nodes", "525", one("mergeable")),
+        ("valid-life recomputations", "128.7", one("life_recomputations", 1)),
+        ("nodes tested against the view cone", "—", one("cone_tests", 1)),
+        ("splits (of which forced)", "11.5", splits),
+        ("merges", "2.3", one("merges", 2)),
+        ("vertices inserted / deleted", "23.3 / 23.3", vertices),
+        ("recomputations per split or merge", "9.3", per_operation),
+        ("whole mesh", "≈ rendered", one("triangles")),
+        ("Wu's count in view / `triangles_rendered`", "6000 / —", in_view),
+        ("whole mesh ÷ Wu's count (÷ `triangles_rendered`)", "≈ 1", ratio),
+    ]
+    print(source(WU))
+    print("| per frame, mean (frames 1 on) | paper | `in_view` | `in_view`, τ re-centred "
+          "| `everywhere` |")
+    print("|---|---|---|---|---|")
+    for header, paper, cell in rows:
+        print(f"| {header} | {paper} | " + " | ".join(cell(label) for label in entries) + " |")
+    print()
+
+
 GENERATORS = {
     "frames-mean": (frames_mean, "frames-mean EXPERIMENT ENTRY COLUMN [FIRST [LAST [DIGITS]]]: "
                                  "a mean over frames of frames.csv, inline"),
@@ -491,6 +695,8 @@ GENERATORS = {
                                       "(µs) of report.md, either header, inline"),
     "wu-reference-speedup": (wu_reference_speedup, "wu-reference-speedup EXPERIMENT TAU ...: "
                                                    "the reference's update over Wu's, a range"),
+    "section-cell": (section_cell, "section-cell EXPERIMENT HEADING ENTRY COLUMN [DIGITS]: a "
+                                   "cell of another report.md table, inline"),
     "frames-above": (frames_above, "frames-above EXPERIMENT ENTRY COLUMN THRESHOLD [FIRST]: "
                                    "frames whose COLUMN exceeds THRESHOLD, inline"),
     "lindstrom-sweep": (lindstrom_sweep, "Lindstrom'96: the τ sweep's polygons beside the "
@@ -506,6 +712,15 @@ GENERATORS = {
     "rottger-geomorphing": (rottger_geomorphing, "Röttger'98: with and without geomorphing"),
     "stitching-peak": (stitching_peak, "the 2019 stitching strips on the flight towards the "
                                        "peak (docs/reproductions/stitching-strips.md)"),
+    "wu-table1": (wu_table1_fixed, "Wu'01 Table 1 at the paper's τ "
+                                   "(docs/reproductions/wu-table1.md)"),
+    "wu-table1-recentred": (wu_table1_recentred, "Wu'01 Table 1 with τ re-centred"),
+    "wu-table1-flight": (wu_table1_flight, "Wu'01 §7: the flight's statistics at 6000 triangles"),
+    "lauritsen-detail": (lauritsen_detail, "Lauritsen–Nielsen: the source and three levels of "
+                                           "detail (docs/reproductions/lauritsen.md)"),
+    "lauritsen-creation": (lauritsen_creation, "Lauritsen–Nielsen: node creation with and "
+                                               "without the limit"),
+    "lauritsen-latency": (lauritsen_latency, "Lauritsen–Nielsen: the error cost of load latency"),
     "chunked-tau": (chunked_tau, "chunked LOD over the paper's τ range "
                                  "(docs/reproductions/chunked.md)"),
     "chunked-skirts": (chunked_skirts, "chunked LOD: δ_c skirts against covering skirts"),
