@@ -442,6 +442,8 @@ def rottger_geomorphing():
         return cell
 
     def morphing(e, label):
+        if not reports(e, label, "morphing_vertices"):
+            return "—"
         value = mean(_settled(e, label, "morphing_vertices"))
         if value == 0:
             return "—"
@@ -456,13 +458,62 @@ def rottger_geomorphing():
         ("audited p95, mean (px)", _settled_mean("audit_projected_p95_px", 3)),
         ("audited max (px)", lambda e, label: f"{max(_settled(e, label, 'audit_projected_max_px')):.2f}"),
         ("morphing vertices", morphing),
-        ("vertices changed", _settled_mean("vertices_changed")),
+        ("upload per frame (kB)", report("upload per frame (kB)")),
         ("update p50 (µs)", update_p50),
     ]
     print("| " + " | ".join(h for h, _c in columns) + " |")
     print("|" + "---|" * len(columns))
     for label in ("C=8 vertices=15000", "C=8 vertices=15000 geomorphing"):
         print("| " + " | ".join(c(ROTTGER, label) for _h, c in columns) + " |")
+    print()
+
+
+def _sweep_label(c_min, c):
+    """The label of the sweep's point (C, c): `sweep desired_resolution=c, minimum_resolution=C`."""
+    for label in _labels(ROTTGER):
+        if not label.startswith("sweep "):
+            continue
+        point = dict(part.split("=") for part in label[len("sweep "):].split(", "))
+        if point.get("minimum_resolution") == str(c_min) and point.get(
+                "desired_resolution") == str(c):
+            return label
+    if (c_min, c) == (32, 0):
+        return "C=32 c=0"
+    return None
+
+
+def rottger_c_sweep():
+    """Fan vertices against C at c = 0 and c = 90, and their growth per doubling of C."""
+    sizes = [2, 4, 8, 16, 32]
+
+    def vertices(label):
+        return mean(_settled(ROTTGER, label, "fan_vertices")) if label else None
+
+    print(source(ROTTGER, f"; means over frames {SETTLED}–999"))
+    print("| C | fan vertices, c = 0 | ratio | fans | vertices per fan | fan vertices, c = 90 "
+          "| ratio | audited p95 (px), c = 0 / 90 | update p50 (µs), c = 0 / 90 |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---|---|")
+    previous = {0: None, 90: None}
+    for size in sizes:
+        cells = [str(size)]
+        labels = {c: _sweep_label(size, c) for c in (0, 90)}
+        for c in (0, 90):
+            label = labels[c]
+            value = vertices(label)
+            if value is None:
+                cells += ["—", "—"] if c == 90 else ["—", "—", "—", "—"]
+                continue
+            ratio = f"×{value / previous[c]:.1f}" if previous[c] else "—"
+            previous[c] = value
+            cells += [grouped(value), ratio]
+            if c == 0:
+                fans = mean(_settled(ROTTGER, label, "fans"))
+                cells += [grouped(fans), f"{value / fans:.1f}"]
+        p95 = [f"{mean(_settled(ROTTGER, labels[c], 'audit_projected_p95_px')):.2f}"
+               if labels[c] else "—" for c in (0, 90)]
+        times = [update_p50(ROTTGER, labels[c]) if labels[c] else "—" for c in (0, 90)]
+        cells += [" / ".join(p95), " / ".join(times)]
+        print("| " + " | ".join(cells) + " |")
     print()
 
 
@@ -709,6 +760,7 @@ GENERATORS = {
                                           "mean over frames 100 on, inline"),
     "rottger-operating-point": (rottger_operating_point, "Röttger'98: the controlled entries "
                                                          "(docs/reproductions/rottger.md)"),
+    "rottger-c-sweep": (rottger_c_sweep, "Röttger'98: fan vertices against C at c = 0 and 90"),
     "rottger-geomorphing": (rottger_geomorphing, "Röttger'98: with and without geomorphing"),
     "stitching-peak": (stitching_peak, "the 2019 stitching strips on the flight towards the "
                                        "peak (docs/reproductions/stitching-strips.md)"),
