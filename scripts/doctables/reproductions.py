@@ -8,11 +8,12 @@ their columns, which are built from a few shared readers: a mean over frames (fr
 or from frames.csv over a range of frames where the page says so), a fact, a report.md cell.
 Inline generators print one such figure into a sentence. Nothing here is measured: every figure
 is read, or computed the way the page says (a ratio of two printed figures, a count of frames).
-Not here: the study's generators (`generators.py`), which the lead switches to the new report
-columns at the final regeneration.
+Not here: the study's and performance.md's generators (`generators.py`). Report columns are read
+by header name; the update time by `update p50 (µs)`, or by the first figure of the older
+`update p50 / p95 (µs)` in outputs written before it (`update_p50`).
 """
 
-from .outputs import OutputMissing, main_cell, table
+from .outputs import OutputMissing, main_cell, summary, table
 from .runs import column, entry, fact, grouped, mean, reports, stat
 
 
@@ -33,7 +34,6 @@ def frames_note(experiment):
 
 
 def _labels(experiment):
-    from .outputs import summary
     return [record["label"] for record in summary(experiment)["algorithms"]]
 
 

@@ -47,11 +47,6 @@ def fact(experiment, label, name):
     return facts[name]
 
 
-def update_p50_us(experiment, label):
-    """The median update time of the entry's timing pass (µs), as report.md prints it."""
-    return fact(experiment, label, "update_p50_us_median_of_passes")
-
-
 @functools.lru_cache(maxsize=None)
 def _frames(experiment):
     path = PLOTS / experiment / "frames.csv"
