@@ -151,6 +151,21 @@ def section_cell(experiment, heading, label, name, digits=None):
     print(value if digits is None else f"{float(value):.{int(digits)}f}", end="")
 
 
+def frames_sum(experiment, label, name):
+    """frames-sum EXPERIMENT ENTRY COLUMN: the sum of a frames.csv column over the flight."""
+    print(grouped(sum(column(experiment, label, name))), end="")
+
+
+def run_record(experiment, key):
+    """run EXPERIMENT KEY: a figure of summary.json's `run` record (peak_resident_bytes, …),
+    what the operating system reported to the run, grouped by thousands."""
+    record = summary(experiment).get("run") or {}
+    if key not in record:
+        raise OutputMissing(f"plots/{experiment}/summary.json: no run.{key} (run: "
+                            f"{', '.join(record)})")
+    print(grouped(float(record[key])), end="")
+
+
 def frames_above(experiment, label, name, threshold, first="0"):
     """frames-above EXPERIMENT ENTRY COLUMN THRESHOLD [FIRST]: how many frames from FIRST on
     have COLUMN above THRESHOLD."""
@@ -748,6 +763,9 @@ GENERATORS = {
                                                    "the reference's update over Wu's, a range"),
     "section-cell": (section_cell, "section-cell EXPERIMENT HEADING ENTRY COLUMN [DIGITS]: a "
                                    "cell of another report.md table, inline"),
+    "frames-sum": (frames_sum, "frames-sum EXPERIMENT ENTRY COLUMN: a column's sum over the "
+                               "flight, inline"),
+    "run": (run_record, "run EXPERIMENT KEY: a figure of summary.json's run record, inline"),
     "frames-above": (frames_above, "frames-above EXPERIMENT ENTRY COLUMN THRESHOLD [FIRST]: "
                                    "frames whose COLUMN exceeds THRESHOLD, inline"),
     "lindstrom-sweep": (lindstrom_sweep, "Lindstrom'96: the τ sweep's polygons beside the "
