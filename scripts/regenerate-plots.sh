@@ -3,9 +3,12 @@
 # (timings are only comparable from --threads 1 runs). Counts and meshes are deterministic; the
 # timing columns and the plots drawn from them depend on the machine.
 #
-#   bash scripts/regenerate-plots.sh            # everything: the outputs below and the study
+#   bash scripts/regenerate-plots.sh            # everything: the outputs below, the study and
+#                                               # the reproductions
 #   bash scripts/regenerate-plots.sh quickstart compare-circle   # only these
 #   bash scripts/regenerate-plots.sh study      # the study's experiments (docs/study.md)
+#   bash scripts/regenerate-plots.sh reproductions   # every experiment docs/reproductions/
+#                                               # quotes (vanek-16k: about 9 GiB of memory)
 #   SHARDS=2 bash scripts/regenerate-plots.sh study   # each experiment as 2 parts run at once,
 #                                               # one thread each, then merged (docs/sharding.md)
 #
@@ -15,18 +18,22 @@ cd "$(dirname "$0")/.."
 
 outputs=(quickstart accuracy-vs-time compare-circle scaling chunked-tau)
 study=(study-circle study-low-rough study-turning study-error-targets study-speed study-scaling accuracy-vs-time)
+# The experiments docs/reproductions/*.md quote (chunked-tau is also an output above).
+reproductions=(wu-table1 roam-pop roam-pop-circle roam-deferral lindstrom-tau-sweep rottger-fans
+    stitching-strips-peak stitching-strips-circle vanek-circle vanek-16k chunked-tau lauritsen
+    lauritsen-65537)
 shards="${SHARDS:-1}"
 
-[ $# -eq 0 ] && set -- "${outputs[@]}" study
+[ $# -eq 0 ] && set -- "${outputs[@]}" study reproductions
 experiments=()
 for name in "$@"; do
-    if [ "$name" = study ]; then
-        experiments+=("${study[@]}")
-    else
-        experiments+=("$name")
-    fi
+    case "$name" in
+        study) experiments+=("${study[@]}") ;;
+        reproductions) experiments+=("${reproductions[@]}") ;;
+        *) experiments+=("$name") ;;
+    esac
 done
-# accuracy-vs-time is both an output and part of the study: run it once.
+# An experiment named by two groups (accuracy-vs-time, chunked-tau) runs once.
 mapfile -t experiments < <(printf '%s\n' "${experiments[@]}" | awk '!seen[$0]++')
 
 cargo build --release --locked

@@ -1,6 +1,6 @@
 //! The docs' generated figures (`scripts/doc-tables`): the committed docs hold exactly what the
-//! scripts print from the committed outputs, and a doc whose generated text differs by one digit
-//! fails the check, which names the doc, the line and the command; filling puts the figure back.
+//! scripts print from the committed outputs (the study, performance.md and a reproduction page
+//! among them), and a doc whose generated text differs by one digit fails the check, which names the doc, the line and the command; filling puts the figure back.
 //! The scripts are Python 3 (standard library only); `.ci/run` runs the same check on its own.
 
 mod common;
@@ -60,7 +60,11 @@ fn the_committed_docs_hold_what_the_scripts_print_from_the_committed_outputs() {
 #[test]
 fn one_digit_changed_in_a_generated_table_fails_the_check_and_filling_puts_it_back() {
     let folder = tempfile::tempdir().unwrap();
-    for doc in ["docs/study.md", "docs/performance.md"] {
+    for doc in [
+        "docs/study.md",
+        "docs/performance.md",
+        "docs/reproductions/lindstrom.md",
+    ] {
         let (copy, line) = with_one_digit_changed(doc, folder.path());
         let copy_argument = copy.to_str().unwrap();
 

@@ -14,6 +14,8 @@ Everything printed is read from a run's own outputs under plots/ (report.md tabl
 summary.json records): the scripts select, join and order figures, and compute a figure only
 where the doc says how (a ratio of two printed figures). Python 3 standard library only.
 
-Modules: `outputs` reads the committed outputs; `markers` finds and fills the marked text;
-`generators` holds every generator by name; `cli` is the command line.
+Modules: `outputs` reads the committed outputs' report.md tables; `runs` reads one run's
+summary.json statistics and facts and frames.csv rows; `markers` finds and fills the marked
+text; `generators` holds every generator by name, the reproduction pages' in `reproductions`;
+`cli` is the command line.
 """

@@ -9,6 +9,7 @@ import contextlib
 import inspect
 import io
 
+from . import reproductions
 from .outputs import OutputMissing, main_cell, main_table, table, tables, report_path, tuned
 
 
@@ -155,9 +156,15 @@ GENERATORS = {
     "study-scaling": (lambda: (sweep("study-scaling", "Median update time"),
                                sweep("study-scaling", "Memory")),
                       "the terrain-size sweep: update time and memory per point"),
+    "scaling": (lambda: (sweep("scaling", "Median update time"), sweep("scaling", "Memory"),
+                         sweep("scaling", "Mean triangles")),
+                "the committed terrain-size sweep: update time, memory, triangles per point "
+                "(docs/performance.md)"),
     "study-pareto": (pareto, "the Pareto-front sentences of the study's runs"),
     "cell": (cell, "cell EXPERIMENT ENTRY COLUMN [PART]: one figure of a run's comparison "
                    "table, inline"),
+    # docs/reproductions/*.md: their own module.
+    **reproductions.GENERATORS,
 }
 
 
