@@ -11,8 +11,8 @@ use common::algorithms::vanek;
 use common::{bumpy_terrain, checked_step, extra, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::columns::vanek::{
-    COLLAPSED_TRIANGLES, DEGENERATE_TRIANGLES, DISTANCE_MULTIPLIER, PATCHES_CULLED, STRIP_INDICES,
-    TARGET_UNREACHABLE,
+    COLLAPSED_TRIANGLES, DEGENERATE_TRIANGLES, DISTANCE_MULTIPLIER, PATCHES_CULLED,
+    QUADTREE_NODES_VISITED, STRIP_INDICES, TARGET_UNREACHABLE,
 };
 use roamsim::sim::algorithm::vanek::lods_from_scratch;
 use roamsim::sim::algorithm::{
@@ -23,7 +23,8 @@ use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::TriangleRole;
 use roamsim::sim::mesh::check::MeshChecker;
 use roamsim::sim::stats::FrameStats;
-use roamsim::sim::view::{Camera, Pose};
+use roamsim::sim::terrain::{Heightfield, Spacing};
+use roamsim::sim::view::{Camera, Pose, ViewSettings};
 
 /// Eyes over the terrain: above every sample, 4 m and 70 m over the highest ground, turning.
 fn eyes_over(hierarchy: &Hierarchy) -> Vec<Camera> {
@@ -98,7 +99,7 @@ fn every_eye_and_option_over_small_terrains_passes_check_and_the_brute_force_sel
                 for (frame, camera) in cameras.iter().enumerate() {
                     let context = format!("{config:?} on {level}");
                     checked(&hierarchy, &mut vanek, frame as u64, camera, &context);
-                    for &k in vanek.lods() {
+                    for k in vanek.lods().into_iter().flatten() {
                         levels_seen[k as usize] = true;
                     }
                 }
@@ -232,13 +233,13 @@ fn the_target_holds_the_finest_mesh_within_it_and_reports_the_unreachable() {
             // Every patch at k = 0 (the eye is above every box): 16 · 4 triangles.
             assert!(stats.triangles > target);
             assert_eq!(stats.triangles, 16 * 4);
-            assert!(vanek.lods().iter().all(|&k| k == 0));
+            assert!(vanek.lods().iter().all(|&k| k == Some(0)));
             continue;
         }
         assert!(stats.triangles <= target, "target {target}");
         if target == 1_000_000 {
             assert_eq!(mu, 0.0);
-            assert!(vanek.lods().iter().all(|&k| k == 3));
+            assert!(vanek.lods().iter().all(|&k| k == Some(3)));
             continue;
         }
         // One search step finer (μ smaller by 1/64 octave) is over the target.
@@ -275,15 +276,19 @@ fn culling_drops_only_patches_outside_the_view_and_changes_no_level() {
     );
     let a = checked(&hierarchy, &mut without, 0, &camera, "no culling");
     let b = checked(&hierarchy, &mut with, 0, &camera, "culling");
-    assert_eq!(without.lods(), with.lods());
+    // The patches drawn have the levels they have without culling; the others none.
+    for (patch, (all, drawn)) in without.lods().into_iter().zip(with.lods()).enumerate() {
+        assert!(drawn.is_none() || drawn == all, "patch {patch}");
+    }
     let culled = extra(&with, &b, PATCHES_CULLED);
     assert!(culled > 0.0 && culled < 64.0, "{culled}");
     assert_eq!(extra(&without, &a, PATCHES_CULLED), 0.0);
     assert!(b.triangles < a.triangles);
     // Looking east from near the west edge: a patch ahead (px 3, py 4) is kept, the far
     // corners north-west and south-west of the eye, beside and behind it, are culled.
-    assert!(!with.culled()[4 * 8 + 3]);
-    assert!(with.culled()[0] && with.culled()[7 * 8]);
+    let lods = with.lods();
+    assert!(lods[4 * 8 + 3].is_some());
+    assert!(lods[0].is_none() && lods[7 * 8].is_none());
 }
 
 #[test]
@@ -301,7 +306,12 @@ fn splits_merges_and_vertices_count_the_patches_that_changed() {
         )
     };
     let first = checked(&hierarchy, &mut vanek, 0, &at(0.0), "counters");
-    let vertices: u64 = vanek.lods().iter().map(|&k| ((1u64 << k) + 1).pow(2)).sum();
+    let vertices: u64 = vanek
+        .lods()
+        .into_iter()
+        .flatten()
+        .map(|k| ((1u64 << k) + 1).pow(2))
+        .sum();
     assert_eq!(first.vertices_inserted, vertices);
     let before = vanek.lods().to_vec();
     let same = checked(&hierarchy, &mut vanek, 1, &at(0.0), "counters");
@@ -311,8 +321,8 @@ fn splits_merges_and_vertices_count_the_patches_that_changed() {
     );
     let moved = checked(&hierarchy, &mut vanek, 2, &at(160.0), "counters");
     let after = vanek.lods();
-    let finer = before.iter().zip(after).filter(|(b, a)| a > b).count() as u64;
-    let coarser = before.iter().zip(after).filter(|(b, a)| a < b).count() as u64;
+    let finer = before.iter().zip(&after).filter(|(b, a)| a > b).count() as u64;
+    let coarser = before.iter().zip(&after).filter(|(b, a)| a < b).count() as u64;
     assert!(finer > 0 && coarser > 0, "{before:?} → {after:?}");
     assert_eq!((moved.splits, moved.merges), (finer, coarser));
     assert!(moved.vertices_inserted > 0 && moved.vertices_deleted > 0);
@@ -364,7 +374,7 @@ fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_r
     ] {
         let context = format!("{config:?}");
         let mut algorithm = Vanek::new(&hierarchy, config);
-        let mut previous: Option<Vec<u32>> = None;
+        let mut previous: Option<Vec<Option<u32>>> = None;
         let mut level_changes = 0;
         for (frame, camera) in patch_flight().iter().enumerate() {
             let stats = checked_step(
@@ -392,7 +402,7 @@ fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_r
                 stats.triangles + drawn,
                 "{context}, frame {frame}: the strips, one parity index each"
             );
-            let lods = algorithm.lods().to_vec();
+            let lods = algorithm.lods();
             if let Some(before) = &previous {
                 level_changes += u64::from(*before != lods);
                 if *before == lods && frame > 0 && (frame == 24 || frame == 26) {
@@ -401,12 +411,14 @@ fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_r
                         "{context}, frame {frame}: nothing changed, nothing is written"
                     );
                 }
-                if frame > 0 && frame != 25 && !config.box_culling {
+                if frame > 0 && frame != 25 {
                     // Only patches whose level or a neighbour's changed are rewritten: at most
-                    // every patch whose own or a neighbour's level moved.
+                    // every drawn patch whose own or a neighbour's level moved, or which it
+                    // culls or draws anew (a side beside a culled patch is not collapsed).
                     let per_side = algorithm.patches_per_side() as usize;
                     let changed = |p: usize| before[p] != lods[p];
                     let touched = (0..lods.len())
+                        .filter(|&p| lods[p].is_some())
                         .filter(|&p| {
                             let (x, y) = (p % per_side, p / per_side);
                             changed(p)
@@ -415,7 +427,7 @@ fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_r
                                 || (y > 0 && changed(p - per_side))
                                 || (y + 1 < per_side && changed(p + per_side))
                         })
-                        .map(|p| ((1u64 << lods[p]) + 1).pow(2) * 12)
+                        .map(|p| ((1u64 << lods[p].expect("drawn")) + 1).pow(2) * 12)
                         .sum::<u64>();
                     assert!(
                         counts.upload_bytes <= touched + 4 * 4 * 300,
@@ -428,5 +440,150 @@ fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_r
             previous = Some(lods);
         }
         assert!(level_changes > 3, "{context}: the flight changes levels");
+    }
+}
+
+/// A terrain of 2^level + 1 samples a side whose height at a sample does not depend on the
+/// terrain's size: a larger one extends a smaller one.
+fn extended_terrain(level: u32) -> Hierarchy {
+    let side = (1usize << level) + 1;
+    let heights = (0..side * side)
+        .map(|k| {
+            let (i, j) = (k % side, k / side);
+            20.0 * (0.9 * i as f32).sin() * (0.7 * j as f32).cos()
+                + ((i * 7919 + j * 104_729) % 97) as f32 * 0.3
+        })
+        .collect();
+    Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 10.0, dy: 10.0 }).unwrap())
+}
+
+#[test]
+fn with_culling_a_patch_outside_the_view_is_neither_drawn_nor_given_a_level() {
+    // The same view over a terrain 16 times larger: the quadtree visits a few more nodes (its
+    // depth), the level computations stay those of the patches in view, one per patch drawn
+    // and per pass of the target's search.
+    let camera = Camera::new(
+        &Pose {
+            position: DVec3::new(300.0, 300.0, 80.0),
+            yaw: 0.6,
+            pitch: -0.3,
+        },
+        ViewSettings {
+            far: 600.0,
+            ..view_600()
+        },
+    );
+    for target_triangles in [None, Some(2000)] {
+        let config = VanekConfig {
+            box_culling: true,
+            target_triangles,
+            ..vanek(3, 50.0, 500.0)
+        };
+        let run = |hierarchy: &Hierarchy| {
+            let mut algorithm = Vanek::new(hierarchy, config);
+            let stats = checked(hierarchy, &mut algorithm, 0, &camera, "culled");
+            let drawn = algorithm.drawn_patches().len() as u64;
+            let lods = algorithm.lods();
+            assert_eq!(lods.iter().flatten().count() as u64, drawn);
+            assert_eq!(common::draw_counts(&stats).draw_calls, drawn);
+            assert_eq!(
+                extra(&algorithm, &stats, PATCHES_CULLED) as u64,
+                lods.len() as u64 - drawn
+            );
+            // Every level computed is a drawn patch's.
+            assert_eq!(stats.metric_evaluations % drawn, 0, "{config:?}");
+            if target_triangles.is_none() {
+                assert_eq!(stats.metric_evaluations, drawn, "{config:?}");
+            }
+            (
+                lods,
+                stats.metric_evaluations,
+                extra(&algorithm, &stats, QUADTREE_NODES_VISITED),
+            )
+        };
+        let (small, large) = (extended_terrain(7), extended_terrain(9));
+        let (small_lods, small_evaluations, small_nodes) = run(&small);
+        let (large_lods, large_evaluations, large_nodes) = run(&large);
+        let drawn = |lods: &[Option<u32>], per_side: usize| -> Vec<(usize, usize, u32)> {
+            (0..lods.len())
+                .filter_map(|p| lods[p].map(|k| (p % per_side, p / per_side, k)))
+                .collect()
+        };
+        assert!(large_lods.len() == 16 * small_lods.len());
+        assert!(
+            drawn(&small_lods, 16).len() < small_lods.len(),
+            "the view culls"
+        );
+        assert_eq!(
+            drawn(&small_lods, 16),
+            drawn(&large_lods, 64),
+            "{config:?}: the same patches drawn at the same levels"
+        );
+        assert_eq!(small_evaluations, large_evaluations, "{config:?}");
+        assert!(
+            large_nodes <= small_nodes + 16.0,
+            "{large_nodes} nodes visited over the large terrain, {small_nodes} over the small one"
+        );
+    }
+}
+
+#[test]
+fn culling_changes_no_mesh_when_every_patch_is_in_view() {
+    // From high above, looking straight down with a wide view: nothing to cull, and the
+    // meshes, the multiplier and the buffers drawn are those without culling, frame by frame.
+    let hierarchy = bumpy_terrain(6);
+    let cameras: Vec<Camera> = [(320.0, 320.0, 900.0), (250.0, 380.0, 700.0)]
+        .iter()
+        .map(|&(x, y, z)| {
+            Camera::new(
+                &Pose {
+                    position: DVec3::new(x, y, z),
+                    yaw: 0.3,
+                    pitch: -std::f64::consts::FRAC_PI_2 + 1e-3,
+                },
+                ViewSettings {
+                    fovy: 120f64.to_radians(),
+                    ..view_600()
+                },
+            )
+        })
+        .collect();
+    for plain in [
+        vanek(3, 100.0, 1500.0),
+        VanekConfig {
+            target_triangles: Some(1500),
+            ..vanek(3, 100.0, 1500.0)
+        },
+    ] {
+        let culling = VanekConfig {
+            box_culling: true,
+            ..plain
+        };
+        let mut without = Vanek::new(&hierarchy, plain);
+        let mut with = Vanek::new(&hierarchy, culling);
+        for (frame, camera) in cameras.iter().enumerate() {
+            let a = checked(&hierarchy, &mut without, frame as u64, camera, "no culling");
+            let b = checked(&hierarchy, &mut with, frame as u64, camera, "culling");
+            assert_eq!(extra(&with, &b, PATCHES_CULLED), 0.0, "{plain:?}");
+            assert_eq!(without.lods(), with.lods(), "{plain:?}");
+            assert_eq!(
+                without.distance_multiplier(),
+                with.distance_multiplier(),
+                "{plain:?}"
+            );
+            let triangles = |v: &Vanek| {
+                let mut all = Vec::new();
+                v.mesh().for_each_triangle(&hierarchy, |t| {
+                    all.push((t.corners.map(|c| (c.position.raw(), c.z.to_bits())), t.info));
+                });
+                all
+            };
+            assert_eq!(triangles(&without), triangles(&with), "{plain:?}");
+            assert_eq!(
+                (a.triangles, a.metric_evaluations),
+                (b.triangles, b.metric_evaluations)
+            );
+            assert_eq!(common::draw_counts(&a), common::draw_counts(&b));
+        }
     }
 }

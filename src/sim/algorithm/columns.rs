@@ -102,6 +102,7 @@ pub mod vanek {
     pub const PATCH_LOD_MEAN: &str = "patch_lod_mean";
     pub const DISTANCE_MULTIPLIER: &str = "distance_multiplier";
     pub const TARGET_UNREACHABLE: &str = "target_unreachable";
+    pub const QUADTREE_NODES_VISITED: &str = "quadtree_nodes_visited";
 }
 
 /// `stitching-strips` (the 2019 dynamic stitching strips).
@@ -200,6 +201,7 @@ pub const ALL: &[&str] = &[
     vanek::PATCH_LOD_MEAN,
     vanek::DISTANCE_MULTIPLIER,
     vanek::TARGET_UNREACHABLE,
+    vanek::QUADTREE_NODES_VISITED,
     stitching::M_BLOCKS,
     stitching::M_BLOCKS_CULLED,
     stitching::P_BLOCKS,

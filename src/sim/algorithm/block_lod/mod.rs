@@ -4,7 +4,8 @@
 //! (`threshold.rs`), box culling (`cull.rs`), the regular grid both triangulate their blocks
 //! with and geomorphing on it (`grid.rs`), and the per-frame τ search that holds a triangle
 //! target (`budget.rs`). `vanek` also uses the box culling and the τ search, `stitching-strips`
-//! the box culling.
+//! the box culling; `geomipmap` and `vanek` cull their patch grids through one quadtree
+//! (`quadtree.rs`).
 //!
 //! Both schemes' blocks (de Boer's geomipmaps, Lauritsen–Nielsen's chunks) are regular grids of
 //! (2^k + 1)² samples taken every 2^ℓ-th sample, each cell split along its south-west–north-east
@@ -16,6 +17,7 @@
 pub(super) mod budget;
 pub(super) mod cull;
 pub(super) mod grid;
+pub(super) mod quadtree;
 pub(super) mod threshold;
 
 /// What a block-based algorithm holds fixed.

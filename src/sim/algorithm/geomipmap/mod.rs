@@ -13,7 +13,7 @@
 //! - **Stitching** (`stitch.rs`): a patch whose neighbour is coarser leaves out the border
 //!   vertices the neighbour lacks and fans its border strip to the ones it keeps (role stitch);
 //!   the surface is closed (crack policy `stitched`).
-//! - **Culling** (`quadtree.rs`, option `box_culling`): a quadtree over the patches, each node
+//! - **Culling** (`block_lod/quadtree.rs`, option `box_culling`): a quadtree over the patches, each node
 //!   with its patches' height range; a node outside the view is left with everything below it
 //!   and declared to the mesh as a culled region. Levels, stitching and factors are then chosen
 //!   over the drawn patches only (a culled neighbour is no neighbour: nothing to stitch to), so
@@ -58,7 +58,6 @@ mod brute_force;
 mod buffers;
 mod levels;
 mod patches;
-mod quadtree;
 mod stitch;
 mod validate;
 
@@ -67,6 +66,7 @@ pub use levels::LevelDifference;
 pub use validate::GeomipmapError;
 
 use super::block_lod::budget::finest_tau_within;
+use super::block_lod::quadtree::PatchQuadtree;
 use super::block_lod::threshold::DetailThreshold;
 use super::block_lod::{BlockGoal, Projection};
 use super::columns::geomipmap as columns;
@@ -79,7 +79,6 @@ use crate::sim::view::{Camera, ViewSettings};
 use buffers::{MorphKey, PatchBuffers};
 use levels::{PatchLevels, choose_levels, measure, set_morph_factors};
 use patches::PatchGrid;
-use quadtree::PatchQuadtree;
 use stitch::{PatchDraw, PatchScratch, add_patch};
 
 pub(super) const NAME: &str = "geomipmap";
@@ -191,7 +190,12 @@ impl<'h> Geomipmap<'h> {
         let n = grid.n_patches();
         Geomipmap {
             draw: PatchBuffers::new(n),
-            quadtree: PatchQuadtree::new(&grid),
+            quadtree: PatchQuadtree::new(
+                grid.per_side(),
+                grid.cells(),
+                hierarchy.field().spacing(),
+                |patch| grid.z_range(patch),
+            ),
             visible: Vec::new(),
             culled_squares: Vec::new(),
             patch_draws: Vec::new(),
@@ -312,7 +316,6 @@ impl LodAlgorithm for Geomipmap<'_> {
         let eye = input.camera.eye;
         let (grid, projection) = (&self.grid, self.config.projection);
         self.nodes_visited = self.quadtree.visible_patches(
-            grid,
             self.config.box_culling.then_some(input.camera),
             &mut self.visible,
             &mut self.culled_squares,

@@ -26,16 +26,26 @@
 //!   same level" (the strip, built once per level on first use) and per patch a vertex buffer
 //!   holding its level's vertices, border ones already moved onto the coarser neighbour's, so a
 //!   patch's vertex buffer is rewritten only when its level or a neighbour's collapsing level
-//!   changes (its shape: k and the four side levels), never otherwise; a culled patch keeps its
-//!   buffer. One strip draw per drawn patch. The index buffer starts with its first index
+//!   changes (its shape: k and the four side levels, a culled neighbour's side at k), never
+//!   otherwise; a culled patch keeps its buffer. One strip draw per drawn patch. The index buffer starts with its first index
 //!   repeated, which makes a GPU read the paper's strip with the parity roamsim draws it with
 //!   (counter-clockwise; see Winding below): one more degenerate triangle per draw, counted in
 //!   `triangles_submitted`, not in the mesh.
 //! - **Box culling** (§3), an effect (`box_culling`): a patch whose box (square × its samples'
 //!   height range) lies entirely outside the view volume is not drawn and is declared to the
-//!   mesh as a culled region. Levels and collapses are chosen as without culling, so the drawn
-//!   patches are the same either way. The paper projects the box to the screen and tests it
-//!   against the viewport; roamsim tests it against the frustum's planes (`block_lod/cull.rs`).
+//!   mesh as a culled region. The paper projects each patch's box to the screen and tests it
+//!   against the viewport; roamsim tests it against the frustum's planes (`block_lod/cull.rs`)
+//!   and, as issue #31 asks ("patches culled hierarchically"; the paper is silent on how it
+//!   finds the patches to test), through the quadtree over the patches that geomipmapping uses
+//!   (`block_lod/quadtree.rs`, de Boer's): a node outside the view is left with every patch
+//!   below it, and culls exactly the patches the per-patch test would. Distances and levels are
+//!   then chosen for the patches not culled only, so a frame costs O(patches in view + nodes
+//!   visited), whatever the terrain's size: a culled patch is given no level. A culled
+//!   neighbour is no neighbour: a drawn patch's side beside it is not collapsed (nothing is
+//!   drawn there to meet). Where every patch is in view the mesh is therefore the one drawn
+//!   without culling, triangle for triangle; where culling drops a coarser neighbour, the drawn
+//!   patch keeps that side's vertices (its triangle count, and so the target's μ, unchanged),
+//!   on a border at or beyond the edge of the view.
 //! - **Triangle target** (`target_triangles`, roamsim's: the paper's user sets `mindist`,
 //!   `maxdist` and `exp` by hand): every frame, the distances are multiplied by a factor μ (the
 //!   same as dividing `mindist` and `maxdist` by μ; `exp` kept), μ the smallest on the grid of
@@ -73,14 +83,17 @@
 //! - **Counters.** `splits` / `merges`: patches at a higher / lower k than last frame;
 //!   `vertices_inserted` / `vertices_deleted`: the vertex buffers of patches whose level,
 //!   collapsed sides or culling changed (all of the new and of the old);
-//!   `metric_evaluations`: level computations, over every
-//!   pass of the frame. Columns: `strip_indices` (indices sent, drawn patches),
+//!   `metric_evaluations`: level computations (one per patch not culled), over every pass of
+//!   the frame. Columns: `strip_indices` (indices sent, drawn patches),
 //!   `degenerate_triangles` (joins and collapsed), `collapsed_triangles`, `patches_culled`,
-//!   `patch_lod_mean` (the paper's k, n = full resolution, over every patch),
-//!   `distance_multiplier` (μ), `target_unreachable`. One draw batch per drawn patch.
+//!   `patch_lod_mean` (the paper's k, n = full resolution, over the drawn patches),
+//!   `distance_multiplier` (μ), `target_unreachable`; with `box_culling` also
+//!   `quadtree_nodes_visited`. One draw batch per drawn patch.
 //!
-//! Memory: per patch its height range and a few words of frame state, the triangle list, one
-//! patch's index buffer. Per frame: O(patches + drawn indices).
+//! Memory: per patch its height range, its vertex buffer once drawn, and a few words of frame
+//! state; the quadtree (a third more height ranges), the triangle list, one index buffer per
+//! level. Per frame: O(patches in view + quadtree nodes visited + drawn indices) with culling,
+//! O(patches + drawn indices) without.
 
 mod select;
 pub mod strip;
@@ -90,7 +103,7 @@ pub use select::{LodCurve, LodRounding, PatchDistance, patch_distance};
 pub use validate::{VanekError, lods_from_scratch};
 
 use super::block_lod::budget::finest_tau_within;
-use super::block_lod::cull::box_outside_view;
+use super::block_lod::quadtree::PatchQuadtree;
 use super::block_lod::threshold::BlockBox;
 use super::columns::vanek as columns;
 use super::{FrameInput, LodAlgorithm};
@@ -117,6 +130,18 @@ const EXTRA_COLUMNS: &[&str] = &[
     columns::TARGET_UNREACHABLE,
 ];
 
+/// With box culling, also the quadtree nodes visited.
+const CULLING_COLUMNS: &[&str] = &[
+    columns::STRIP_INDICES,
+    columns::DEGENERATE_TRIANGLES,
+    columns::COLLAPSED_TRIANGLES,
+    columns::PATCHES_CULLED,
+    columns::PATCH_LOD_MEAN,
+    columns::DISTANCE_MULTIPLIER,
+    columns::TARGET_UNREACHABLE,
+    columns::QUADTREE_NODES_VISITED,
+];
+
 // Sides of a patch, in the order of the per-side arrays.
 const WEST: usize = 0;
 const EAST: usize = 1;
@@ -137,17 +162,17 @@ pub struct VanekConfig {
     pub box_culling: bool,
 }
 
-/// What a patch drew last frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct PatchState {
-    /// Its level and the level each side is collapsed to; `None` when culled.
-    shape: Option<[u32; 5]>,
-    vertices: u64,
+/// What a drawn patch drew: its level and the level each side is collapsed to.
+type Shape = [u32; 5];
+
+/// The vertices a patch at level k holds, (2^k + 1)².
+fn patch_vertex_count(k: u32) -> u64 {
+    ((1u64 << k) + 1).pow(2)
 }
 
-/// The Vaněk–Ježek patches. Per frame: O(patches + drawn indices); buffers reused.
+/// The Vaněk–Ježek patches. Per frame: O(patches in view + quadtree nodes visited + drawn
+/// indices) with box culling, O(patches + drawn indices) without; buffers reused.
 pub struct Vanek<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
     /// The buffers a GPU draws this frame's mesh from (see the module docs, "GPU side").
     gpu: GpuBuffers,
     /// Per level k, the paper's strip as one shared index buffer and its index count.
@@ -165,8 +190,18 @@ pub struct Vanek<'h> {
     per_side: u32,
     /// Per patch: lowest and highest sample.
     z_range: Vec<(f32, f32)>,
+    /// The quadtree over the patches that culls them (`block_lod/quadtree.rs`).
+    quadtree: PatchQuadtree,
+    /// This frame's patches not culled (ascending), and the squares of the quadtree nodes
+    /// culled (reused).
+    visible: Vec<u32>,
+    culled_squares: Vec<((u32, u32), u32)>,
+    nodes_visited: u64,
+    /// This frame's number (from 1), and per patch the number of the last frame that drew it.
+    frame: u32,
+    drawn_in: Vec<u32>,
+    /// Per patch; only the entries of this frame's drawn patches are this frame's.
     lods: Vec<u32>,
-    culled: Vec<bool>,
     distances: Vec<f64>,
     multiplier: f64,
     target_unreachable: bool,
@@ -176,8 +211,10 @@ pub struct Vanek<'h> {
     moved: Vec<(u32, u32)>,
     strip_indices: u64,
     collapsed: u64,
-    previous: Vec<Option<PatchState>>,
-    current: Vec<Option<PatchState>>,
+    /// Per patch, the frame it was last drawn in and the shape it drew.
+    states: Vec<Option<(u32, Shape)>>,
+    /// Last frame's drawn patches, ascending.
+    previous_drawn: Vec<u32>,
 }
 
 impl<'h> Vanek<'h> {
@@ -212,6 +249,9 @@ impl<'h> Vanek<'h> {
             }
         }
         let n = z_range.len();
+        let quadtree = PatchQuadtree::new(per_side, cells, hierarchy.field().spacing(), |patch| {
+            z_range[patch]
+        });
         Vanek {
             gpu: GpuBuffers::new(),
             level_strips: vec![None; patch_level as usize + 1],
@@ -223,8 +263,13 @@ impl<'h> Vanek<'h> {
             patch_level,
             per_side,
             z_range,
+            quadtree,
+            visible: Vec::new(),
+            culled_squares: Vec::new(),
+            nodes_visited: 0,
+            frame: 0,
+            drawn_in: vec![0; n],
             lods: vec![patch_level; n],
-            culled: vec![false; n],
             distances: vec![0.0; n],
             multiplier: 1.0,
             target_unreachable: false,
@@ -233,8 +278,8 @@ impl<'h> Vanek<'h> {
             moved: Vec::new(),
             strip_indices: 0,
             collapsed: 0,
-            previous: vec![None; n],
-            current: vec![None; n],
+            states: vec![None; n],
+            previous_drawn: Vec::new(),
         }
     }
 
@@ -249,14 +294,22 @@ impl<'h> Vanek<'h> {
     }
 
     /// This frame's level of every patch, row by row from the south-west (the paper's k:
-    /// n = full resolution, 0 = the corners only).
-    pub fn lods(&self) -> &[u32] {
-        &self.lods
+    /// n = full resolution, 0 = the corners only); `None` for a patch culled, whose level is
+    /// not chosen. O(patches): for tests and audits, not for the frame.
+    pub fn lods(&self) -> Vec<Option<u32>> {
+        (0..self.lods.len())
+            .map(|patch| self.is_drawn(patch).then_some(self.lods[patch]))
+            .collect()
     }
 
-    /// Which patches this frame culled, row by row.
-    pub fn culled(&self) -> &[bool] {
-        &self.culled
+    /// This frame's drawn patches (row by row from the south-west), ascending.
+    pub fn drawn_patches(&self) -> &[u32] {
+        &self.visible
+    }
+
+    /// Whether `patch` is drawn this frame.
+    fn is_drawn(&self, patch: usize) -> bool {
+        self.frame > 0 && self.drawn_in[patch] == self.frame
     }
 
     /// The distance multiplier μ this frame was drawn with (1 without a target).
@@ -306,35 +359,44 @@ impl<'h> Vanek<'h> {
         }
     }
 
-    /// The level each side of `patch` is drawn at: the coarser of the patch's and its
-    /// neighbour's (the patch's own on the domain's border).
+    /// The level each side of `patch` is drawn at: the coarser of the patch's and its drawn
+    /// neighbour's (the patch's own on the domain's border and beside a culled patch, which
+    /// draws nothing to meet).
     fn side_lods(&self, patch: usize) -> [u32; 4] {
         let own = self.lods[patch];
         [WEST, EAST, SOUTH, NORTH].map(|side| {
             self.neighbour(patch, side)
+                .filter(|&q| self.is_drawn(q))
                 .map_or(own, |q| own.min(self.lods[q]))
         })
     }
 
-    /// Chooses every patch's level with distances multiplied by `multiplier`; returns the
-    /// triangles the patches not culled draw.
+    /// Chooses the level of every patch not culled with distances multiplied by `multiplier`;
+    /// returns the triangles they draw.
     fn choose_lods(&mut self, multiplier: f64) -> u64 {
         let n = self.patch_level;
         let mut triangles = 0;
-        for patch in 0..self.lods.len() {
+        for &patch in &self.visible {
+            let patch = patch as usize;
             let k = self.config.curve.lod(n, self.distances[patch] * multiplier);
             self.lods[patch] = k;
-            if !self.culled[patch] {
-                let m = (1 << k) + 1;
-                triangles += strip::degenerate_strip_triangles(m, m);
-            }
+            let m = (1 << k) + 1;
+            triangles += strip::degenerate_strip_triangles(m, m);
         }
         triangles
     }
 
+    /// Starts a frame that draws the patches in `self.visible`.
+    fn begin_frame(&mut self) {
+        self.frame += 1;
+        for &patch in &self.visible {
+            self.drawn_in[patch as usize] = self.frame;
+        }
+    }
+
     /// Adds patch `patch` to the list: its level's vertices, collapsed towards coarser sides,
-    /// and its strip's triangles. Returns its state.
-    fn add_patch(&mut self, patch: usize) -> PatchState {
+    /// and its strip's triangles. Returns its shape.
+    fn add_patch(&mut self, patch: usize) -> Shape {
         let k = self.lods[patch];
         let sides = self.side_lods(patch);
         let m = (1u32 << k) + 1;
@@ -394,10 +456,7 @@ impl<'h> Vanek<'h> {
             );
         }
         self.strip = indices;
-        PatchState {
-            shape: Some(shape),
-            vertices: u64::from(m) * u64::from(m),
-        }
+        shape
     }
 
     /// Draws every patch at the given levels (the paper's k, row by row; clamped to n), without
@@ -408,32 +467,56 @@ impl<'h> Vanek<'h> {
         for (mine, &k) in self.lods.iter_mut().zip(lods) {
             *mine = k.min(self.patch_level);
         }
-        self.culled.fill(false);
+        self.visible.clear();
+        self.visible.extend(0..self.lods.len() as u32);
+        self.culled_squares.clear();
+        self.begin_frame();
         self.draw();
     }
 
-    /// Builds the list from this frame's levels and culling; sets `current`.
-    fn draw(&mut self) {
+    /// Builds the list from this frame's levels and culling; returns the counters that
+    /// compare it with the last frame drawn: patches drawn finer, coarser, vertices of the
+    /// patches whose shape changed (the new and the old).
+    fn draw(&mut self) -> [u64; 4] {
         self.list.clear();
         self.drawn.clear();
         self.strip_indices = 0;
         self.collapsed = 0;
-        let cells = self.cells();
-        for patch in 0..self.lods.len() {
-            self.current[patch] = Some(if self.culled[patch] {
-                let (x0, y0) = self.origin(patch);
-                self.list.add_culled_region(
-                    SubgridPoint::grid(x0, y0),
-                    SubgridPoint::grid(x0 + cells, y0 + cells),
-                );
-                PatchState {
-                    shape: None,
-                    vertices: 0,
-                }
-            } else {
-                self.add_patch(patch)
-            });
+        for &((x0, y0), cells) in &self.culled_squares {
+            self.list.add_culled_region(
+                SubgridPoint::grid(x0, y0),
+                SubgridPoint::grid(x0 + cells, y0 + cells),
+            );
         }
+        let (mut finer, mut coarser, mut inserted, mut deleted) = (0, 0, 0, 0);
+        let frame = self.frame;
+        for index in 0..self.visible.len() {
+            let patch = self.visible[index] as usize;
+            let now = self.add_patch(patch);
+            let before = self.states[patch]
+                .filter(|&(drawn_in, _)| drawn_in + 1 == frame)
+                .map(|(_, shape)| shape);
+            match before {
+                None => inserted += patch_vertex_count(now[0]),
+                Some(before) if before != now => {
+                    inserted += patch_vertex_count(now[0]);
+                    deleted += patch_vertex_count(before[0]);
+                    finer += u64::from(now[0] > before[0]);
+                    coarser += u64::from(now[0] < before[0]);
+                }
+                Some(_) => {}
+            }
+            self.states[patch] = Some((frame, now));
+        }
+        for &patch in &self.previous_drawn {
+            if !self.is_drawn(patch as usize)
+                && let Some((_, shape)) = self.states[patch as usize]
+            {
+                deleted += patch_vertex_count(shape[0]);
+            }
+        }
+        self.previous_drawn.clone_from(&self.visible);
+        [finer, coarser, inserted, deleted]
     }
 
     /// Checks the triangle list against this frame's levels (counts, collapsed borders lining
@@ -463,52 +546,49 @@ impl LodAlgorithm for Vanek<'_> {
     }
 
     fn extra_columns(&self) -> &'static [&'static str] {
-        EXTRA_COLUMNS
+        if self.config.box_culling {
+            CULLING_COLUMNS
+        } else {
+            EXTRA_COLUMNS
+        }
     }
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let camera = input.camera;
         let eye = camera.eye;
-        for patch in 0..self.lods.len() {
+        self.nodes_visited = self.quadtree.visible_patches(
+            self.config.box_culling.then_some(camera),
+            &mut self.visible,
+            &mut self.culled_squares,
+        );
+        self.begin_frame();
+        for index in 0..self.visible.len() {
+            let patch = self.visible[index] as usize;
             let block = self.patch_box(patch);
             self.distances[patch] =
                 patch_distance(eye, block.low, block.high, self.config.distance);
-            self.culled[patch] = self.config.box_culling && box_outside_view(camera, &block);
         }
+        let in_view = self.visible.len() as u64;
         let mut evaluations = 0;
         if let Some(target) = self.config.target_triangles {
             let start = self.multiplier;
             let choice = finest_tau_within(target, start, |mu| {
-                evaluations += self.lods.len() as u64;
+                evaluations += in_view;
                 self.choose_lods(mu)
             });
             self.multiplier = choice.tau_px;
             self.target_unreachable = choice.unreachable;
         }
-        evaluations += self.lods.len() as u64;
+        evaluations += in_view;
         self.choose_lods(self.multiplier);
 
-        self.draw();
+        let [finer, coarser, inserted, deleted] = self.draw();
 
-        let (mut finer, mut coarser, mut inserted, mut deleted) = (0, 0, 0, 0);
-        for (now, before) in self.current.iter().zip(&self.previous) {
-            let Some(now) = now else { continue };
-            match before {
-                None => inserted += now.vertices,
-                Some(before) if before.shape != now.shape => {
-                    inserted += now.vertices;
-                    deleted += before.vertices;
-                    if let (Some(a), Some(b)) = (now.shape, before.shape) {
-                        finer += u64::from(a[0] > b[0]);
-                        coarser += u64::from(a[0] < b[0]);
-                    }
-                }
-                Some(_) => {}
-            }
-        }
-        std::mem::swap(&mut self.previous, &mut self.current);
-
-        let n_patches = self.lods.len() as f64;
+        let level_sum: f64 = self
+            .visible
+            .iter()
+            .map(|&p| f64::from(self.lods[p as usize]))
+            .sum();
         stats.triangles = self.list.n_triangles();
         stats.splits = finer;
         stats.merges = coarser;
@@ -519,11 +599,14 @@ impl LodAlgorithm for Vanek<'_> {
             self.strip_indices as f64,
             self.list.role_count(TriangleRole::Degenerate) as f64,
             self.collapsed as f64,
-            self.culled.iter().filter(|&&c| c).count() as f64,
-            self.lods.iter().map(|&k| f64::from(k)).sum::<f64>() / n_patches,
+            (self.lods.len() - self.visible.len()) as f64,
+            level_sum / self.visible.len().max(1) as f64,
             self.multiplier,
             f64::from(u8::from(self.target_unreachable)),
         ];
+        if self.config.box_culling {
+            stats.extra.push(self.nodes_visited as f64);
+        }
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
@@ -588,14 +671,16 @@ impl LodAlgorithm for Vanek<'_> {
 
     fn memory_bytes(&self) -> usize {
         self.z_range.capacity() * std::mem::size_of::<(f32, f32)>()
+            + self.quadtree.memory_bytes()
+            + (self.visible.capacity() + self.drawn_in.capacity() + self.previous_drawn.capacity())
+                * std::mem::size_of::<u32>()
+            + self.culled_squares.capacity() * std::mem::size_of::<((u32, u32), u32)>()
             + self.lods.capacity() * std::mem::size_of::<u32>()
-            + self.culled.capacity()
             + self.distances.capacity() * std::mem::size_of::<f64>()
             + self.list.memory_bytes()
             + self.strip.capacity() * std::mem::size_of::<u32>()
             + self.moved.capacity() * std::mem::size_of::<(u32, u32)>()
-            + (self.previous.capacity() + self.current.capacity())
-                * std::mem::size_of::<Option<PatchState>>()
+            + self.states.capacity() * std::mem::size_of::<Option<(u32, Shape)>>()
             + self.gpu.memory_bytes()
             + self.patch_vertices.capacity() * std::mem::size_of::<Option<(BufferId, [u32; 5])>>()
             + self.drawn.capacity() * std::mem::size_of::<(usize, u32, [u32; 5])>()

@@ -5,15 +5,17 @@
 //! under `roamsim run --check`.
 //!
 //! Checked, first failure reported (patches row by row):
-//! 1. every patch's level is the brute-force one ([`lods_from_scratch`]: the patch's height
-//!    range and distance recomputed from its samples, k found by trying every level);
-//! 2. a patch is culled exactly when culling is on and its box is outside the view;
+//! 1. every drawn patch's level is the brute-force one ([`lods_from_scratch`]: the patch's
+//!    height range and distance recomputed from its samples, k found by trying every level);
+//! 2. a patch is culled exactly when culling is on and its box is outside the view (the
+//!    quadtree culls a node only where the test culls each of its patches, `block_lod/quadtree.rs`);
 //! 3. the list has, per drawn patch, its strip's triangles ((2m + 2)(m − 1) − 2, m = 2^k + 1),
 //!    and its degenerate triangles are the strip joins (4(m − 1) − 2 per patch) plus the
 //!    collapsed ones the algorithm counted;
 //! 4. collapsed borders line up: along every side two drawn patches share, the distinct corners
 //!    of both patches' surface triangles on it (positions and heights) are the same, and are
-//!    exactly the samples of the coarser patch's level (2^k′ + 1 of them).
+//!    exactly the samples of the coarser patch's level (2^k′ + 1 of them). A side beside a
+//!    culled patch meets nothing and is not collapsed.
 
 use super::select::{LodCurve, LodRounding, patch_distance};
 use super::{EAST, NORTH, SOUTH, Vanek, VanekConfig, WEST};
@@ -128,8 +130,10 @@ fn brute_force_lod(curve: &LodCurve, n: u32, dist: f64) -> u32 {
 
 pub(super) fn validate(vanek: &Vanek, camera: &Camera) -> Result<(), VanekError> {
     let expected = lods_from_scratch(vanek.hierarchy, &vanek.config, vanek.multiplier, camera.eye);
-    for (patch, (&lod, &want)) in vanek.lods.iter().zip(&expected).enumerate() {
-        if lod != want {
+    for (patch, &want) in expected.iter().enumerate() {
+        let culled = !vanek.is_drawn(patch);
+        let lod = vanek.lods[patch];
+        if !culled && lod != want {
             return Err(VanekError::LodWrong {
                 patch,
                 lod,
@@ -137,7 +141,6 @@ pub(super) fn validate(vanek: &Vanek, camera: &Camera) -> Result<(), VanekError>
             });
         }
         let outside = box_outside_view(camera, &vanek.patch_box(patch));
-        let culled = vanek.culled[patch];
         if culled != (vanek.config.box_culling && outside) {
             return Err(VanekError::CullingWrong {
                 patch,
@@ -152,7 +155,7 @@ pub(super) fn validate(vanek: &Vanek, camera: &Camera) -> Result<(), VanekError>
 /// Checks 3 and 4: the list against the frame's levels and culling.
 pub(super) fn validate_mesh(vanek: &Vanek) -> Result<(), VanekError> {
     let (mut triangles, mut joins) = (0, 0);
-    for patch in (0..vanek.lods.len()).filter(|&p| !vanek.culled[p]) {
+    for patch in (0..vanek.lods.len()).filter(|&p| vanek.is_drawn(p)) {
         let m = (1u64 << vanek.lods[patch]) + 1;
         triangles += (2 * m + 2) * (m - 1) - 2;
         joins += 4 * (m - 1) - 2;
@@ -222,7 +225,7 @@ fn borders_line_up(vanek: &Vanek) -> Result<(), VanekError> {
             let Some(neighbour) = vanek.neighbour(patch, side) else {
                 continue;
             };
-            if vanek.culled[patch] || vanek.culled[neighbour] {
+            if !vanek.is_drawn(patch) || !vanek.is_drawn(neighbour) {
                 continue;
             }
             let coarser = vanek.lods[patch].min(vanek.lods[neighbour]);
