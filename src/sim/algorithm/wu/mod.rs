@@ -284,7 +284,7 @@ pub struct Wu<'h> {
     previous_count: u64,
     counters: Counters,
     due: Vec<u32>,
-    due_marked: Vec<(u32, bool)>,
+    due_marked: Vec<u32>,
     split_work: Vec<(u32, NodeLook, u32)>,
     merge_work: Vec<(u32, NodeLook)>,
 }
@@ -655,19 +655,17 @@ impl<'h> Wu<'h> {
     /// entry that its view key brought due still has its in-view flag brought up to date; every
     /// deferred merge entry is marked, since its view key may come due at the next frame.
     fn defer_link(&mut self, queue: Queue, link: u32) {
-        let mut due = std::mem::take(&mut self.due_marked);
-        due.clear();
-        self.wheels.take_marked(queue, link, &mut due);
+        let mut marked = std::mem::take(&mut self.due_marked);
+        marked.clear();
         let next = self.link_after(1);
         let merging = queue == Queue::Merge;
-        let counting = self.counts_in_view();
-        for &(node, marked) in &due {
-            if merging && marked && counting {
+        self.wheels.defer(queue, link, next, merging, &mut marked);
+        if merging && self.counts_in_view() {
+            for &node in &marked {
                 self.refresh_sight(node);
             }
-            self.wheels.insert_marked(node, queue, next, merging);
         }
-        self.due_marked = due;
+        self.due_marked = marked;
     }
 
     /// Recomputes every queued key once (first frame, a broken bound, a new τ); the view queue
@@ -959,7 +957,7 @@ impl LodAlgorithm for Wu<'_> {
             + self.view.as_ref().map_or(0, ViewTracking::memory_bytes)
             + self.draw.memory_bytes()
             + self.due.capacity() * std::mem::size_of::<u32>()
-            + self.due_marked.capacity() * std::mem::size_of::<(u32, bool)>()
+            + self.due_marked.capacity() * std::mem::size_of::<u32>()
             + self.split_work.capacity() * std::mem::size_of::<(u32, NodeLook, u32)>()
             + self.merge_work.capacity() * std::mem::size_of::<(u32, NodeLook)>()
     }
