@@ -295,6 +295,119 @@ fn zero_and_huge_speed_bounds_change_no_fixed_tau_mesh() {
     }
 }
 
+/// A circle flown twice over a 65² terrain (spacing 10 m), looking along the circle and down: the
+/// view sweeps every side of the terrain, and what it leaves behind must merge. The speed bound
+/// that the circle honours exactly (its step, its climb of 0, its turn), each frame's camera.
+fn circle_flight(hierarchy: &Hierarchy) -> (Vec<Camera>, SpeedBound) {
+    const FRAMES_PER_TURN: usize = 90;
+    let turn = std::f64::consts::TAU / FRAMES_PER_TURN as f64;
+    let (centre, radius) = (DVec3::new(320.0, 320.0, 90.0), 180.0);
+    let cameras = (0..2 * FRAMES_PER_TURN)
+        .map(|f| {
+            let angle = turn * f as f64;
+            let pose = Pose {
+                position: centre + radius * DVec3::new(angle.cos(), angle.sin(), 0.0),
+                yaw: angle + std::f64::consts::FRAC_PI_2,
+                pitch: -0.35,
+            };
+            Camera::new(&hierarchy.field().local_pose(&pose), view_600())
+        })
+        .collect();
+    let true_bound = SpeedBound {
+        horizontal: 1.001 * radius * turn,
+        vertical: 1.0,
+        rotation: 1.001 * turn,
+    };
+    (cameras, true_bound)
+}
+
+/// Flies `config` along `cameras` under `speed` (each frame checked as `--check` checks it, and
+/// the queues validated); per frame the mesh, its triangles and the in-view count (0 without).
+fn fly_wu(
+    hierarchy: &Hierarchy,
+    config: WuConfig,
+    speed: SpeedBound,
+    cameras: &[Camera],
+) -> Vec<(VertexSet, u64, u64)> {
+    let mut wu = Wu::new(hierarchy, config, &view_600(), speed);
+    let context = format!("{config:?} under {speed:?}");
+    cameras
+        .iter()
+        .enumerate()
+        .map(|(frame, camera)| {
+            let stats = checked_step(
+                hierarchy,
+                &mut wu,
+                frame as u64,
+                camera,
+                frame == 0,
+                &context,
+            );
+            if let Err(error) = wu.validate_queues(false) {
+                panic!("{context}, frame {frame}: {error}");
+            }
+            let in_view = wu.in_view_triangles().unwrap_or(0);
+            (wu.vertex_set().clone(), stats.triangles, in_view)
+        })
+        .collect()
+}
+
+#[test]
+fn a_rotation_bound_of_pi_keeps_wus_whole_mesh_that_of_the_true_bound() {
+    // Issue #30 item 3: under a rotation bound of π (or a huge speed bound) a view key defers
+    // nothing, and a node that leaves the view must still merge: the bounds decide when a node is
+    // looked at again, never what is shown. Before, a node merged only once it was more than one
+    // frame of cone motion (v + ω·(d + ρ)) outside the view, which under π no node ever is, and
+    // the whole mesh kept everything the sweeping view had refined.
+    let hierarchy = rough(65, 10.0, 30.0);
+    let (cameras, true_bound) = circle_flight(&hierarchy);
+    let pi = SpeedBound {
+        rotation: SpeedBound::NO_ROTATION_BOUND,
+        ..true_bound
+    };
+    let huge = SpeedBound {
+        horizontal: 1e12,
+        vertical: 1e12,
+        rotation: SpeedBound::NO_ROTATION_BOUND,
+    };
+    // At a fixed τ, the mesh of every frame is the true bound's, whatever the rotation bound.
+    let fixed = wu_in_view(2.0, ZoneVariant::Conservative);
+    let expected = fly_wu(&hierarchy, fixed, true_bound, &cameras);
+    let under_pi = fly_wu(&hierarchy, fixed, pi, &cameras);
+    for (frame, (a, b)) in expected.iter().zip(&under_pi).enumerate() {
+        assert!(
+            a.0 == b.0,
+            "frame {frame}: {} triangles, {} under π",
+            a.1,
+            b.1
+        );
+    }
+    // With a budget counting the triangles in view, under π and under a huge speed bound the
+    // whole mesh stays within a small multiple of the in-view count, the second turn no larger
+    // than the first.
+    let budget = WuConfig {
+        cone_culling: true,
+        refine: Refinement::InView,
+        ..wu_budget(2.0, 1500, 1000)
+    };
+    for speed in [true_bound, pi, huge] {
+        let frames = fly_wu(&hierarchy, budget, speed, &cameras);
+        let half = frames.len() / 2;
+        for (frame, &(_, whole, in_view)) in frames.iter().enumerate().skip(10) {
+            assert!(
+                whole <= 3 * in_view,
+                "{speed:?}, frame {frame}: {whole} triangles, {in_view} in view"
+            );
+        }
+        let peak = |turn: &[(VertexSet, u64, u64)]| turn.iter().map(|f| f.1).max().unwrap();
+        let (first, second) = (peak(&frames[..half]), peak(&frames[half..]));
+        assert!(
+            second <= first + first / 10,
+            "{speed:?}: {first} triangles at most in the first turn, {second} in the second"
+        );
+    }
+}
+
 #[test]
 fn extreme_views_keep_valid_meshes() {
     let hierarchy = rough(17, 10.0, 30.0);
@@ -677,9 +790,8 @@ fn a_zero_speed_bound_changes_no_fixed_tau_mesh_when_its_violations_are_flagged(
             if let AlgorithmConfig::Wu(wu) = config
                 && wu.refine == Refinement::InView
             {
-                // In-view refinement merges a node once it is more than one frame of cone
-                // motion outside the view: a margin the bounds set, 0 here. So the frozen mesh
-                // is the in-view reference's, exactly.
+                // In-view refinement merges a node once it is out of view, whatever the
+                // bounds. So the frozen mesh is the in-view reference's, exactly.
                 let reference = AlgorithmConfig::Reference(ReferenceConfig {
                     nesting: wu.nesting,
                     ..reference_in_view(2.0, wu.zone)

@@ -5,13 +5,13 @@
 //! after every frame,
 //!   from-scratch(split iff ℓ ≤ 0)  ⊆  wu's mesh  ⊆  from-scratch(split iff ℓ < 1),
 //! and with in-view refinement (`refine: in_view`)
-//!   from-scratch(ℓ ≤ 0 and in view)  ⊆  wu's mesh  ⊆  from-scratch(ℓ < 1 and within the margin),
+//!   from-scratch(ℓ ≤ 0 and in view)  ⊆  wu's mesh  ⊆  from-scratch(ℓ < 1 and in view),
 //! checked on exhaustive small cases and on random terrains and flights, the camera turning.
 //! The upper bound needs nested zones (a block's zone contains its sub-blocks'), which only the
 //! conservative variant guarantees: with the paper's boxes, centred on different vertices, a
 //! block can have ℓ ≥ 1 while a sub-block that keeps it active has ℓ < 1. So the upper bound is
-//! checked for the conservative zone, the lower bound for both. (Spheres and margins nest for
-//! every zone variant.) The queue validator, which also recounts the in-view triangles and
+//! checked for the conservative zone, the lower bound for both. (Spheres nest for every zone
+//! variant; a node out of view merges whatever the bounds, issue #30 item 3.) The queue validator, which also recounts the in-view triangles and
 //! retests every in-view flag, runs after every frame.
 
 mod common;
@@ -151,7 +151,7 @@ impl<'h> Sandwich<'h> {
             hierarchy,
             wu: Wu::new(hierarchy, config, &view_600(), speed),
             lower: from_scratch(SplitThreshold::LifeAtMost(0.0), ViewThreshold::InView),
-            upper: from_scratch(SplitThreshold::LifeBelow(1.0), ViewThreshold::WithinMargin),
+            upper: from_scratch(SplitThreshold::LifeBelow(1.0), ViewThreshold::InView),
             zone,
             frame: 0,
         }
@@ -191,8 +191,8 @@ impl<'h> Sandwich<'h> {
         );
         assert!(
             !zones_nest || self.wu.vertex_set().is_subset(self.upper.vertex_set()),
-            "frame {frame}, eye {eye:?}: a vertex whose life is ≥ 1 (or beyond the margin) is \
-             still active"
+            "frame {frame}, eye {eye:?}: a vertex whose life is ≥ 1 (or out of view) is still \
+             active"
         );
         stats
     }

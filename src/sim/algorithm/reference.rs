@@ -73,8 +73,8 @@ impl SplitThreshold {
 pub enum ViewThreshold {
     /// Its bounding sphere meets the cone (Wu's split test).
     InView,
-    /// Its sphere is at most its margin (one frame of cone motion) outside the cone (Wu's merge
-    /// test: what Wu may still hold).
+    /// Its sphere is at most its margin (one frame of cone motion) outside the cone: what Wu may
+    /// still hold when a budget defers its merges by a frame.
     WithinMargin,
 }
 

@@ -30,13 +30,16 @@
 //! **Refinement that follows the view** (`refine`, `visibility.rs`). `in_view`, the paper's way
 //! (§3.2: the view decides "whether to split or merge" the nodes rendered at the previous frame):
 //! a node splits only when its bounding sphere meets the view cone, and a mergeable node merges
-//! once its sphere is more than a margin (one frame of cone motion) outside the cone, whatever its
-//! life. Both conditions are scheduled on the same wheels: a splittable node's key is
-//! max(ℓ − b, frames before it can enter the view), a mergeable node's min(b + 1 − ℓ, frames
-//! before its view can change or it can pass the margin), where the view keys come from the
-//! speed bounds and the rotation bound (how fast the look direction may turn). No node is tested
-//! against the cone on a frame its key says nothing can have changed. Spheres nest, so a node in
-//! view has every ancestor in view. `everywhere` splits and merges by life alone (the mesh behind
+//! once its sphere misses the cone at the frame it is looked at, whatever its life: the same
+//! exact test as the split's, so what is shown never depends on the declared bounds (issue #30
+//! item 3: under a bound of π a margin of one frame of cone motion let nothing merge for leaving
+//! the view, and the whole mesh grew every frame). Both conditions are scheduled on the same
+//! wheels: a splittable node's key is max(ℓ − b, frames before it can enter the view), a mergeable
+//! node's min(b + 1 − ℓ, frames before it can leave the view) and 0 out of view, where the view
+//! keys come from the speed bounds and the rotation bound (how fast the look direction may turn):
+//! the bounds decide only when a node is looked at again, and a bound of π means every frame. No
+//! node is tested against the cone on a frame its key says nothing can have changed. Spheres
+//! nest, so a node in view has every ancestor in view. `everywhere` splits and merges by life alone (the mesh behind
 //! the camera is refined like the rest), kept so that its cost stays measurable.
 //!
 //! **The in-view count** (with `cone_culling` and a budget, the only reader of it): the triangles of the
@@ -281,7 +284,7 @@ pub struct Wu<'h> {
     previous_count: u64,
     counters: Counters,
     due: Vec<u32>,
-    due_marked: Vec<(u32, bool)>,
+    due_marked: Vec<u32>,
     split_work: Vec<(u32, NodeLook, u32)>,
     merge_work: Vec<(u32, NodeLook)>,
 }
@@ -507,7 +510,8 @@ impl<'h> Wu<'h> {
         self.look(node, with_sight)
     }
 
-    /// Whether an active node's look needs its sight: for its in-view flag, or for its margin.
+    /// Whether an active node's look needs its sight: for its in-view flag, or for in-view
+    /// refinement's merge test.
     fn active_needs_sight(&self) -> bool {
         self.counts_in_view() || self.in_view_refinement()
     }
@@ -557,7 +561,7 @@ impl<'h> Wu<'h> {
     }
 
     /// A mergeable node's key: b + 1 − ℓ, and with the view followed no later than its in-view
-    /// flag can change or (in-view refinement) it can pass its margin.
+    /// flag can change; with in-view refinement 0 when it is out of view.
     fn merge_key(&self, look: &NodeLook) -> f64 {
         let (life_key, view_key) = self.merge_keys(look);
         life_key.min(view_key)
@@ -570,13 +574,11 @@ impl<'h> Wu<'h> {
             (Some(view), Some(sight)) => {
                 let motion = &view.motion;
                 let view_key = match (view.counting, self.in_view_refinement()) {
-                    // A node in view leaves it before it can pass its margin.
-                    (true, true) if sight.in_view() => sight.frames_until_view_changes(motion),
-                    (true, true) => sight
-                        .frames_until_view_changes(motion)
-                        .min(sight.frames_until_beyond_margin(motion)),
-                    (true, false) => sight.frames_until_view_changes(motion),
-                    (false, true) => sight.frames_until_beyond_margin(motion),
+                    // In-view refinement: a node out of view at this frame merges now (the
+                    // exact test, whatever the bounds); one in view is looked at again when it
+                    // may have left.
+                    (_, true) if !sight.in_view() => 0.0,
+                    (true, _) | (_, true) => sight.frames_until_view_changes(motion),
                     (false, false) => f64::INFINITY,
                 };
                 (key, view_key)
@@ -653,19 +655,17 @@ impl<'h> Wu<'h> {
     /// entry that its view key brought due still has its in-view flag brought up to date; every
     /// deferred merge entry is marked, since its view key may come due at the next frame.
     fn defer_link(&mut self, queue: Queue, link: u32) {
-        let mut due = std::mem::take(&mut self.due_marked);
-        due.clear();
-        self.wheels.take_marked(queue, link, &mut due);
+        let mut marked = std::mem::take(&mut self.due_marked);
+        marked.clear();
         let next = self.link_after(1);
         let merging = queue == Queue::Merge;
-        let counting = self.counts_in_view();
-        for &(node, marked) in &due {
-            if merging && marked && counting {
+        self.wheels.defer(queue, link, next, merging, &mut marked);
+        if merging && self.counts_in_view() {
+            for &node in &marked {
                 self.refresh_sight(node);
             }
-            self.wheels.insert_marked(node, queue, next, merging);
         }
-        self.due_marked = due;
+        self.due_marked = marked;
     }
 
     /// Recomputes every queued key once (first frame, a broken bound, a new τ); the view queue
@@ -957,7 +957,7 @@ impl LodAlgorithm for Wu<'_> {
             + self.view.as_ref().map_or(0, ViewTracking::memory_bytes)
             + self.draw.memory_bytes()
             + self.due.capacity() * std::mem::size_of::<u32>()
-            + self.due_marked.capacity() * std::mem::size_of::<(u32, bool)>()
+            + self.due_marked.capacity() * std::mem::size_of::<u32>()
             + self.split_work.capacity() * std::mem::size_of::<(u32, NodeLook, u32)>()
             + self.merge_work.capacity() * std::mem::size_of::<(u32, NodeLook)>()
     }

@@ -12,11 +12,13 @@
 //! its parent.
 //!
 //! **Sight.** A node is *in view* when its sphere meets the view cone: s(c) ≤ ρ, with s the
-//! cone's signed distance (`cull.rs`) and c, ρ the sphere's centre and radius. Its *margin* is
-//! one frame of cone motion at its distance, m = v + ω·(|c − e| + ρ) with v the longest eye step
-//! and ω the rotation bound: Wu refines a node only in view and merges it (in `in_view` mode) once
-//! it is more than its margin outside, so a node on the cone's edge does not flicker. The margin
-//! nests like the spheres (a parent's |c − e| + ρ is at least its sub-block's).
+//! cone's signed distance (`cull.rs`) and c, ρ the sphere's centre and radius. Wu refines a node
+//! only in view and merges it (in `in_view` mode) once it is out of view at a frame it is looked
+//! at: the exact test both ways, so the mesh shown does not depend on the declared bounds. Its
+//! *margin* is one frame of cone motion at its distance, m = v + ω·(|c − e| + ρ) with v the
+//! longest eye step and ω the rotation bound: how far out of view a node whose merge a budget
+//! deferred by a frame may still be (the reference's loosest test, `ViewThreshold::WithinMargin`).
+//! The margin nests like the spheres (a parent's |c − e| + ρ is at least its sub-block's).
 //!
 //! **How soon it can change.** The cone's signed distance is 1-Lipschitz in the point; moving the
 //! eye by at most v and turning the axis by at most ω about the eye changes s at a point at
@@ -29,12 +31,10 @@
 //! queues use beside the life keys; they are valid only while both bounds hold, so a frame that
 //! breaks either revalidates them. An experiment that declares no rotation bound gets its
 //! flight's largest turn (derived at load), which no frame breaks; a flight that never turns gets
-//! ω = 0, and the margins and keys are those of the eye's motion alone. π
-//! (`SpeedBound::NO_ROTATION_BOUND`) bounds nothing, and the view keys then defer little; a
-//! margin of π·(d + ρ) is wider than any node is far from the cone, so under such a bound nothing
-//! merges for leaving the view (issue #30, item 3, open: capping the margins' rotation bounds the
-//! mesh but makes a fixed-τ mesh depend on the declared bounds, which
-//! `tests/hard_cases.rs::zero_and_huge_speed_bounds_change_no_fixed_tau_mesh` forbids).
+//! ω = 0, and the keys are those of the eye's motion alone. π (`SpeedBound::NO_ROTATION_BOUND`)
+//! bounds nothing: every view key is then one frame, so every node near or in the view is
+//! cone-tested every frame (costly, and honest), and out-of-view nodes still merge (issue #30,
+//! item 3; `tests/hard_cases.rs::a_rotation_bound_of_pi_keeps_wus_whole_mesh_that_of_the_true_bound`).
 //!
 //! **Owned triangles.** Each mesh triangle lies in exactly one smallest active block (or, while
 //! the root is inactive, in none: the two base triangles). [`owned_triangles`] counts a block's
@@ -72,16 +72,16 @@ impl ConeMotion {
         self.eye_step + self.rotation * (sight.distance + sight.radius)
     }
 
-    /// The real k ≥ 0 at which (ωv/2)·k² + (v + ω·(d + v/2) + extra)·k reaches `gap` (after the
+    /// The real k ≥ 0 at which (ωv/2)·k² + (v + ω·(d + v/2))·k reaches `gap` (after the
     /// rounding slack): no fewer frames can close the gap. +∞ when nothing moves.
-    fn frames_to_close(&self, gap: f64, sight: &Sight, extra_per_frame: f64) -> f64 {
+    fn frames_to_close(&self, gap: f64, sight: &Sight) -> f64 {
         let gap = gap - GAP_ROUNDING_SLACK * (sight.distance + sight.radius + 1.0);
         if gap <= 0.0 {
             return 0.0;
         }
         let (v, w) = (self.eye_step, self.rotation);
         let quadratic = 0.5 * w * v;
-        let linear = v + w * (sight.distance + 0.5 * v) + extra_per_frame;
+        let linear = v + w * (sight.distance + 0.5 * v);
         if linear <= 0.0 {
             return f64::INFINITY;
         }
@@ -178,28 +178,14 @@ impl Sight {
         if self.in_view() {
             0.0
         } else {
-            motion.frames_to_close(self.gap, self, 0.0).max(1.0)
+            motion.frames_to_close(self.gap, self).max(1.0)
         }
     }
 
     /// Frames before [`Sight::in_view`] may change (at least 1).
     pub fn frames_until_view_changes(&self, motion: &ConeMotion) -> f64 {
         // Leaving needs s − ρ to grow past 0 (strictly); entering needs it to fall to 0.
-        motion.frames_to_close(self.gap.abs(), self, 0.0).max(1.0)
-    }
-
-    /// Frames before the node may be beyond its margin: 0 when it is, else at least 1. The margin
-    /// itself shrinks by at most ω·v a frame (ω the rotation bound; the distance changes by at
-    /// most v).
-    pub fn frames_until_beyond_margin(&self, motion: &ConeMotion) -> f64 {
-        if self.beyond_margin(motion) {
-            0.0
-        } else {
-            let to_go = motion.margin(self) - self.gap;
-            motion
-                .frames_to_close(to_go, self, motion.rotation * motion.eye_step)
-                .max(1.0)
-        }
+        motion.frames_to_close(self.gap.abs(), self).max(1.0)
     }
 }
 
@@ -290,7 +276,7 @@ mod tests {
     #[test]
     fn a_node_cannot_change_its_view_sooner_than_its_key_says() {
         // Walk and turn at exactly the bounds, towards and away from the node: its in-view
-        // state, and its being beyond the margin, never change before the frames they promised.
+        // state never changes before the frames it promised.
         let hierarchy = rough_terrain();
         let speed = SpeedBound {
             horizontal: 30.0,
@@ -320,16 +306,12 @@ mod tests {
                     let sphere = NodeSphere::of_node(&hierarchy, c, half);
                     let first = Sight::new(&cone(0), &sphere);
                     let until_change = first.frames_until_view_changes(&motion);
-                    let until_beyond = first.frames_until_beyond_margin(&motion);
                     for frame in 1..60u64 {
                         let now = Sight::new(&cone(frame), &sphere);
                         if (frame as f64) < until_change {
                             assert_eq!(now.in_view(), first.in_view(), "{c:?} frame {frame}");
                         } else if now.in_view() != first.in_view() {
                             checked_changes += 1;
-                        }
-                        if (frame as f64) < until_beyond {
-                            assert!(!now.beyond_margin(&motion), "{c:?} frame {frame}");
                         }
                     }
                 }
