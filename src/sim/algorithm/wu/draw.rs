@@ -15,8 +15,9 @@
 //! (nothing written): at most 4·12 = 48 bytes. A Wu split inserts its centre and at most four
 //! boundary vertices, a merge deletes as many: at most 5·60 = 300 bytes per split or merge.
 //!
-//! **Bookkeeping.** Per active vertex (a hash map by vertex id, O(mesh), nothing per sample): its
-//! vertex slot and the slots of the at most four leaf triangles whose right angle it is, by the
+//! **Bookkeeping.** The slots themselves, their free list and swap-remove are the shared
+//! [`LeafBuffer`] (`sim::draw::incremental`, ROAM's too), keyed here by [`Leaf`]. Per active
+//! vertex (a hash map by vertex id, O(mesh), nothing per sample): its vertex slot and the slots of the at most four leaf triangles whose right angle it is, by the
 //! direction from it to their hypotenuse (axis directions for block centres, diagonals for edge
 //! midpoints and the base corners); per triangle slot, the triangle it holds (apex and direction),
 //! so that a moved triangle's owner learns its new slot. `update` only records each vertex
@@ -35,9 +36,8 @@
 //! best-known implementation of an incremental 4-8 mesh on today's GPUs, where the index bytes
 //! saved by strips matter less than in 2001; incremental stripping is an option not yet built.
 
-use crate::sim::draw::{
-    BufferId, DrawCall, DrawCounts, DrawVertex, GpuBuffers, Topology, VERTEX_BYTES,
-};
+use crate::sim::draw::incremental::LeafBuffer;
+use crate::sim::draw::{DrawCounts, DrawVertex, GpuBuffers, VERTEX_BYTES};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice};
 use crate::sim::mesh::SubgridPoint;
 use crate::sim::mesh::triangles::base_triangles;
@@ -75,7 +75,7 @@ impl Hasher for IdHasher {
 #[derive(Clone, Copy, Debug)]
 struct VertexSlots {
     vertex: u32,
-    /// The slots of the leaf triangles with their right angle here, by [`direction`].
+    /// The slots of the leaf triangles with their right angle here, by [`Leaf::direction`].
     triangles: [u32; 4],
 }
 
@@ -118,14 +118,8 @@ type Change = (GridPoint, bool);
 
 /// Wu's buffers (see the module docs).
 pub(super) struct WuBuffers {
-    gpu: GpuBuffers,
-    vertex_buffer: BufferId,
-    index_buffer: BufferId,
+    buffer: LeafBuffer<Leaf>,
     slots: HashMap<u32, VertexSlots, BuildHasherDefault<IdHasher>>,
-    free_vertex_slots: Vec<u32>,
-    vertex_slots_used: u32,
-    /// Per triangle slot, the leaf in it; its length is the number of triangles drawn.
-    leaves: Vec<Leaf>,
     /// The mesh's changes since the last `prepare`, in order.
     pending: Vec<Change>,
 }
@@ -134,17 +128,9 @@ impl WuBuffers {
     /// The buffers of the base mesh (the four corners, two triangles), counted as this first
     /// frame's upload.
     pub fn new(lattice: &Lattice, hierarchy: &Hierarchy) -> WuBuffers {
-        let mut gpu = GpuBuffers::new();
-        let vertex_buffer = gpu.create_vertices(Vec::new(), VERTEX_BYTES);
-        let index_buffer = gpu.create_indices(Vec::new());
         let mut buffers = WuBuffers {
-            gpu,
-            vertex_buffer,
-            index_buffer,
+            buffer: LeafBuffer::new(VERTEX_BYTES),
             slots: HashMap::default(),
-            free_vertex_slots: Vec::new(),
-            vertex_slots_used: 0,
-            leaves: Vec::new(),
             pending: Vec::new(),
         };
         for corner in lattice.corners() {
@@ -155,9 +141,9 @@ impl WuBuffers {
                 apex: t.apex,
                 ends: [t.left, t.right],
             };
-            let slot = buffers.leaves.len() as u32;
-            buffers.leaves.push(leaf);
-            buffers.write_leaf(lattice, slot, leaf);
+            let corners = buffers.corner_slots(lattice, leaf);
+            let slot = buffers.buffer.push_leaf(leaf, corners);
+            buffers.remember(lattice, slot, leaf);
         }
         buffers
     }
@@ -180,29 +166,18 @@ impl WuBuffers {
         }
         self.pending = pending;
         self.pending.clear();
-        self.gpu.clear_draws();
-        self.gpu.draw(DrawCall {
-            vertices: self.vertex_buffer,
-            indices: self.index_buffer,
-            first_index: 0,
-            index_count: 3 * self.leaves.len() as u32,
-            topology: Topology::TriangleList,
-            blend: 0.0,
-        });
-        self.gpu.end_frame()
+        self.buffer.prepare(0.0)
     }
 
     pub fn gpu(&self) -> &GpuBuffers {
-        &self.gpu
+        self.buffer.gpu()
     }
 
     /// Heap bytes on the CPU side: the model of the GPU buffers and the slot bookkeeping.
     pub fn memory_bytes(&self) -> usize {
-        self.gpu.memory_bytes()
+        self.buffer.memory_bytes()
             + self.slots.capacity()
                 * (size_of::<u32>() + size_of::<VertexSlots>() + size_of::<u64>())
-            + self.free_vertex_slots.capacity() * size_of::<u32>()
-            + self.leaves.capacity() * size_of::<Leaf>()
             + self.pending.capacity() * size_of::<Change>()
     }
 
@@ -217,9 +192,9 @@ impl WuBuffers {
             let slot = self.take_triangle_slot(lattice, parent);
             let [first, second] = halves(p, parent);
             self.put(lattice, slot, first);
-            let appended = self.leaves.len() as u32;
-            self.leaves.push(second);
-            self.put(lattice, appended, second);
+            let corners = self.corner_slots(lattice, second);
+            let appended = self.buffer.push_leaf(second, corners);
+            self.remember(lattice, appended, second);
         }
     }
 
@@ -232,20 +207,20 @@ impl WuBuffers {
             let slot = self.take_triangle_slot(lattice, first);
             self.put(lattice, slot, parent);
             let hole = self.take_triangle_slot(lattice, second);
-            self.swap_remove(lattice, hole);
+            if let Some(moved) = self.buffer.remove_leaf(hole) {
+                self.remember(lattice, hole, moved);
+            }
         }
         let id = lattice.id(p);
         let removed = self.slots.remove(&id).expect("a deleted vertex had a slot");
         debug_assert!(removed.triangles.iter().all(|&t| t == NO_SLOT));
-        self.free_vertex_slots.push(removed.vertex);
+        self.buffer.free_vertex(removed.vertex);
     }
 
     /// Gives `p` a vertex slot and writes it.
     fn add_vertex(&mut self, lattice: &Lattice, hierarchy: &Hierarchy, p: GridPoint) {
-        let slot = self.free_vertex_slots.pop().unwrap_or_else(|| {
-            self.vertex_slots_used += 1;
-            self.vertex_slots_used - 1
-        });
+        let vertex = DrawVertex::fixed(SubgridPoint::from(p), hierarchy.height(p));
+        let slot = self.buffer.add_vertex(vertex);
         let previous = self.slots.insert(
             lattice.id(p),
             VertexSlots {
@@ -254,9 +229,6 @@ impl WuBuffers {
             },
         );
         debug_assert!(previous.is_none(), "{p:?} inserted twice");
-        let vertex = DrawVertex::fixed(SubgridPoint::from(p), hierarchy.height(p));
-        self.gpu
-            .write_vertices(self.vertex_buffer, slot as usize, &[vertex]);
     }
 
     /// The slot of a leaf, forgotten by its apex (the caller fills or removes it).
@@ -272,43 +244,23 @@ impl WuBuffers {
 
     /// Puts `leaf` into triangle slot `slot` (an existing one) and writes its indices.
     fn put(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
-        self.leaves[slot as usize] = leaf;
-        self.write_leaf(lattice, slot, leaf);
+        let corners = self.corner_slots(lattice, leaf);
+        self.buffer.set_leaf(slot, leaf, corners);
+        self.remember(lattice, slot, leaf);
     }
 
-    /// Writes a leaf's indices into its slot and tells its apex where it is.
-    fn write_leaf(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
-        let mut indices = [0u32; 3];
-        for (index, corner) in indices.iter_mut().zip(leaf.corners()) {
-            *index = self.slots[&lattice.id(corner)].vertex;
-        }
+    /// The vertex slots of a leaf's corners, counter-clockwise.
+    fn corner_slots(&self, lattice: &Lattice, leaf: Leaf) -> [u32; 3] {
+        leaf.corners()
+            .map(|corner| self.slots[&lattice.id(corner)].vertex)
+    }
+
+    /// Tells a leaf's apex that the leaf is in triangle slot `slot`.
+    fn remember(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
         self.slots
             .get_mut(&lattice.id(leaf.apex))
             .expect("a leaf's apex is active")
             .triangles[leaf.direction()] = slot;
-        self.gpu
-            .write_indices(self.index_buffer, 3 * slot as usize, &indices);
-    }
-
-    /// Removes the triangle in `hole`: the last one moves into it (its indices copied, 12 bytes)
-    /// and the list shrinks by one.
-    fn swap_remove(&mut self, lattice: &Lattice, hole: u32) {
-        let last = self.leaves.len() as u32 - 1;
-        let moved = self.leaves.pop().expect("a triangle to remove");
-        if hole == last {
-            return;
-        }
-        self.leaves[hole as usize] = moved;
-        let from = 3 * last as usize;
-        let indices: [u32; 3] = self.gpu.indices(self.index_buffer)[from..from + 3]
-            .try_into()
-            .expect("three indices a triangle");
-        self.slots
-            .get_mut(&lattice.id(moved.apex))
-            .expect("a leaf's apex is active")
-            .triangles[moved.direction()] = hole;
-        self.gpu
-            .write_indices(self.index_buffer, 3 * hole as usize, &indices);
     }
 }
 
