@@ -22,7 +22,9 @@
 //! midpoints and the base corners); per triangle slot, the triangle it holds (apex and direction),
 //! so that a moved triangle's owner learns its new slot. `update` only records each vertex
 //! inserted or deleted (a push, in the order the mesh changed); `prepare_draw` replays them,
-//! which is the timed buffer upkeep of `frame_ns`.
+//! which is the timed buffer upkeep of `frame_ns`. With morphing (`morph.rs`) the drawn mesh's
+//! edits replace the vertex set's: insertions at a morph's start height, and height rewrites
+//! (12 bytes a morphing vertex a frame).
 //!
 //! **Why a list, one draw.** The buffers hold the whole mesh, drawn by one call: Wu's in-view
 //! refinement (§3.2) already leaves what is outside the cone coarse, so culling blocks on the
@@ -113,8 +115,21 @@ impl Leaf {
     }
 }
 
-/// A change of the mesh recorded during `update`: a vertex inserted (`true`) or deleted.
-type Change = (GridPoint, bool);
+/// A change of the drawn mesh recorded during `update`, applied by `prepare`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Edit {
+    /// The vertex joins the mesh, drawn at its sample's height.
+    Insert,
+    /// The vertex joins the mesh, drawn at this height (a morph's start, `morph.rs`).
+    InsertAt(f32),
+    /// The vertex leaves the mesh.
+    Delete,
+    /// The vertex, in the mesh, is drawn at this height from now on (a morph's step).
+    Height(f32),
+}
+
+/// A vertex and what happens to it.
+type Change = (GridPoint, Edit);
 
 /// Wu's buffers (see the module docs).
 pub(super) struct WuBuffers {
@@ -122,6 +137,8 @@ pub(super) struct WuBuffers {
     slots: HashMap<u32, VertexSlots, BuildHasherDefault<IdHasher>>,
     /// The mesh's changes since the last `prepare`, in order.
     pending: Vec<Change>,
+    /// Where the vertex set's changes not yet handed to morphing start in `pending`.
+    not_taken: usize,
 }
 
 impl WuBuffers {
@@ -132,9 +149,10 @@ impl WuBuffers {
             buffer: LeafBuffer::new(VERTEX_BYTES),
             slots: HashMap::default(),
             pending: Vec::new(),
+            not_taken: 0,
         };
         for corner in lattice.corners() {
-            buffers.add_vertex(lattice, hierarchy, corner);
+            buffers.add_vertex(lattice, corner, hierarchy.height(corner));
         }
         for t in base_triangles(lattice) {
             let leaf = Leaf {
@@ -150,22 +168,42 @@ impl WuBuffers {
 
     /// Records that the mesh gained (`inserted`) or lost vertex `p`.
     pub fn record(&mut self, p: GridPoint, inserted: bool) {
-        self.pending.push((p, inserted));
+        self.pending
+            .push((p, if inserted { Edit::Insert } else { Edit::Delete }));
+    }
+
+    /// Records an edit of the drawn mesh (morphing's, which follows the recorded changes of the
+    /// vertex set with its own).
+    pub fn record_edit(&mut self, p: GridPoint, edit: Edit) {
+        self.pending.push((p, edit));
+        self.not_taken = self.pending.len();
+    }
+
+    /// Hands over the changes recorded since the last `prepare` (morphing turns the vertex
+    /// set's into the drawn mesh's).
+    pub fn take_changes(&mut self, into: &mut Vec<(GridPoint, Edit)>) {
+        into.extend(self.pending.drain(self.not_taken..));
     }
 
     /// Applies the recorded changes in order and issues the frame's one draw; what the frame
     /// uploaded and issued.
     pub fn prepare(&mut self, lattice: &Lattice, hierarchy: &Hierarchy) -> DrawCounts {
         let pending = std::mem::take(&mut self.pending);
-        for &(p, inserted) in &pending {
-            if inserted {
-                self.insert(lattice, hierarchy, p);
-            } else {
-                self.delete(lattice, p);
+        for &(p, edit) in &pending {
+            match edit {
+                Edit::Insert => self.insert(lattice, p, hierarchy.height(p)),
+                Edit::InsertAt(z) => self.insert(lattice, p, z),
+                Edit::Delete => self.delete(lattice, p),
+                Edit::Height(z) => {
+                    let slot = self.slots[&lattice.id(p)].vertex;
+                    self.buffer
+                        .write_vertex(slot, DrawVertex::fixed(SubgridPoint::from(p), z));
+                }
             }
         }
         self.pending = pending;
         self.pending.clear();
+        self.not_taken = 0;
         self.buffer.prepare(0.0)
     }
 
@@ -182,8 +220,8 @@ impl WuBuffers {
     }
 
     /// Splits the diamond of `p` around it.
-    fn insert(&mut self, lattice: &Lattice, hierarchy: &Hierarchy, p: GridPoint) {
-        self.add_vertex(lattice, hierarchy, p);
+    fn insert(&mut self, lattice: &Lattice, p: GridPoint, z: f32) {
+        self.add_vertex(lattice, p, z);
         let ends = lattice
             .bisected_edge(p)
             .expect("a corner is never inserted");
@@ -217,9 +255,9 @@ impl WuBuffers {
         self.buffer.free_vertex(removed.vertex);
     }
 
-    /// Gives `p` a vertex slot and writes it.
-    fn add_vertex(&mut self, lattice: &Lattice, hierarchy: &Hierarchy, p: GridPoint) {
-        let vertex = DrawVertex::fixed(SubgridPoint::from(p), hierarchy.height(p));
+    /// Gives `p` a vertex slot and writes it, drawn at height `z`.
+    fn add_vertex(&mut self, lattice: &Lattice, p: GridPoint, z: f32) {
+        let vertex = DrawVertex::fixed(SubgridPoint::from(p), z);
         let slot = self.buffer.add_vertex(vertex);
         let previous = self.slots.insert(
             lattice.id(p),
