@@ -28,6 +28,7 @@ use roamsim::sim::algorithm::{
     BrokenBounds, BudgetConfig, LodAlgorithm, Reference, ReferenceConfig, Refinement,
     SplitThreshold, ViewThreshold, Wu, WuConfig,
 };
+use roamsim::sim::audit::{AuditSettings, Auditor};
 use roamsim::sim::draw::check::check_buffers_draw_mesh;
 use roamsim::sim::hierarchy::{Hierarchy, VertexClass};
 use roamsim::sim::mesh::MeshOutput;
@@ -982,4 +983,97 @@ fn a_budget_without_a_given_tau_meets_its_budget_from_the_first_frame() {
         assert_eq!(fact("paper_initial_tau_px"), Some(paper_tau));
         assert_eq!(fact("initial_tau_px"), Some(wu.tau_px()));
     }
+}
+
+/// Wu §7's morphing (`morph_frames`): over a flight with splits and merges, the buffers draw the
+/// morphed mesh every frame, the surface moves by a fraction of what it pops without morphing,
+/// and the upload stays bounded per split and merge (each changed vertex writes its insertion
+/// or deletion once and its height once a frame while it morphs).
+#[test]
+fn morphing_spreads_each_pop_over_frames_and_the_buffers_follow_it() {
+    const FRAMES: u32 = 4;
+    let hierarchy = bumpy_terrain(6);
+    // Across the terrain low, then on beyond its edge climbing 4 m a frame: the first half
+    // splits, the second merges.
+    let poses: Vec<Pose> = (0..240)
+        .map(|k| {
+            let t = k as f64;
+            let climb = 4.0 * (t - 120.0).max(0.0);
+            looking(
+                DVec3::new(30.0 + 4.0 * t, 60.0 + 2.0 * t, 120.0 + climb),
+                0.02 * t,
+            )
+        })
+        .collect();
+    let fly = |morph_frames: Option<u32>| {
+        let config = WuConfig {
+            morph_frames,
+            ..fixed_tau(2.0, ZoneVariant::Paper)
+        };
+        let mut wu = Wu::new(&hierarchy, config, &view_600(), SPEED);
+        let mut auditor = Auditor::new(
+            &hierarchy,
+            AuditSettings {
+                stride: 1,
+                popping: true,
+                detail_stride: None,
+            },
+        );
+        let (mut largest_pop, mut operations, mut merges, mut uploaded, mut longer) =
+            (0.0f64, 0, 0, 0, 0);
+        for (frame, pose) in poses.iter().enumerate() {
+            let camera = Camera::new(pose, view_600());
+            let stats = checked_step(&hierarchy, &mut wu, frame as u64, &camera, false, "wu");
+            if let Some(popping) = auditor.audit(&hierarchy, wu.mesh(), &camera).popping {
+                largest_pop = largest_pop.max(popping.max_m);
+            }
+            let counts = common::draw_counts(&stats);
+            assert_eq!(
+                counts.triangles_submitted,
+                wu.triangle_count(),
+                "frame {frame}"
+            );
+            if frame > 0 {
+                operations += stats.splits + stats.merges;
+                merges += stats.merges;
+                uploaded += counts.upload_bytes;
+            }
+            longer += u64::from(
+                wu.triangle_count() > wu.vertex_set().triangle_count(hierarchy.lattice()),
+            );
+        }
+        (largest_pop, operations, merges, uploaded, longer)
+    };
+    let (plain_pop, plain_operations, _, plain_upload, plain_longer) = fly(None);
+    let (morphed_pop, operations, merges, upload, longer) = fly(Some(FRAMES));
+    assert!(merges > 20, "the flight should merge ({merges} merges)");
+    assert_eq!(
+        plain_longer, 0,
+        "without morphing the drawn mesh is the vertex set"
+    );
+    assert!(
+        longer > 0,
+        "sinking vertices stay drawn after their merge ({merges} merges)"
+    );
+    assert!(
+        plain_pop > 0.5,
+        "the flight should pop without morphing ({plain_pop} m)"
+    );
+    assert!(
+        morphed_pop < plain_pop / 2.0,
+        "largest pop {morphed_pop} m with morphing, {plain_pop} m without"
+    );
+    assert_eq!(
+        operations, plain_operations,
+        "morphing changes no refinement"
+    );
+    let per_operation = 5 * (12 + 4 * 12 + 12 * (u64::from(FRAMES) + 1));
+    assert!(
+        upload <= per_operation * operations,
+        "{upload} bytes for {operations} splits and merges"
+    );
+    assert!(
+        upload > plain_upload,
+        "morphing rewrites heights ({upload} vs {plain_upload})"
+    );
 }

@@ -51,6 +51,7 @@ pub fn wu(tau_px: f64, zone: ZoneVariant) -> WuConfig {
         cone_culling: false,
         wheel_links: 64,
         refine: Refinement::Everywhere,
+        morph_frames: None,
     }
 }
 

@@ -353,6 +353,9 @@ pub struct WuParameters {
     pub recentre_tau_window_frames: Option<u32>,
     #[serde(default)]
     pub wheel_links: Option<u32>,
+    /// Wu §7's geometry morphing: frames a vertex takes to rise or sink (≥ 1); absent: off.
+    #[serde(default)]
+    pub morph_frames: Option<u32>,
 }
 
 /// Where Wu (and its reference) refine: only what the view cone needs, or everywhere.

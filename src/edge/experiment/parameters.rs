@@ -278,6 +278,12 @@ fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<A
             format!("{wheel_links}: expected 2 to {WU_MAX_WHEEL_LINKS}"),
         );
     }
+    if p.morph_frames == Some(0) {
+        problems.add(
+            field("morph_frames"),
+            "0: expected at least 1 (leave the key out for no morphing)",
+        );
+    }
     if problems.list.len() > n_problems {
         return None;
     }
@@ -301,6 +307,7 @@ fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<A
         cone_culling,
         refine: refinement(refine),
         wheel_links,
+        morph_frames: p.morph_frames,
     }))
 }
 

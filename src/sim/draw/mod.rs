@@ -22,11 +22,13 @@
 //! Each algorithm keeps one `GpuBuffers` and maintains it itself inside its frame (in `update`
 //! and `LodAlgorithm::prepare_draw`); its module doc says which representation it keeps and why
 //! it is its paper's. [`emit`] is the plain way of a rebuilding algorithm: the whole mesh written
-//! again each frame.
+//! again each frame; [`incremental`] the leaf buffer of an algorithm that splits and merges
+//! (Wu's and ROAM's), changed in place.
 
 pub mod check;
 mod decode;
 pub mod emit;
+pub mod incremental;
 
 use crate::sim::mesh::{SubgridPoint, SurfacePoint};
 

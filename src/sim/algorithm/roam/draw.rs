@@ -14,6 +14,9 @@
 //!   moving the last slot into it (swap-remove: one move writes 12 bytes), so the leaves always
 //!   fill slots 0..n and one draw of 3n indices draws them.
 //!
+//! The slots, their free list and swap-remove are the shared [`LeafBuffer`]
+//! (`sim::draw::incremental`, Wu's too), keyed here by bintree triangle.
+//!
 //! Upload per frame: at most [`BYTES_PER_CHANGE`] per diamond split or merged (forced splits
 //! included), 0 for a frame that changes nothing; the draw list is issued again each frame,
 //! which writes nothing. CPU side: a [`SecondaryMap`] entry per bintree triangle (its corners'
@@ -21,9 +24,8 @@
 //! `roam-rebuild` resets them with its bintree every frame and so rebuilds them: O(mesh).
 
 use super::bintree::{Bintree, TriangleKey};
-use crate::sim::draw::{
-    BufferId, DrawCall, DrawCounts, DrawVertex, GpuBuffers, Topology, VERTEX_BYTES,
-};
+use crate::sim::draw::incremental::LeafBuffer;
+use crate::sim::draw::{DrawCounts, DrawVertex, GpuBuffers, VERTEX_BYTES};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::SubgridPoint;
 use slotmap::SecondaryMap;
@@ -46,30 +48,16 @@ struct TriangleSlots {
 
 /// The buffers and the bookkeeping that keeps them equal to the bintree's leaves.
 pub(super) struct LeafBuffers {
-    gpu: GpuBuffers,
-    vertices: BufferId,
-    indices: BufferId,
+    buffer: LeafBuffer<TriangleKey>,
     slots: SecondaryMap<TriangleKey, TriangleSlots>,
-    /// The leaf in each leaf slot.
-    slot_owner: Vec<TriangleKey>,
-    free_vertex_slots: Vec<u32>,
-    n_vertex_slots: u32,
 }
 
 impl LeafBuffers {
     /// Buffers holding the bintree's base mesh (its two roots, unsplit).
     pub fn new(bintree: &Bintree, hierarchy: &Hierarchy) -> LeafBuffers {
-        let mut gpu = GpuBuffers::new();
-        let vertices = gpu.create_vertices(Vec::new(), VERTEX_BYTES);
-        let indices = gpu.create_indices(Vec::new());
         let mut buffers = LeafBuffers {
-            gpu,
-            vertices,
-            indices,
+            buffer: LeafBuffer::new(VERTEX_BYTES),
             slots: SecondaryMap::new(),
-            slot_owner: Vec::new(),
-            free_vertex_slots: Vec::new(),
-            n_vertex_slots: 0,
         };
         buffers.reset(bintree, hierarchy);
         buffers
@@ -80,9 +68,7 @@ impl LeafBuffers {
     /// mesh grows).
     pub fn reset(&mut self, bintree: &Bintree, hierarchy: &Hierarchy) {
         self.slots.clear();
-        self.slot_owner.clear();
-        self.free_vertex_slots.clear();
-        self.n_vertex_slots = 0;
+        self.buffer.clear();
         let mut corner_slots: Vec<(GridPoint, u32)> = Vec::with_capacity(4);
         for root in bintree.roots() {
             let shape = bintree.get(root).shape;
@@ -96,10 +82,8 @@ impl LeafBuffers {
                     }
                 }
             });
-            let leaf = self.slot_owner.len() as u32;
-            self.slot_owner.push(root);
+            let leaf = self.buffer.push_leaf(root, corners);
             self.slots.insert(root, TriangleSlots { corners, leaf });
-            self.write_leaf(leaf, corners);
         }
     }
 
@@ -128,6 +112,7 @@ impl LeafBuffers {
             let [apex, left, right] = corners;
             let first = [mid_slot, apex, left];
             let second = [mid_slot, right, apex];
+            self.buffer.set_leaf(leaf, c0, first);
             self.slots.insert(
                 c0,
                 TriangleSlots {
@@ -135,10 +120,7 @@ impl LeafBuffers {
                     leaf,
                 },
             );
-            self.slot_owner[leaf as usize] = c0;
-            self.write_leaf(leaf, first);
-            let new_leaf = self.slot_owner.len() as u32;
-            self.slot_owner.push(c1);
+            let new_leaf = self.buffer.push_leaf(c1, second);
             self.slots.insert(
                 c1,
                 TriangleSlots {
@@ -146,7 +128,6 @@ impl LeafBuffers {
                     leaf: new_leaf,
                 },
             );
-            self.write_leaf(new_leaf, second);
         }
     }
 
@@ -164,66 +145,35 @@ impl LeafBuffers {
             mid_slot = Some(first.corners[0]);
             let corners = self.slots[parent].corners;
             self.slots[parent].leaf = first.leaf;
-            self.slot_owner[first.leaf as usize] = parent;
-            self.write_leaf(first.leaf, corners);
-            self.remove_leaf_slot(second.leaf);
+            self.buffer.set_leaf(first.leaf, parent, corners);
+            if let Some(moved) = self.buffer.remove_leaf(second.leaf) {
+                self.slots[moved].leaf = second.leaf;
+            }
         }
         if let Some(slot) = mid_slot {
-            self.free_vertex_slots.push(slot);
+            self.buffer.free_vertex(slot);
         }
     }
 
     /// Issues the frame's one draw and ends the frame: what it uploaded and issued.
     pub fn prepare(&mut self) -> DrawCounts {
-        self.gpu.clear_draws();
-        self.gpu.draw(DrawCall {
-            vertices: self.vertices,
-            indices: self.indices,
-            first_index: 0,
-            index_count: 3 * self.slot_owner.len() as u32,
-            topology: Topology::TriangleList,
-            blend: 0.0,
-        });
-        self.gpu.end_frame()
+        self.buffer.prepare(0.0)
     }
 
     pub fn gpu(&self) -> &GpuBuffers {
-        &self.gpu
+        self.buffer.gpu()
     }
 
     /// Heap bytes of the buffers' model and the bookkeeping.
     pub fn memory_bytes(&self) -> usize {
-        self.gpu.memory_bytes()
+        self.buffer.memory_bytes()
             + self.slots.capacity() * (size_of::<TriangleSlots>() + size_of::<u32>())
-            + self.slot_owner.capacity() * size_of::<TriangleKey>()
-            + self.free_vertex_slots.capacity() * size_of::<u32>()
     }
 
     fn add_vertex(&mut self, p: GridPoint, hierarchy: &Hierarchy) -> u32 {
-        let slot = self.free_vertex_slots.pop().unwrap_or_else(|| {
-            self.n_vertex_slots += 1;
-            self.n_vertex_slots - 1
-        });
-        let vertex = DrawVertex::fixed(SubgridPoint::from(p), hierarchy.height(p));
-        self.gpu
-            .write_vertices(self.vertices, slot as usize, &[vertex]);
-        slot
-    }
-
-    fn write_leaf(&mut self, leaf: u32, corners: [u32; 3]) {
-        self.gpu
-            .write_indices(self.indices, 3 * leaf as usize, &corners);
-    }
-
-    /// Removes leaf slot `leaf` by moving the last slot into it.
-    fn remove_leaf_slot(&mut self, leaf: u32) {
-        let last = self.slot_owner.len() as u32 - 1;
-        let moved = self.slot_owner.pop().expect("a slot to remove");
-        if leaf != last {
-            let corners = self.slots[moved].corners;
-            self.slots[moved].leaf = leaf;
-            self.slot_owner[leaf as usize] = moved;
-            self.write_leaf(leaf, corners);
-        }
+        self.buffer.add_vertex(DrawVertex::fixed(
+            SubgridPoint::from(p),
+            hierarchy.height(p),
+        ))
     }
 }

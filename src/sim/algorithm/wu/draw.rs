@@ -15,13 +15,16 @@
 //! (nothing written): at most 4·12 = 48 bytes. A Wu split inserts its centre and at most four
 //! boundary vertices, a merge deletes as many: at most 5·60 = 300 bytes per split or merge.
 //!
-//! **Bookkeeping.** Per active vertex (a hash map by vertex id, O(mesh), nothing per sample): its
-//! vertex slot and the slots of the at most four leaf triangles whose right angle it is, by the
+//! **Bookkeeping.** The slots themselves, their free list and swap-remove are the shared
+//! [`LeafBuffer`] (`sim::draw::incremental`, ROAM's too), keyed here by [`Leaf`]. Per active
+//! vertex (a hash map by vertex id, O(mesh), nothing per sample): its vertex slot and the slots of the at most four leaf triangles whose right angle it is, by the
 //! direction from it to their hypotenuse (axis directions for block centres, diagonals for edge
 //! midpoints and the base corners); per triangle slot, the triangle it holds (apex and direction),
 //! so that a moved triangle's owner learns its new slot. `update` only records each vertex
 //! inserted or deleted (a push, in the order the mesh changed); `prepare_draw` replays them,
-//! which is the timed buffer upkeep of `frame_ns`.
+//! which is the timed buffer upkeep of `frame_ns`. With morphing (`morph.rs`) the drawn mesh's
+//! edits replace the vertex set's: insertions at a morph's start height, and height rewrites
+//! (12 bytes a morphing vertex a frame).
 //!
 //! **Why a list, one draw.** The buffers hold the whole mesh, drawn by one call: Wu's in-view
 //! refinement (§3.2) already leaves what is outside the cone coarse, so culling blocks on the
@@ -35,9 +38,8 @@
 //! best-known implementation of an incremental 4-8 mesh on today's GPUs, where the index bytes
 //! saved by strips matter less than in 2001; incremental stripping is an option not yet built.
 
-use crate::sim::draw::{
-    BufferId, DrawCall, DrawCounts, DrawVertex, GpuBuffers, Topology, VERTEX_BYTES,
-};
+use crate::sim::draw::incremental::LeafBuffer;
+use crate::sim::draw::{DrawCounts, DrawVertex, GpuBuffers, VERTEX_BYTES};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice};
 use crate::sim::mesh::SubgridPoint;
 use crate::sim::mesh::triangles::base_triangles;
@@ -75,7 +77,7 @@ impl Hasher for IdHasher {
 #[derive(Clone, Copy, Debug)]
 struct VertexSlots {
     vertex: u32,
-    /// The slots of the leaf triangles with their right angle here, by [`direction`].
+    /// The slots of the leaf triangles with their right angle here, by [`Leaf::direction`].
     triangles: [u32; 4],
 }
 
@@ -113,102 +115,113 @@ impl Leaf {
     }
 }
 
-/// A change of the mesh recorded during `update`: a vertex inserted (`true`) or deleted.
-type Change = (GridPoint, bool);
+/// A change of the drawn mesh recorded during `update`, applied by `prepare`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Edit {
+    /// The vertex joins the mesh, drawn at its sample's height.
+    Insert,
+    /// The vertex joins the mesh, drawn at this height (a morph's start, `morph.rs`).
+    InsertAt(f32),
+    /// The vertex leaves the mesh.
+    Delete,
+    /// The vertex, in the mesh, is drawn at this height from now on (a morph's step).
+    Height(f32),
+}
+
+/// A vertex and what happens to it.
+type Change = (GridPoint, Edit);
 
 /// Wu's buffers (see the module docs).
 pub(super) struct WuBuffers {
-    gpu: GpuBuffers,
-    vertex_buffer: BufferId,
-    index_buffer: BufferId,
+    buffer: LeafBuffer<Leaf>,
     slots: HashMap<u32, VertexSlots, BuildHasherDefault<IdHasher>>,
-    free_vertex_slots: Vec<u32>,
-    vertex_slots_used: u32,
-    /// Per triangle slot, the leaf in it; its length is the number of triangles drawn.
-    leaves: Vec<Leaf>,
     /// The mesh's changes since the last `prepare`, in order.
     pending: Vec<Change>,
+    /// Where the vertex set's changes not yet handed to morphing start in `pending`.
+    not_taken: usize,
 }
 
 impl WuBuffers {
     /// The buffers of the base mesh (the four corners, two triangles), counted as this first
     /// frame's upload.
     pub fn new(lattice: &Lattice, hierarchy: &Hierarchy) -> WuBuffers {
-        let mut gpu = GpuBuffers::new();
-        let vertex_buffer = gpu.create_vertices(Vec::new(), VERTEX_BYTES);
-        let index_buffer = gpu.create_indices(Vec::new());
         let mut buffers = WuBuffers {
-            gpu,
-            vertex_buffer,
-            index_buffer,
+            buffer: LeafBuffer::new(VERTEX_BYTES),
             slots: HashMap::default(),
-            free_vertex_slots: Vec::new(),
-            vertex_slots_used: 0,
-            leaves: Vec::new(),
             pending: Vec::new(),
+            not_taken: 0,
         };
         for corner in lattice.corners() {
-            buffers.add_vertex(lattice, hierarchy, corner);
+            buffers.add_vertex(lattice, corner, hierarchy.height(corner));
         }
         for t in base_triangles(lattice) {
             let leaf = Leaf {
                 apex: t.apex,
                 ends: [t.left, t.right],
             };
-            let slot = buffers.leaves.len() as u32;
-            buffers.leaves.push(leaf);
-            buffers.write_leaf(lattice, slot, leaf);
+            let corners = buffers.corner_slots(lattice, leaf);
+            let slot = buffers.buffer.push_leaf(leaf, corners);
+            buffers.remember(lattice, slot, leaf);
         }
         buffers
     }
 
     /// Records that the mesh gained (`inserted`) or lost vertex `p`.
     pub fn record(&mut self, p: GridPoint, inserted: bool) {
-        self.pending.push((p, inserted));
+        self.pending
+            .push((p, if inserted { Edit::Insert } else { Edit::Delete }));
+    }
+
+    /// Records an edit of the drawn mesh (morphing's, which follows the recorded changes of the
+    /// vertex set with its own).
+    pub fn record_edit(&mut self, p: GridPoint, edit: Edit) {
+        self.pending.push((p, edit));
+        self.not_taken = self.pending.len();
+    }
+
+    /// Hands over the changes recorded since the last `prepare` (morphing turns the vertex
+    /// set's into the drawn mesh's).
+    pub fn take_changes(&mut self, into: &mut Vec<(GridPoint, Edit)>) {
+        into.extend(self.pending.drain(self.not_taken..));
     }
 
     /// Applies the recorded changes in order and issues the frame's one draw; what the frame
     /// uploaded and issued.
     pub fn prepare(&mut self, lattice: &Lattice, hierarchy: &Hierarchy) -> DrawCounts {
         let pending = std::mem::take(&mut self.pending);
-        for &(p, inserted) in &pending {
-            if inserted {
-                self.insert(lattice, hierarchy, p);
-            } else {
-                self.delete(lattice, p);
+        for &(p, edit) in &pending {
+            match edit {
+                Edit::Insert => self.insert(lattice, p, hierarchy.height(p)),
+                Edit::InsertAt(z) => self.insert(lattice, p, z),
+                Edit::Delete => self.delete(lattice, p),
+                Edit::Height(z) => {
+                    let slot = self.slots[&lattice.id(p)].vertex;
+                    self.buffer
+                        .write_vertex(slot, DrawVertex::fixed(SubgridPoint::from(p), z));
+                }
             }
         }
         self.pending = pending;
         self.pending.clear();
-        self.gpu.clear_draws();
-        self.gpu.draw(DrawCall {
-            vertices: self.vertex_buffer,
-            indices: self.index_buffer,
-            first_index: 0,
-            index_count: 3 * self.leaves.len() as u32,
-            topology: Topology::TriangleList,
-            blend: 0.0,
-        });
-        self.gpu.end_frame()
+        self.not_taken = 0;
+        self.buffer.prepare(0.0)
     }
 
     pub fn gpu(&self) -> &GpuBuffers {
-        &self.gpu
+        self.buffer.gpu()
     }
 
     /// Heap bytes on the CPU side: the model of the GPU buffers and the slot bookkeeping.
     pub fn memory_bytes(&self) -> usize {
-        self.gpu.memory_bytes()
+        self.buffer.memory_bytes()
             + self.slots.capacity()
                 * (size_of::<u32>() + size_of::<VertexSlots>() + size_of::<u64>())
-            + self.free_vertex_slots.capacity() * size_of::<u32>()
-            + self.leaves.capacity() * size_of::<Leaf>()
             + self.pending.capacity() * size_of::<Change>()
     }
 
     /// Splits the diamond of `p` around it.
-    fn insert(&mut self, lattice: &Lattice, hierarchy: &Hierarchy, p: GridPoint) {
-        self.add_vertex(lattice, hierarchy, p);
+    fn insert(&mut self, lattice: &Lattice, p: GridPoint, z: f32) {
+        self.add_vertex(lattice, p, z);
         let ends = lattice
             .bisected_edge(p)
             .expect("a corner is never inserted");
@@ -217,9 +230,9 @@ impl WuBuffers {
             let slot = self.take_triangle_slot(lattice, parent);
             let [first, second] = halves(p, parent);
             self.put(lattice, slot, first);
-            let appended = self.leaves.len() as u32;
-            self.leaves.push(second);
-            self.put(lattice, appended, second);
+            let corners = self.corner_slots(lattice, second);
+            let appended = self.buffer.push_leaf(second, corners);
+            self.remember(lattice, appended, second);
         }
     }
 
@@ -232,20 +245,20 @@ impl WuBuffers {
             let slot = self.take_triangle_slot(lattice, first);
             self.put(lattice, slot, parent);
             let hole = self.take_triangle_slot(lattice, second);
-            self.swap_remove(lattice, hole);
+            if let Some(moved) = self.buffer.remove_leaf(hole) {
+                self.remember(lattice, hole, moved);
+            }
         }
         let id = lattice.id(p);
         let removed = self.slots.remove(&id).expect("a deleted vertex had a slot");
         debug_assert!(removed.triangles.iter().all(|&t| t == NO_SLOT));
-        self.free_vertex_slots.push(removed.vertex);
+        self.buffer.free_vertex(removed.vertex);
     }
 
-    /// Gives `p` a vertex slot and writes it.
-    fn add_vertex(&mut self, lattice: &Lattice, hierarchy: &Hierarchy, p: GridPoint) {
-        let slot = self.free_vertex_slots.pop().unwrap_or_else(|| {
-            self.vertex_slots_used += 1;
-            self.vertex_slots_used - 1
-        });
+    /// Gives `p` a vertex slot and writes it, drawn at height `z`.
+    fn add_vertex(&mut self, lattice: &Lattice, p: GridPoint, z: f32) {
+        let vertex = DrawVertex::fixed(SubgridPoint::from(p), z);
+        let slot = self.buffer.add_vertex(vertex);
         let previous = self.slots.insert(
             lattice.id(p),
             VertexSlots {
@@ -254,9 +267,6 @@ impl WuBuffers {
             },
         );
         debug_assert!(previous.is_none(), "{p:?} inserted twice");
-        let vertex = DrawVertex::fixed(SubgridPoint::from(p), hierarchy.height(p));
-        self.gpu
-            .write_vertices(self.vertex_buffer, slot as usize, &[vertex]);
     }
 
     /// The slot of a leaf, forgotten by its apex (the caller fills or removes it).
@@ -272,43 +282,23 @@ impl WuBuffers {
 
     /// Puts `leaf` into triangle slot `slot` (an existing one) and writes its indices.
     fn put(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
-        self.leaves[slot as usize] = leaf;
-        self.write_leaf(lattice, slot, leaf);
+        let corners = self.corner_slots(lattice, leaf);
+        self.buffer.set_leaf(slot, leaf, corners);
+        self.remember(lattice, slot, leaf);
     }
 
-    /// Writes a leaf's indices into its slot and tells its apex where it is.
-    fn write_leaf(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
-        let mut indices = [0u32; 3];
-        for (index, corner) in indices.iter_mut().zip(leaf.corners()) {
-            *index = self.slots[&lattice.id(corner)].vertex;
-        }
+    /// The vertex slots of a leaf's corners, counter-clockwise.
+    fn corner_slots(&self, lattice: &Lattice, leaf: Leaf) -> [u32; 3] {
+        leaf.corners()
+            .map(|corner| self.slots[&lattice.id(corner)].vertex)
+    }
+
+    /// Tells a leaf's apex that the leaf is in triangle slot `slot`.
+    fn remember(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
         self.slots
             .get_mut(&lattice.id(leaf.apex))
             .expect("a leaf's apex is active")
             .triangles[leaf.direction()] = slot;
-        self.gpu
-            .write_indices(self.index_buffer, 3 * slot as usize, &indices);
-    }
-
-    /// Removes the triangle in `hole`: the last one moves into it (its indices copied, 12 bytes)
-    /// and the list shrinks by one.
-    fn swap_remove(&mut self, lattice: &Lattice, hole: u32) {
-        let last = self.leaves.len() as u32 - 1;
-        let moved = self.leaves.pop().expect("a triangle to remove");
-        if hole == last {
-            return;
-        }
-        self.leaves[hole as usize] = moved;
-        let from = 3 * last as usize;
-        let indices: [u32; 3] = self.gpu.indices(self.index_buffer)[from..from + 3]
-            .try_into()
-            .expect("three indices a triangle");
-        self.slots
-            .get_mut(&lattice.id(moved.apex))
-            .expect("a leaf's apex is active")
-            .triangles[moved.direction()] = hole;
-        self.gpu
-            .write_indices(self.index_buffer, 3 * hole as usize, &indices);
     }
 }
 

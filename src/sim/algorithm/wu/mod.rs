@@ -67,7 +67,14 @@
 //! each vertex a split or merge inserts or deletes (at most 300 bytes a split or merge), so that
 //! the upkeep is O(splits + merges), as a renderer of Wu's incremental mesh keeps it. The whole
 //! mesh is in them (the in-view refinement already keeps what is outside the cone coarse). The
-//! paper's incremental strips (§7) are not built; `draw.rs` says why a list.
+//! paper's incremental strips (§7) are not built; `draw.rs` says why a list. The slots are the
+//! shared `sim::draw::incremental::LeafBuffer` (ROAM's too).
+//!
+//! **Morphing** (`morph.rs`, option `morph_frames`, off by default): Wu §7's "simple geometry
+//! morphing similar to [2, 5]", read as ROAM's: the drawn mesh follows the vertex set over N
+//! frames, a new vertex rising from its edge's midpoint, a deleted one sinking back before it
+//! leaves. With it on, `mesh`, the buffers and `triangles` are the drawn mesh's; the budget and
+//! every queue still work on the vertex set.
 //!
 //! **Traversal options.** Block-priority traversal tests a split node's children by decreasing
 //! error and stops at the first whose life does not let it split: its untested siblings take its
@@ -93,6 +100,7 @@ mod cull;
 mod draw;
 mod in_view;
 mod merge;
+mod morph;
 mod nodes;
 mod split;
 mod validate;
@@ -116,6 +124,7 @@ use crate::sim::view::ViewSettings;
 use crate::sim::zone::{NodeErrors, SpeedBound, ZoneVariant, radius_per_error};
 use glam::DVec3;
 use in_view::ViewTracking;
+use morph::Morphing;
 use nodes::{LifeRule, NO_NODE, Nodes};
 use wheel::{Queue, Wheels};
 
@@ -163,6 +172,8 @@ pub struct WuConfig {
     /// How δ nests: Wu's [`NestingRule::Max`], or [`NestingRule::MaxPlusOwn`] (a true bound, to
     /// measure what it costs; 4 more bytes per sample).
     pub nesting: NestingRule,
+    /// Wu §7's geometry morphing over this many frames (`morph.rs`); `None`: off (the default).
+    pub morph_frames: Option<u32>,
 }
 
 impl WuConfig {
@@ -252,6 +263,8 @@ const COLUMNS_COUNT_TAU: &[&str] = column_list!(
 pub struct Wu<'h> {
     /// The buffers a GPU draws the mesh from, kept incrementally (`draw.rs`).
     draw: WuBuffers,
+    /// The drawn mesh following the vertex set over a few frames (`morph.rs`), when on.
+    morph: Option<Morphing>,
     hierarchy: &'h Hierarchy,
     lattice: Lattice,
     nodes: Nodes,
@@ -306,6 +319,7 @@ impl<'h> Wu<'h> {
         let nodes = Nodes::new(hierarchy);
         Wu {
             draw: WuBuffers::new(&lattice, hierarchy),
+            morph: config.morph_frames.map(|n| Morphing::new(&lattice, n)),
             hierarchy,
             lattice,
             nodes,
@@ -764,6 +778,7 @@ impl Wu<'_> {
     fn first_frame_count(&self, input: &FrameInput, tau_px: f64) -> u64 {
         let config = WuConfig {
             tau_px: Some(tau_px),
+            morph_frames: None,
             ..self.config
         };
         let mut probe = Wu::new(self.hierarchy, config, &self.view_settings, self.speed);
@@ -825,7 +840,8 @@ impl Wu<'_> {
 }
 
 impl Wu<'_> {
-    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
+    /// The current 4-8 mesh as refined (what [`LodAlgorithm::mesh`] hands the runner without
+    /// morphing; with it, the drawn mesh follows this one over a few frames).
     pub fn vertex_set(&self) -> &VertexSet {
         &self.mesh
     }
@@ -864,6 +880,7 @@ impl LodAlgorithm for Wu<'_> {
 
         let shift = budget::base_shift(self.config.budget, self.previous_count, self.base);
         self.base = shift.new_base;
+        let first_frame = !self.started;
         let revalidated = !self.started || input.broken_bounds.any();
         if revalidated {
             self.revalidate_all(true);
@@ -906,8 +923,12 @@ impl LodAlgorithm for Wu<'_> {
             _ => self.n_triangles,
         };
 
+        if let Some(morph) = &mut self.morph {
+            morph.advance(&self.lattice, self.hierarchy, &mut self.draw, first_frame);
+        }
+
         let c = self.counters;
-        stats.triangles = self.n_triangles;
+        stats.triangles = self.triangle_count();
         stats.splits = c.splits;
         stats.merges = c.merges;
         stats.vertices_inserted = c.inserted;
@@ -943,11 +964,16 @@ impl LodAlgorithm for Wu<'_> {
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
-        MeshOutput::lattice(&self.mesh)
+        match &self.morph {
+            Some(morph) => morph.mesh(),
+            None => MeshOutput::lattice(&self.mesh),
+        }
     }
 
     fn triangle_count(&self) -> u64 {
-        self.n_triangles
+        self.morph
+            .as_ref()
+            .map_or(self.n_triangles, Morphing::triangle_count)
     }
 
     fn memory_bytes(&self) -> usize {
@@ -956,6 +982,7 @@ impl LodAlgorithm for Wu<'_> {
             + self.wheels.memory_bytes()
             + self.view.as_ref().map_or(0, ViewTracking::memory_bytes)
             + self.draw.memory_bytes()
+            + self.morph.as_ref().map_or(0, Morphing::memory_bytes)
             + self.due.capacity() * std::mem::size_of::<u32>()
             + self.due_marked.capacity() * std::mem::size_of::<u32>()
             + self.split_work.capacity() * std::mem::size_of::<(u32, NodeLook, u32)>()

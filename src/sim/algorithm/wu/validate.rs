@@ -237,6 +237,7 @@ mod tests {
             refine,
             wheel_links: 16,
             nesting: NestingRule::Max,
+            morph_frames: None,
         };
         let speed = SpeedBound {
             horizontal: 10.0,
