@@ -8,6 +8,8 @@ use super::{DrawCall, RESTART, Topology};
 /// `topology`, in drawing order: a strip's odd triangles have their first two corners swapped
 /// (so that the strip keeps one winding), a fan's triangles are (first, previous, current).
 /// [`RESTART`] starts a new strip or fan; in a list it is not allowed (debug-checked).
+/// Patches are not indices: their tessellator makes their triangles (`super::patches`), and
+/// this visits none.
 pub(super) fn for_each_triangle(
     topology: Topology,
     indices: &[u32],
@@ -41,6 +43,7 @@ pub(super) fn for_each_triangle(
                 }
             }
         }
+        Topology::Patches => {}
     }
 }
 

@@ -18,6 +18,8 @@
 //! - [`GpuBuffers::for_each_triangle`] decodes the draw list as a GPU assembles primitives
 //!   (lists, strips with the odd triangles' corners swapped, fans, and primitive restart), which
 //!   is how the runner checks that **the buffers are the mesh** ([`check`]).
+//! - A [`Topology::Patches`] draw is expanded by the tessellator the algorithm registered
+//!   ([`patches`]): its patches' words are uploaded, its triangles are the GPU's work.
 //!
 //! Each algorithm keeps one `GpuBuffers` and maintains it itself inside its frame (in `update`
 //! and `LodAlgorithm::prepare_draw`); its module doc says which representation it keeps and why
@@ -29,8 +31,11 @@ pub mod check;
 mod decode;
 pub mod emit;
 pub mod incremental;
+pub mod patches;
 
 use crate::sim::mesh::{SubgridPoint, SurfacePoint};
+use patches::Tessellator;
+use std::sync::Arc;
 
 /// Bytes of one index on the GPU (`u32`).
 pub const INDEX_BYTES: u64 = 4;
@@ -99,6 +104,11 @@ pub enum Topology {
     /// Each index after the second closes a triangle with the first and the one before it.
     /// [`RESTART`] starts a new fan.
     TriangleFan,
+    /// Patches for the tessellation stage: the index buffer holds the patches' words (an
+    /// instance buffer, [`patches::Tessellator::words_per_patch`] words a patch) and the
+    /// buffers' tessellator ([`GpuBuffers::set_tessellator`]) makes their triangles; the vertex
+    /// buffer is not read, nor the blend.
+    Patches,
 }
 
 /// A buffer on the GPU side, vertex or index.
@@ -142,6 +152,8 @@ pub struct GpuBuffers {
     free_index_ids: Vec<u32>,
     draws: Vec<DrawCall>,
     upload_bytes: u64,
+    /// The tessellation stage that expands [`Topology::Patches`] draws, when one is registered.
+    tessellator: Option<Arc<dyn Tessellator>>,
 }
 
 impl GpuBuffers {
@@ -250,6 +262,12 @@ impl GpuBuffers {
         self.upload_bytes += bytes;
     }
 
+    /// Registers the tessellation stage that [`Topology::Patches`] draws go through (a pipeline
+    /// state, set up once: nothing is uploaded).
+    pub fn set_tessellator(&mut self, tessellator: Arc<dyn Tessellator>) {
+        self.tessellator = Some(tessellator);
+    }
+
     /// Empties the draw list (a new frame's commands follow).
     pub fn clear_draws(&mut self) {
         self.draws.clear();
@@ -257,6 +275,10 @@ impl GpuBuffers {
 
     /// Adds a draw command to this frame's list.
     pub fn draw(&mut self, call: DrawCall) {
+        debug_assert!(
+            call.topology != Topology::Patches || self.tessellator.is_some(),
+            "a patch draw without a tessellator"
+        );
         debug_assert!(
             self.index_buffers[call.indices.0 as usize]
                 .as_ref()
@@ -295,11 +317,30 @@ impl GpuBuffers {
             triangles_submitted: self
                 .draws
                 .iter()
-                .map(|call| decode::triangles_submitted(call, self.indices(call.indices)))
+                .map(|call| self.call_triangles_submitted(call))
                 .sum(),
         };
         self.upload_bytes = 0;
         counts
+    }
+
+    /// The triangles one draw call submits.
+    fn call_triangles_submitted(&self, call: &DrawCall) -> u64 {
+        let indices = self.indices(call.indices);
+        if call.topology != Topology::Patches {
+            return decode::triangles_submitted(call, indices);
+        }
+        let tessellator = self.patch_tessellator();
+        let range = call.first_index as usize..(call.first_index + call.index_count) as usize;
+        patches::patches(tessellator, &indices[range])
+            .map(|patch| tessellator.triangles(patch))
+            .sum()
+    }
+
+    fn patch_tessellator(&self) -> &dyn Tessellator {
+        self.tessellator
+            .as_deref()
+            .expect("a patch draw needs the tessellator its algorithm registered")
     }
 
     /// Bytes the buffers hold on the GPU (their content, not their capacity).
@@ -343,6 +384,13 @@ impl GpuBuffers {
             let vertices = self.vertices(call.vertices);
             let indices = self.indices(call.indices);
             let range = call.first_index as usize..(call.first_index + call.index_count) as usize;
+            if call.topology == Topology::Patches {
+                let tessellator = self.patch_tessellator();
+                for patch in patches::patches(tessellator, &indices[range]) {
+                    tessellator.for_each_triangle(patch, &mut visit);
+                }
+                continue;
+            }
             decode::for_each_triangle(call.topology, &indices[range], |corners| {
                 visit(corners.map(|k| vertices[k as usize].drawn(call.blend)));
             });

@@ -115,6 +115,11 @@ impl Hierarchy {
         &self.field
     }
 
+    /// The height field, shared (e.g. with a GPU-side stage that samples it as a texture).
+    pub fn shared_field(&self) -> Arc<Heightfield> {
+        Arc::clone(&self.field)
+    }
+
     pub fn lattice(&self) -> &Lattice {
         &self.lattice
     }

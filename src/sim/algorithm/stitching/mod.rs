@@ -78,15 +78,33 @@
 //!   [32, 64]) and `strip_construction_ns` (the part of the update spent building strips, a
 //!   timing column).
 //!
+//! # What the GPU is sent (issue #31)
+//!
+//! What the paper sends each frame, kept by `buffers.rs`: **the blocks** as patches, one per
+//! drawn M-block in a per-frame instance buffer (its MBD's Position and Size, §3.1.1, as its
+//! rectangle, and its factors: the inner one and its four edges', 36 bytes), drawn by one patch
+//! draw and tessellated on the GPU (§3, "terrain block meshes are generated with appropriate
+//! levels in the GPU"), so the blocks' triangles are submitted and drawn but never uploaded;
+//! **the strips and P-blocks**, whose vertices the CPU computes (§3.2.2) and which the paper
+//! rebuilds every frame (§4.2: "the work of DSS generation needs to be done in every frame"),
+//! written whole into one vertex and one index buffer each frame and drawn as one list. So a
+//! frame uploads 36 bytes a drawn block plus its strips' geometry, whatever the blocks' factors
+//! (Methods I and II: the blocks alone). The GPU's tessellator is the CPU simulation that makes
+//! the mesh (`tessellate.rs`), registered with the buffers, so the buffers draw the mesh bit for
+//! bit. The mesh (`MeshOutput`) still holds the blocks' triangles, made inside `update` by that
+//! simulation: `update_ns` and `frame_ns` include the tessellation a GPU would do.
+//!
 //! Memory: the tree (136 bytes a node), a few words of frame state per node, the triangle list
 //! and a few reused buffers. Per frame: O(nodes + triangles).
 
+mod buffers;
 mod select;
 mod strips;
 mod tessellate;
 mod tree;
 mod validate;
 
+pub use buffers::{PATCH_BYTES, frame_upload_bytes};
 pub use select::{BlockDistance, MetricBox, StitchingMethod, ViewDirection};
 pub use strips::PBlockShape;
 pub use tessellate::{EdgeSpacing, edge_positions, quad_patch_triangles, resampled_height};
@@ -97,7 +115,6 @@ use super::block_lod::cull::box_outside_view;
 use super::block_lod::threshold::BlockBox;
 use super::columns::stitching as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::emit::RebuiltBuffers;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{
@@ -106,6 +123,7 @@ use crate::sim::mesh::{
 };
 use crate::sim::stats::FrameStats;
 use crate::sim::view::Camera;
+use buffers::{SpacingMode, StitchingBuffers};
 use glam::DVec3;
 use std::time::Instant;
 use tessellate::{EAST, NORTH, PatchScratch, Rect, SOUTH, WEST};
@@ -158,8 +176,8 @@ enum NodeState {
 
 /// The stitching-strips algorithm. Per frame: O(nodes + triangles); buffers reused.
 pub struct Stitching<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
+    /// What the GPU draws this frame's mesh from: the blocks' patches, the strips (`buffers.rs`).
+    draw: StitchingBuffers,
     hierarchy: &'h Hierarchy,
     config: StitchingConfig,
     tree: Tree,
@@ -246,7 +264,13 @@ impl<'h> Stitching<'h> {
         let finest = 1usize << tree.depth_max();
         let n = tree.n_nodes();
         Stitching {
-            draw: RebuiltBuffers::new(),
+            draw: StitchingBuffers::new(
+                hierarchy,
+                match config.method {
+                    StitchingMethod::PowerOfTwo => SpacingMode::Equal,
+                    _ => SpacingMode::FractionalEven,
+                },
+            ),
             hierarchy,
             config,
             tree,
@@ -521,6 +545,7 @@ impl<'h> Stitching<'h> {
         self.frame.cpu_vertices = 0;
         self.frame.strip_ns = 0;
         self.drawn_now.fill(None);
+        self.draw.begin_frame();
         self.draw_node(NodeId::ROOT, camera);
     }
 
@@ -562,6 +587,7 @@ impl<'h> Stitching<'h> {
                     &mut self.patch_scratch,
                 );
                 self.record_drawn(index, first, 0);
+                self.draw.push_block(region, inner, outer);
                 self.frame.drawn_leaves.push(id);
             }
             NodeState::Split => {
@@ -580,6 +606,7 @@ impl<'h> Stitching<'h> {
     fn draw_cross(&mut self, id: NodeId, camera: Option<&Camera>) {
         let start = Instant::now();
         let first = self.list.vertices().len();
+        let first_triangle = self.list.n_triangles();
         let group = self.tree.index(id) as u32;
         let field = self.hierarchy.field();
         let state = &self.state;
@@ -623,6 +650,7 @@ impl<'h> Stitching<'h> {
             self.frame.p_blocks += 1;
         }
         self.record_drawn(group as usize, first, 1);
+        self.draw.push_cpu_run(&self.list, first, first_triangle);
         self.frame.strip_ns += start.elapsed().as_nanos() as u64;
     }
 
@@ -644,6 +672,8 @@ impl<'h> Stitching<'h> {
                 stack.extend(id.children().into_iter().rev());
             } else {
                 let f = factor(id).clamp(tessellate::MIN_FACTOR, tessellate::MAX_FACTOR);
+                // Handed to the tessellator as a shader writes it, as `update` does: an f32.
+                let f = f64::from(f as f32);
                 let f = match self.config.method {
                     StitchingMethod::PowerOfTwo => select::power_of_two_factor(f),
                     _ => f,
@@ -740,8 +770,7 @@ impl LodAlgorithm for Stitching<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw
-            .prepare(MeshOutput::triangles(&self.list), self.hierarchy)
+        self.draw.prepare(&self.list)
     }
 
     fn buffers(&self) -> &GpuBuffers {
@@ -771,6 +800,7 @@ impl LodAlgorithm for Stitching<'_> {
             + (self.drawn_before.capacity() + self.drawn_now.capacity())
                 * std::mem::size_of::<Option<DrawnRange>>()
             + self.vertices_before.capacity() * std::mem::size_of::<SurfacePoint>()
+            + self.draw.memory_bytes()
     }
 
     fn run_facts(&self) -> Vec<(&'static str, f64)> {
