@@ -107,7 +107,7 @@ pub use brute_force::chunks_from_scratch;
 pub use detail::DetailConfig;
 pub use loading::LoadingConfig;
 pub use select::DrawnChunk;
-pub use tree::{ChunkId, ChunkRecord, SkirtDepth};
+pub use tree::{ChunkId, ChunkRecord, SkirtDepth, chunk_own_error};
 pub use validate::ChunkedError;
 
 use super::block_lod::budget::finest_tau_within;
