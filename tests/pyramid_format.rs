@@ -1,20 +1,27 @@
 //! The chunk pyramid `roamsim prepare` writes (docs/output-formats.md, "Chunk pyramid"): it
 //! holds exactly the chunk tree `chunked` builds in memory — every chunk's nested error, height
 //! range and heights, bit for bit — for integer and float sources, south- or north-first files,
-//! any chunk level (a real SRTM tile cropped to 1025² included); and a truncated, foreign or
-//! corrupted file is refused with the file and the field named.
+//! any chunk level (a real SRTM tile cropped to 1025² included); a truncated, foreign or
+//! corrupted file is refused with the file and the field named; and a chunked entry whose
+//! heights are read from the pyramid on a loader thread draws, every frame, exactly the meshes
+//! of the same entry reading the heights in memory.
 
 mod common;
 
-use common::algorithms::chunked;
-use common::view_600;
+use common::algorithms::{chunked, chunked_with_everything};
+use common::{step, view_600};
+use glam::DVec3;
 use proptest::prelude::*;
-use roamsim::edge::pyramid::{PyramidFile, RawSource, StoredSample, chunk_ids, prepare_from_raw};
+use roamsim::edge::pyramid::{
+    PyramidFile, PyramidLoader, RawSource, StoredSample, chunk_ids, prepare_from_raw,
+};
 use roamsim::edge::terrain_readers::{RawLayout, RawSample};
-use roamsim::sim::algorithm::Chunked;
-use roamsim::sim::algorithm::chunked::ChunkId;
+use roamsim::sim::algorithm::chunked::{ChunkId, LoadingConfig};
+use roamsim::sim::algorithm::{Chunked, ChunkedConfig, LodAlgorithm};
+use roamsim::sim::hierarchy::GridPoint;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::terrain::{Heightfield, Spacing};
+use roamsim::sim::view::{Camera, Pose};
 use std::path::{Path, PathBuf};
 
 const SPACING: Spacing = Spacing { dx: 30.0, dy: 20.0 };
@@ -294,4 +301,142 @@ fn prepare_refuses_a_wrong_source_and_leaves_nothing_behind() {
         .map(|e| e.unwrap().file_name().into_string().unwrap())
         .collect();
     assert_eq!(names.len(), 2, "{names:?}");
+}
+
+/// A flight 15 m above the ground along the terrain's diagonal, looking ahead and down.
+fn low_flight(hierarchy: &Hierarchy, frames: u32) -> Vec<Camera> {
+    let field = hierarchy.field();
+    let last = field.side() as u32 - 1;
+    (0..frames)
+        .map(|k| {
+            let t = 0.05 + 0.9 * f64::from(k) / f64::from(frames);
+            let i = (t * f64::from(last)).round() as u32;
+            let ground = f64::from(hierarchy.height(GridPoint::new(i, i)));
+            let position = field.position(i as usize, i as usize);
+            Camera::new(
+                &Pose {
+                    position: DVec3::new(position.x, position.y, ground + 15.0),
+                    yaw: std::f64::consts::FRAC_PI_4,
+                    pitch: -0.3,
+                },
+                view_600(),
+            )
+        })
+        .collect()
+}
+
+/// The frame's triangles: corners (position, height bits) and info, in draw order.
+type Mesh = Vec<([(i64, i64, u32); 3], String)>;
+
+fn mesh_of(algorithm: &Chunked, hierarchy: &Hierarchy) -> Mesh {
+    let mut mesh = Vec::new();
+    algorithm.mesh().for_each_triangle(hierarchy, |t| {
+        let corner = |k: usize| {
+            let p = t.corners[k].position;
+            (p.raw().0, p.raw().1, t.corners[k].z.to_bits())
+        };
+        mesh.push(([corner(0), corner(1), corner(2)], format!("{:?}", t.info)));
+    });
+    mesh
+}
+
+/// Flies `config` over `hierarchy`, heights from the shared field or, given a pyramid, read
+/// from it on a loader thread; every frame's mesh, and the chunks read.
+fn fly(
+    hierarchy: &Hierarchy,
+    config: ChunkedConfig,
+    pyramid: Option<&Path>,
+    cameras: &[Camera],
+) -> (Vec<Mesh>, u64) {
+    let mut algorithm = Chunked::new(hierarchy, config, &view_600());
+    if let Some(path) = pyramid {
+        let loader = PyramidLoader::start(PyramidFile::open(path).unwrap());
+        algorithm = algorithm.with_disk_heights(Box::new(loader)).unwrap();
+    }
+    let mut read = 0;
+    let meshes = cameras
+        .iter()
+        .enumerate()
+        .map(|(frame, camera)| {
+            step(&mut algorithm, frame as u64, camera, false);
+            read += algorithm.disk_frame().map_or(0, |d| d.chunks_arrived);
+            mesh_of(&algorithm, hierarchy)
+        })
+        .collect();
+    (meshes, read)
+}
+
+fn with_loading(config: ChunkedConfig) -> ChunkedConfig {
+    ChunkedConfig {
+        loading: Some(LoadingConfig {
+            latency_frames: 2,
+            bandwidth_chunks_per_frame: 8,
+            resident_chunks: 48,
+        }),
+        ..config
+    }
+}
+
+#[test]
+fn heights_read_from_the_pyramid_on_a_loader_thread_draw_the_in_memory_meshes_every_frame() {
+    let terrain = Terrain::integer(8);
+    let hierarchy = terrain.hierarchy();
+    let cameras = low_flight(&hierarchy, 80);
+    let (_folder, path) = prepare(&terrain, RawSample::I16Le, true, 4);
+    for (name, config) in [
+        ("paper's", with_loading(chunked(0.5, 4))),
+        ("everything", with_loading(chunked_with_everything(0.5, 4))),
+    ] {
+        let (memory, _) = fly(&hierarchy, config, None, &cameras);
+        let (disk, read) = fly(&hierarchy, config, Some(&path), &cameras);
+        assert!(read > 20, "{name}: only {read} chunks read");
+        for (frame, (memory, disk)) in memory.iter().zip(&disk).enumerate() {
+            assert_eq!(memory.len(), disk.len(), "{name}, frame {frame}: counts");
+            if let Some(k) = (0..memory.len()).find(|&k| memory[k] != disk[k]) {
+                panic!(
+                    "{name}, frame {frame}: triangle {k} differs: {:?} ≠ {:?}",
+                    memory[k], disk[k]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_heights_drawn_are_the_ones_read_from_the_file() {
+    // A pyramid of the same terrain raised by 1 m: the same errors, every height read 1 m up.
+    let terrain = Terrain::integer(7);
+    let hierarchy = terrain.hierarchy();
+    let raised = Terrain {
+        side: terrain.side,
+        heights: terrain.heights.iter().map(|z| z + 1.0).collect(),
+    };
+    let (_folder, path) = prepare(&raised, RawSample::I16Le, true, 3);
+    let cameras = low_flight(&hierarchy, 30);
+    let config = with_loading(chunked(0.5, 3));
+    let (memory, _) = fly(&hierarchy, config, None, &cameras);
+    let (disk, _) = fly(&hierarchy, config, Some(&path), &cameras);
+    let last = memory.len() - 1;
+    assert_eq!(memory[last].len(), disk[last].len());
+    for (m, d) in memory[last].iter().zip(&disk[last]) {
+        for k in 0..3 {
+            let (zm, zd) = (f32::from_bits(m.0[k].2), f32::from_bits(d.0[k].2));
+            assert_eq!((m.0[k].0, m.0[k].1), (d.0[k].0, d.0[k].1));
+            // Skirt bottoms hang the chunk's (record's) depth below the raised border.
+            assert_eq!(zd - zm, 1.0, "{m:?} vs {d:?}");
+        }
+    }
+}
+
+#[test]
+fn heights_from_disk_need_the_loading_effect() {
+    let terrain = Terrain::integer(4);
+    let hierarchy = terrain.hierarchy();
+    let (_folder, path) = prepare(&terrain, RawSample::I16Le, true, 2);
+    let loader = PyramidLoader::start(PyramidFile::open(&path).unwrap());
+    let error = Chunked::new(&hierarchy, chunked(1.0, 2), &view_600())
+        .with_disk_heights(Box::new(loader))
+        .err()
+        .unwrap();
+    assert!(error.contains("`loading` effect"), "{error}");
 }

@@ -21,9 +21,11 @@
 //! [`ChunkRecord::internal`]: crate::sim::algorithm::chunked::ChunkRecord::internal
 //! [`chunk_own_error`]: crate::sim::algorithm::chunked::chunk_own_error
 
+mod loader;
 mod open;
 mod prepare;
 
+pub use loader::PyramidLoader;
 pub use open::PyramidFile;
 pub use prepare::{PrepareSummary, RawSource, prepare_from_raw};
 
