@@ -440,3 +440,47 @@ fn heights_from_disk_need_the_loading_effect() {
         .unwrap();
     assert!(error.contains("`loading` effect"), "{error}");
 }
+
+#[test]
+fn the_prepare_command_writes_the_pyramid_and_reports_progress() {
+    let folder = tempfile::tempdir().unwrap();
+    Terrain::integer(6).write_raw(&folder.path().join("t.raw"), RawSample::I16Le, true);
+    let args = [
+        "prepare",
+        "t.raw",
+        "--raw-side",
+        "65",
+        "--raw-sample",
+        "i16le",
+        "--spacing-m",
+        "30,20",
+        "--chunk-level",
+        "4",
+        "--out",
+        "t.pyramid",
+    ];
+    let output = common::cli::roamsim(&args, folder.path());
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr),
+    );
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("chunks of 17² (3 levels, 21 chunks)"),
+        "{stdout}"
+    );
+    assert!(stderr.contains("prepare: 65/65 rows (100%)"), "{stderr}");
+    let pyramid = PyramidFile::open(&folder.path().join("t.pyramid")).unwrap();
+    assert_eq!(pyramid.header().n_chunks(), 21);
+
+    let args_wrong_side = {
+        let mut args = args;
+        args[3] = "64";
+        args
+    };
+    common::cli::fails_with(
+        &args_wrong_side,
+        folder.path(),
+        &["t.raw", "2^n + 1 samples a side"],
+    );
+}

@@ -8,6 +8,7 @@
 //! (a parent's error at least its children's, its height range around theirs, as eq. 3.1 and
 //! §3.2.12 make them). **Checked per read**: every height finite and inside its chunk's range.
 //! Memory: 16 bytes per chunk for the records, nothing per height beyond the caller's buffer.
+//! Reads are positioned (`pread`, Unix's `FileExt`), so they need no seek and no lock.
 
 use super::{HEADER_BYTES, PyramidError, PyramidHeader, RECORD_BYTES, StoredSample, chunk_ids};
 use crate::sim::algorithm::chunked::{ChunkId, ChunkRecord};
