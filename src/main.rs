@@ -169,6 +169,38 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         map: Option<PathBuf>,
     },
+    /// Write a terrain's chunk pyramid (the chunked LOD quadtree with every chunk's heights and
+    /// nested error) for an on-demand flight, in bounded memory; see docs/output-formats.md,
+    /// "Chunk pyramid". The source is a raw file of (2^n+1)² samples.
+    #[command(after_help = EXAMPLES)]
+    Prepare {
+        /// The raw terrain file (headerless samples, --raw-side × --raw-side).
+        terrain: PathBuf,
+        /// Samples per side (2^n + 1).
+        #[arg(long)]
+        raw_side: usize,
+        /// The sample type and byte order.
+        #[arg(long, value_enum)]
+        raw_sample: RawSampleChoice,
+        /// The file's first row is the south edge (default: the north edge, as most are).
+        #[arg(long)]
+        raw_south_first: bool,
+        /// Grid spacing in metres, one number for both axes or DX,DY.
+        #[arg(
+            long,
+            value_name = "DX[,DY]",
+            value_delimiter = ',',
+            num_args = 1,
+            required = true
+        )]
+        spacing_m: Vec<f64>,
+        /// c: chunks of (2^c + 1)² vertices, as the chunked entry's `chunk_level` (default 6).
+        #[arg(long, default_value_t = 6)]
+        chunk_level: u32,
+        /// The pyramid file to write (replaced only when it is a pyramid).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Replay an experiment's flight in a window: the meshes, their wireframe by level, the
     /// statistics in the title. Keys: Space pause · → step · A/B switch the left/right
     /// algorithm · S split screen · W wireframe · C culling view · R triangle roles · Q quit.
@@ -263,6 +295,55 @@ impl RawSampleChoice {
             RawSampleChoice::F32be => "f32be",
         }
     }
+
+    fn sample(self) -> roamsim::edge::terrain_readers::RawSample {
+        use roamsim::edge::terrain_readers::RawSample;
+        match self {
+            RawSampleChoice::I16le => RawSample::I16Le,
+            RawSampleChoice::I16be => RawSample::I16Be,
+            RawSampleChoice::U16le => RawSample::U16Le,
+            RawSampleChoice::U16be => RawSample::U16Be,
+            RawSampleChoice::F32le => RawSample::F32Le,
+            RawSampleChoice::F32be => RawSample::F32Be,
+        }
+    }
+}
+
+/// `roamsim prepare`: writes the pyramid, progress on stderr every 5 % of the rows.
+fn prepare(
+    source: roamsim::edge::pyramid::RawSource,
+    chunk_level: u32,
+    out: &std::path::Path,
+) -> Result<(), Failure> {
+    let start = std::time::Instant::now();
+    let mut last_percent = 0;
+    let summary =
+        roamsim::edge::pyramid::prepare_from_raw(&source, chunk_level, out, &mut |done, rows| {
+            let percent = done * 100 / rows;
+            if percent >= last_percent + 5 || done == rows {
+                last_percent = percent;
+                eprintln!(
+                    "prepare: {done}/{rows} rows ({percent}%), {:.0} s elapsed",
+                    start.elapsed().as_secs_f64()
+                );
+            }
+        })
+        .map_err(|error| Failure::Error(error.to_string()))?;
+    let header = summary.header;
+    println!(
+        "{}: {} × {} samples, chunks of {}² ({} levels, {} chunks), {:?} heights, {} bytes; \
+         row bands held at most {} bytes",
+        out.display(),
+        header.side(),
+        header.side(),
+        header.cells() + 1,
+        header.leaf_level() + 1,
+        header.n_chunks(),
+        header.sample,
+        summary.file_bytes,
+        summary.band_bytes
+    );
+    Ok(())
 }
 
 /// terrain.file.fit.
@@ -354,6 +435,35 @@ fn main() -> ExitCode {
                 InfoFailure::Error(message) => Failure::Error(message),
             })
         }
+        Command::Prepare {
+            terrain,
+            raw_side,
+            raw_sample,
+            raw_south_first,
+            spacing_m,
+            chunk_level,
+            out,
+        } => prepare(
+            roamsim::edge::pyramid::RawSource {
+                path: terrain,
+                layout: roamsim::edge::terrain_readers::RawLayout {
+                    columns: raw_side,
+                    rows: raw_side,
+                    sample: raw_sample.sample(),
+                    north_first: !raw_south_first,
+                },
+                spacing: roamsim::sim::terrain::Spacing {
+                    dx: spacing_m.first().copied().unwrap_or(f64::NAN),
+                    dy: spacing_m
+                        .get(1)
+                        .or(spacing_m.first())
+                        .copied()
+                        .unwrap_or(f64::NAN),
+                },
+            },
+            chunk_level,
+            &out,
+        ),
         #[cfg(not(feature = "preview"))]
         Command::Preview { .. } => needs_preview_feature("preview"),
         #[cfg(not(feature = "preview"))]

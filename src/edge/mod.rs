@@ -16,6 +16,7 @@ pub mod output;
 #[cfg(feature = "preview")]
 pub mod preview;
 pub mod progress;
+pub mod pyramid;
 pub mod session;
 pub mod shard;
 pub mod terrain_info;

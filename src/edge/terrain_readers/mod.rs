@@ -34,6 +34,7 @@ mod hgt;
 mod mosaic;
 mod png;
 mod raw;
+pub(crate) use raw::decode_sample;
 mod vrt;
 
 #[cfg(feature = "gdal")]

@@ -70,7 +70,7 @@ pub(super) fn read(
 }
 
 /// Decodes one sample; `sample` has exactly `kind.bytes()` bytes (missing bytes read as 0).
-fn decode_sample(kind: RawSample, sample: &[u8]) -> f64 {
+pub(crate) fn decode_sample(kind: RawSample, sample: &[u8]) -> f64 {
     let byte = |index: usize| sample.get(index).copied().unwrap_or(0);
     let two = [byte(0), byte(1)];
     let four = [byte(0), byte(1), byte(2), byte(3)];

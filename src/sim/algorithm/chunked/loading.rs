@@ -21,11 +21,19 @@
 //! - Synthesised chunks (runtime detail, when on) travel the same way: made when issued (within
 //!   the creation limit), drawn `latency_frames` later, sharing the bandwidth.
 //!
+//! - **Read from disk** ([`ChunkHeightSource`], attached by `Chunked::with_disk_heights`): the
+//!   same model decides when a chunk is available; the real read starts when its load is
+//!   issued, and a frame that reaches a chunk's arrival before its read is done waits for it
+//!   (measured per frame, [`DiskFrame`]), so the meshes are those of the modelled loading
+//!   whatever the disk's speed. The heights drawn are the ones read.
+//!
 //! "The same flight without latency" is the same entry without this effect: every source
 //! chunk resident from the start (synthesised chunks then arrive the frame after their
 //! request).
 
 use super::cache::GroupCache;
+use super::tree::ChunkId;
+use std::collections::BTreeMap;
 
 /// The loading effect as the experiment declares it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,6 +52,9 @@ pub(super) struct Loading {
     pub(super) resident: GroupCache<()>,
     /// Bytes of one resident chunk's vertices.
     pub(super) chunk_bytes: usize,
+    /// With a source read from disk, the resident chunks' heights (`None`: the modelled
+    /// loading reads them from the shared field).
+    pub(super) disk: Option<DiskHeights>,
 }
 
 impl Loading {
@@ -53,11 +64,119 @@ impl Loading {
             config,
             resident: GroupCache::default(),
             chunk_bytes: side * side * std::mem::size_of::<f32>(),
+            disk: None,
         }
     }
 
     /// Bytes the resident (and arriving) chunks hold: their vertices and the cache's entries.
     pub(super) fn memory_bytes(&self) -> usize {
         self.resident.len() * (self.chunk_bytes + GroupCache::<()>::ENTRY_BYTES)
+    }
+}
+
+/// Where the heights of a source read from disk come from: the core asks for a chunk when its
+/// load is issued and takes its heights when the model makes it available. The edge implements
+/// it with the file and a loader thread (`src/edge/pyramid/loader.rs`); the core does no IO.
+pub trait ChunkHeightSource: Send {
+    /// Starts reading chunk `id`'s heights; returns at once.
+    fn request(&mut self, id: ChunkId);
+    /// Requested chunk `id`'s (2^c + 1)² heights, row by row from the south, waiting for its
+    /// read to finish; the read's own latency from the request. An error (the read failed) is a
+    /// sentence naming the file.
+    fn take(&mut self, id: ChunkId) -> Result<ChunkRead, String>;
+}
+
+/// One chunk's heights as read, with the read's latency from its request.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChunkRead {
+    pub heights: Vec<f32>,
+    pub latency_ns: u64,
+}
+
+/// What the reads did in one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DiskFrame {
+    /// Chunks whose heights arrived this frame (the model made them available).
+    pub chunks_arrived: u64,
+    /// The longest read latency among them, from request to read done, nanoseconds.
+    pub read_latency_max_ns: u64,
+    /// How long the frame waited for reads not finished when the model made them available.
+    pub wait_ns: u64,
+}
+
+/// The heights of the resident source chunks, read on demand through a [`ChunkHeightSource`].
+/// The modelled loading alone decides when a chunk is available, so meshes do not depend on IO
+/// timing: a read not done by then is waited for. Memory: the arrived chunks' heights, which
+/// are the resident bytes `Loading::memory_bytes` counts.
+pub(super) struct DiskHeights {
+    source: Box<dyn ChunkHeightSource>,
+    /// Arrived chunks' heights (the root always).
+    held: BTreeMap<ChunkId, Vec<f32>>,
+    /// Requested chunks not yet arrived, with the frame they become available.
+    pending: Vec<(ChunkId, u64)>,
+    pub(super) frame: DiskFrame,
+}
+
+impl DiskHeights {
+    /// Reads the root now (it is always resident); the error of a failed read.
+    pub(super) fn new(mut source: Box<dyn ChunkHeightSource>) -> Result<DiskHeights, String> {
+        source.request(ChunkId::ROOT);
+        let root = source.take(ChunkId::ROOT)?;
+        Ok(DiskHeights {
+            source,
+            held: BTreeMap::from([(ChunkId::ROOT, root.heights)]),
+            pending: Vec::new(),
+            frame: DiskFrame::default(),
+        })
+    }
+
+    /// Starts reading `id`, available from `available_from`.
+    pub(super) fn request(&mut self, id: ChunkId, available_from: u64) {
+        self.source.request(id);
+        self.pending.push((id, available_from));
+    }
+
+    /// Takes the heights of every chunk available by `frame`, waiting for unfinished reads.
+    ///
+    /// # Panics
+    /// When a read failed (the file was checked at open; this is the disk failing mid-run).
+    pub(super) fn arrive(&mut self, frame: u64) {
+        self.frame = DiskFrame::default();
+        let mut k = 0;
+        while k < self.pending.len() {
+            let (id, available_from) = self.pending[k];
+            if available_from > frame {
+                k += 1;
+                continue;
+            }
+            self.pending.swap_remove(k);
+            let start = std::time::Instant::now();
+            let read = self
+                .source
+                .take(id)
+                .unwrap_or_else(|error| panic!("chunk {id:?} could not be read: {error}"));
+            self.frame.wait_ns += start.elapsed().as_nanos() as u64;
+            self.frame.chunks_arrived += 1;
+            self.frame.read_latency_max_ns = self.frame.read_latency_max_ns.max(read.latency_ns);
+            self.held.insert(id, read.heights);
+        }
+    }
+
+    /// Drops the heights of chunks no longer resident.
+    pub(super) fn forget_evicted(&mut self, resident: &GroupCache<()>) {
+        self.held
+            .retain(|&id, _| id == ChunkId::ROOT || resident.get_any(id).is_some());
+    }
+
+    /// The height of vertex (a, b) of arrived chunk `id`, `side` vertices a row.
+    ///
+    /// # Panics
+    /// When `id` has not arrived.
+    pub(super) fn height(&self, id: ChunkId, a: u32, b: u32, side: u32) -> f32 {
+        let heights = self
+            .held
+            .get(&id)
+            .unwrap_or_else(|| panic!("chunk {id:?}'s heights have not arrived"));
+        heights[(b * side + a) as usize]
     }
 }

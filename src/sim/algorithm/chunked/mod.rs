@@ -82,9 +82,15 @@
 //!   levels (a 1025² source with six levels is a 65 537² surface,
 //!   `experiments/lauritsen-65537.json`): the surface is evaluated per chunk on demand and held
 //!   only in the cache, never built whole (the detail audit builds it only up to
-//!   [`detail::DETAIL_TRUTH_MAX_SAMPLES`]). A source height field of that size (tiles read on
-//!   demand, no in-memory `Hierarchy`) is not implemented: the run still preprocesses the whole
-//!   source.
+//!   [`detail::DETAIL_TRUTH_MAX_SAMPLES`]).
+//! - **Heights read from disk** ([`Chunked::with_disk_heights`], `loading.rs`): under the
+//!   `loading` effect, the source chunks' heights can come from a [`ChunkHeightSource`] (the
+//!   edge's loader thread over a pyramid that `roamsim prepare` writes, `src/edge/pyramid`)
+//!   rather than the shared field; the loading model still decides when a chunk is available
+//!   and a frame waits for a read not done by then, so the meshes are the in-memory ones
+//!   (`tests/pyramid_format.rs`). Not yet: a run without the in-memory `Hierarchy` (the tree's
+//!   records, the lattice, the flight, the audit and the draw still read it), so an experiment
+//!   cannot name a pyramid as its terrain, and the run still holds the whole source.
 //!
 //! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
 //! triangle list (O(drawn triangles)), the selection's buffers; with runtime detail the cached
@@ -105,9 +111,9 @@ mod validate;
 
 pub use brute_force::chunks_from_scratch;
 pub use detail::DetailConfig;
-pub use loading::LoadingConfig;
+pub use loading::{ChunkHeightSource, ChunkRead, DiskFrame, LoadingConfig};
 pub use select::DrawnChunk;
-pub use tree::{ChunkId, ChunkRecord, SkirtDepth};
+pub use tree::{ChunkId, ChunkRecord, SkirtDepth, chunk_own_error};
 pub use validate::ChunkedError;
 
 use super::block_lod::budget::finest_tau_within;
@@ -122,7 +128,7 @@ use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
 use detail::DetailGeometry;
-use loading::Loading;
+use loading::{DiskHeights, Loading};
 use select::{Selection, SelectionSettings, select};
 use source::Available;
 use synthesis::RuntimeDetail;
@@ -302,6 +308,31 @@ impl<'h> Chunked<'h> {
             refined_sorted: Vec::new(),
             indices: Vec::new(),
         }
+    }
+
+    /// Reads the source chunks' heights from `source` (a file, on a loader thread) instead of
+    /// the shared field, under the entry's out-of-core loading, which still decides when each
+    /// chunk is available (`loading.rs`); the root is read now. The records stay the tree's
+    /// (a pyramid holds the same). Refused without loading on, or when the root cannot be read.
+    pub fn with_disk_heights(
+        mut self,
+        source: Box<dyn ChunkHeightSource>,
+    ) -> Result<Chunked<'h>, String> {
+        let Some(loading) = self.loading.as_mut() else {
+            return Err(
+                "heights read from disk need the entry's `loading` effect, which decides when \
+                 each chunk is available"
+                    .into(),
+            );
+        };
+        loading.disk = Some(DiskHeights::new(source)?);
+        Ok(self)
+    }
+
+    /// What the reads from disk did this frame; `None` without a source read from disk.
+    pub fn disk_frame(&self) -> Option<DiskFrame> {
+        let disk = self.loading.as_ref()?.disk.as_ref()?;
+        Some(disk.frame)
     }
 
     /// This frame's drawn chunks, in draw order.
@@ -486,6 +517,9 @@ impl LodAlgorithm for Chunked<'_> {
         }
         if let Some(loading) = self.loading.as_mut() {
             loading.resident.set_frame(input.frame);
+            if let Some(disk) = loading.disk.as_mut() {
+                disk.arrive(input.frame);
+            }
         }
         let search_visits = self.choose_tau(camera);
         let settings = self.settings(self.tau_px);
@@ -684,6 +718,7 @@ fn available<'a>(
     Available {
         tree,
         resident: loading.as_ref().map(|loading| &loading.resident),
+        disk: loading.as_ref().and_then(|loading| loading.disk.as_ref()),
         detail: detail
             .as_ref()
             .map(|detail| (&detail.cache, detail.finest_level)),

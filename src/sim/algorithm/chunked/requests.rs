@@ -82,6 +82,12 @@ pub(super) fn serve(
             for child in parent.children() {
                 resident.insert(child, (), frame, frame + latency);
             }
+            if let Some(disk) = loading.disk.as_mut() {
+                disk.forget_evicted(&loading.resident);
+                for child in parent.children() {
+                    disk.request(child, frame + latency);
+                }
+            }
             bandwidth -= 4;
             out.loaded += 4;
         } else {

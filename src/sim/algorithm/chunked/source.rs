@@ -6,6 +6,7 @@
 
 use super::cache::GroupCache;
 use super::detail::DetailCache;
+use super::loading::DiskHeights;
 use super::tree::{ChunkId, ChunkRecord, ChunkSource, ChunkTree};
 
 /// The source tree, and the detail cache with the deepest synthesised level when detail is on.
@@ -15,6 +16,8 @@ pub(super) struct Available<'a> {
     pub(super) detail: Option<(&'a DetailCache, u32)>,
     /// With out-of-core loading, the resident source chunks (the root always is).
     pub(super) resident: Option<&'a GroupCache<()>>,
+    /// With a source read from disk, the resident chunks' heights as read.
+    pub(super) disk: Option<&'a DiskHeights>,
 }
 
 impl<'a> Available<'a> {
@@ -58,7 +61,10 @@ impl ChunkSource for Available<'_> {
 
     fn height(&self, id: ChunkId, a: u32, b: u32) -> f32 {
         if id.level <= self.tree.leaf_level() {
-            return self.tree.height(id, a, b);
+            return match self.disk {
+                Some(disk) => disk.height(id, a, b, self.tree.geometry().cells + 1),
+                None => self.tree.height(id, a, b),
+            };
         }
         let (cache, _) = self
             .detail

@@ -106,6 +106,64 @@ pub struct ChunkRecord {
     pub skirt_depth: f32,
 }
 
+impl ChunkRecord {
+    /// A leaf's record: the range of its samples `heights` (all (2^c + 1)² of them, in any
+    /// order), δ_c = `leaf_error`, no skirt yet. What the tree and a prepared pyramid compute.
+    pub fn leaf(heights: impl IntoIterator<Item = f32>, leaf_error: f32) -> ChunkRecord {
+        let (mut z_min, mut z_max) = (f32::INFINITY, f32::NEG_INFINITY);
+        for z in heights {
+            z_min = z_min.min(z);
+            z_max = z_max.max(z);
+        }
+        ChunkRecord {
+            error: leaf_error,
+            z_min,
+            z_max,
+            skirt_depth: 0.0,
+        }
+    }
+
+    /// An internal chunk's record from its four children's (any order) and its own δ_m
+    /// ([`chunk_own_error`]): δ_c = max(children's δ_c) + δ_m rounded up to `f32` (eq. 3.1),
+    /// the height range the children's union, no skirt yet.
+    pub fn internal(children: &[ChunkRecord; 4], own_error: f64) -> ChunkRecord {
+        let children_error = children
+            .iter()
+            .map(|c| f64::from(c.error))
+            .fold(0.0, f64::max);
+        ChunkRecord {
+            error: round_up_f32(children_error + own_error),
+            z_min: children
+                .iter()
+                .map(|c| c.z_min)
+                .fold(f32::INFINITY, f32::min),
+            z_max: children
+                .iter()
+                .map(|c| c.z_max)
+                .fold(f32::NEG_INFINITY, f32::max),
+            skirt_depth: 0.0,
+        }
+    }
+}
+
+/// δ_m of an internal chunk of 2^c = `cells` cells a side, from `height(a, b)`, 0 ≤ a, b ≤
+/// 2·`cells`: the vertices of its children's union grid (half its stride). The largest
+/// vertical distance of a vertex that grid has and the chunk's own lacks from the line between
+/// its two neighbours (Lauritsen–Nielsen fig. 3.4). O(cells²).
+pub fn chunk_own_error(cells: u32, height: impl Fn(u32, u32) -> f32) -> f64 {
+    let fine_cells = 2 * cells;
+    let mut largest: f64 = 0.0;
+    for b in 0..=fine_cells {
+        for a in 0..=fine_cells {
+            if let Some([p, q]) = coarser_neighbours(a, b) {
+                let line = 0.5 * (f64::from(height(p.0, p.1)) + f64::from(height(q.0, q.1)));
+                largest = largest.max((f64::from(height(a, b)) - line).abs());
+            }
+        }
+    }
+    largest
+}
+
 /// How deep a chunk's skirt hangs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SkirtDepth {
@@ -310,66 +368,29 @@ impl<'h> ChunkTree<'h> {
 
     fn leaf_record(&self, id: ChunkId) -> ChunkRecord {
         let cells = self.geometry.cells;
-        let (mut z_min, mut z_max) = (f32::INFINITY, f32::NEG_INFINITY);
-        for b in 0..=cells {
-            for a in 0..=cells {
-                let z = self.hierarchy.height(self.grid_point(id, a, b));
-                z_min = z_min.min(z);
-                z_max = z_max.max(z);
-            }
-        }
-        ChunkRecord {
-            error: self.leaf_error,
-            z_min,
-            z_max,
-            skirt_depth: 0.0,
-        }
+        let heights = (0..=cells).flat_map(|b| {
+            (0..=cells).map(move |a| self.hierarchy.height(self.grid_point(id, a, b)))
+        });
+        ChunkRecord::leaf(heights, self.leaf_error)
     }
 
     /// δ_c = max(children's δ_c) + δ_m (eq. 3.1); the height range is the children's.
     fn internal_record(&self, id: ChunkId, finer: &[ChunkRecord]) -> ChunkRecord {
         let children = id.children().map(|c| finer[self.index_in_level(c)]);
-        let children_error = children
-            .iter()
-            .map(|c| f64::from(c.error))
-            .fold(0.0, f64::max);
-        let error = children_error + self.own_error(id);
-        ChunkRecord {
-            error: round_up_f32(error),
-            z_min: children
-                .iter()
-                .map(|c| c.z_min)
-                .fold(f32::INFINITY, f32::min),
-            z_max: children
-                .iter()
-                .map(|c| c.z_max)
-                .fold(f32::NEG_INFINITY, f32::max),
-            skirt_depth: 0.0,
-        }
+        ChunkRecord::internal(&children, self.own_error(id))
     }
 
     /// δ_m of an internal chunk: the largest vertical distance of a vertex its children's
     /// grids have (stride half its own) and its own grid lacks from the line between its two
     /// neighbours (Lauritsen–Nielsen fig. 3.4), i.e. from the chunk's own surface.
     pub(super) fn own_error(&self, id: ChunkId) -> f64 {
-        let cells = 2 * self.geometry.cells;
         let half_stride = 1u32 << (self.leaf_level - id.level - 1);
         let side = self.geometry.cells * 2 * half_stride;
         let (x0, y0) = (id.x * side, id.y * side);
-        let height = |a: u32, b: u32| {
+        chunk_own_error(self.geometry.cells, |a, b| {
             self.hierarchy
                 .height(GridPoint::new(x0 + a * half_stride, y0 + b * half_stride))
-        };
-        let mut largest: f64 = 0.0;
-        for b in 0..=cells {
-            for a in 0..=cells {
-                if let Some([p, q]) = coarser_neighbours(a, b) {
-                    let line = 0.5 * (f64::from(height(p.0, p.1)) + f64::from(height(q.0, q.1)));
-                    largest = largest.max((f64::from(height(a, b)) - line).abs());
-                }
-            }
-        }
-        largest
+        })
     }
 
     fn index_in_level(&self, id: ChunkId) -> usize {
