@@ -285,7 +285,7 @@ impl StitchingBuffers {
 }
 
 /// Bytes a frame uploads for `blocks` blocks and strips of `vertices` vertices and `triangles`
-/// triangles: what [`StitchingBuffers::prepare`] writes.
+/// triangles: what `StitchingBuffers::prepare` writes.
 pub fn frame_upload_bytes(blocks: u64, vertices: u64, triangles: u64) -> u64 {
     blocks * PATCH_BYTES + vertices * u64::from(VERTEX_BYTES) + triangles * 3 * INDEX_BYTES
 }
