@@ -92,6 +92,7 @@
 //! O(chunks visited + drawn triangles), several selection passes with a target.
 
 mod brute_force;
+mod buffers;
 mod cache;
 pub mod detail;
 mod loading;
@@ -115,12 +116,13 @@ use super::block_lod::threshold::DetailThreshold;
 use super::block_lod::{BlockGoal, Projection};
 use super::columns::chunked as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::DrawVertex;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
+use buffers::ChunkBuffers;
 use detail::DetailGeometry;
 use loading::Loading;
 use select::{Selection, SelectionSettings, select};
@@ -223,8 +225,10 @@ pub struct ChunkedConfig {
 
 /// The chunked quadtree. Per frame: O(chunks visited + drawn triangles); buffers are reused.
 pub struct Chunked<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
+    /// The chunks' vertex buffers, the shared index buffer and the frame's draw list.
+    draw: ChunkBuffers,
+    /// The frame being drawn.
+    frame: u64,
     config: ChunkedConfig,
     lambda: f64,
     tree: ChunkTree<'h>,
@@ -245,7 +249,7 @@ pub struct Chunked<'h> {
     previous_refined: Vec<ChunkId>,
     drawn_sorted: Vec<(ChunkId, u64)>,
     refined_sorted: Vec<ChunkId>,
-    indices: Vec<u32>,
+    vertices: Vec<DrawVertex>,
 }
 
 impl<'h> Chunked<'h> {
@@ -282,7 +286,8 @@ impl<'h> Chunked<'h> {
             leaf_error,
         );
         Chunked {
-            draw: RebuiltBuffers::new(),
+            draw: ChunkBuffers::new(cells, config.morph),
+            frame: 0,
             config,
             lambda: view.pixels_per_unit(),
             detail: detail_config
@@ -300,7 +305,7 @@ impl<'h> Chunked<'h> {
             previous_refined: Vec::new(),
             drawn_sorted: Vec::new(),
             refined_sorted: Vec::new(),
-            indices: Vec::new(),
+            vertices: Vec::new(),
         }
     }
 
@@ -318,6 +323,21 @@ impl<'h> Chunked<'h> {
     /// This frame's culled chunks.
     pub fn culled(&self) -> &[ChunkId] {
         &self.selection.culled
+    }
+
+    /// The chunks holding a vertex buffer after the last prepared frame, in id order.
+    pub fn buffered_chunks(&self) -> Vec<ChunkId> {
+        self.draw.resident().collect()
+    }
+
+    /// Chunk vertex buffers the last prepared frame made.
+    pub fn chunk_buffers_made(&self) -> u64 {
+        self.draw.made()
+    }
+
+    /// Bytes of one chunk's vertex buffer (grid and skirt bottoms).
+    pub fn chunk_buffer_bytes(&self) -> u64 {
+        self.draw.chunk_vertex_bytes(self.tree.geometry().cells)
     }
 
     /// The τ this frame was drawn with (the fixed one, or the one the target search chose).
@@ -441,7 +461,8 @@ impl<'h> Chunked<'h> {
                 &geometry,
                 chunk,
                 &record,
-                &mut self.indices,
+                self.config.morph,
+                &mut self.vertices,
             );
         }
     }
@@ -480,6 +501,7 @@ impl LodAlgorithm for Chunked<'_> {
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let camera = input.camera;
+        self.frame = input.frame;
         // Chunks due by this frame arrive.
         if let Some(detail) = self.detail.as_mut() {
             detail.cache.set_frame(input.frame);
@@ -597,8 +619,14 @@ impl LodAlgorithm for Chunked<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw
-            .prepare(MeshOutput::triangles(&self.list), self.tree.hierarchy())
+        let source = available(&self.tree, &self.detail, &self.loading);
+        self.draw.prepare(
+            &source,
+            self.tree.geometry(),
+            &self.selection.drawn,
+            self.frame,
+            self.loading.is_none(),
+        )
     }
 
     fn buffers(&self) -> &GpuBuffers {
@@ -622,7 +650,8 @@ impl LodAlgorithm for Chunked<'_> {
                 * std::mem::size_of::<(ChunkId, u64)>()
             + (self.previous_refined.capacity() + self.refined_sorted.capacity())
                 * std::mem::size_of::<ChunkId>()
-            + self.indices.capacity() * std::mem::size_of::<u32>()
+            + self.vertices.capacity() * std::mem::size_of::<DrawVertex>()
+            + self.draw.memory_bytes()
             + self
                 .detail
                 .as_deref()
