@@ -26,13 +26,14 @@ use roamsim::sim::view::{Camera, Pose};
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 
-fn detail(levels: u32, max_created_per_frame: u32, cache_chunks: u32) -> DetailConfig {
+fn detail(levels: u32, max_queued_chunks: u32, cache_chunks: u32) -> DetailConfig {
     DetailConfig {
         levels,
         seed: 2005,
         amplitude_m: 4.0,
         roughness: 0.5,
-        max_created_per_frame,
+        max_queued_chunks,
+        max_speed_per_spacing: None,
         cache_chunks,
     }
 }
@@ -300,4 +301,50 @@ fn the_detail_audit_measures_against_the_synthesised_surface_and_the_source_audi
     assert_eq!(source1.projected.unwrap().max, 0.0);
     assert_eq!(detail1.projected.unwrap().max, 0.0, "{detail1:?}");
     assert_eq!(detail1.coverage.unwrap().holes, 0);
+}
+
+#[test]
+fn every_box_encloses_its_synthesised_childrens_so_culling_opens_no_hole() {
+    // Culling on, detail with a large amplitude (it rises well above the source leaves' boxes).
+    let hierarchy = bumpy_terrain(6);
+    let cameras = low_flight(&hierarchy, 60);
+    let config = ChunkedConfig {
+        detail: Some(DetailConfig {
+            amplitude_m: 40.0,
+            ..detail(2, 8, 400)
+        }),
+        ..chunked_with_everything(20.0, 3)
+    };
+    let mut algorithm = Chunked::new(&hierarchy, config, &view_600());
+    let mut checked = 0;
+    for (frame, camera) in cameras.iter().enumerate() {
+        checked_step(
+            &hierarchy,
+            &mut algorithm,
+            frame as u64,
+            camera,
+            false,
+            "boxes",
+        );
+        for (id, _) in algorithm.synthesised_chunks() {
+            let inner = *algorithm.chunk(id).expect("a held chunk is available");
+            let mut child = id;
+            while let Some(parent) = child.parent() {
+                let outer = algorithm
+                    .chunk(parent)
+                    .expect("an ancestor of a held chunk");
+                assert!(
+                    outer.z_min <= inner.z_min && outer.z_max >= inner.z_max,
+                    "frame {frame}: {parent:?}'s box {}..{} does not enclose {id:?}'s {}..{}",
+                    outer.z_min,
+                    outer.z_max,
+                    inner.z_min,
+                    inner.z_max
+                );
+                child = parent;
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 100, "{checked}");
 }

@@ -63,9 +63,10 @@
 //!   over it; below them, chunks down to `levels` more levels are synthesised from their parent
 //!   by the four-point subdivision (Kobbelt's scheme on a regular grid) with a two-sample border,
 //!   plus a seeded gradient-noise fractal displacement kept apart from the base (§3.3.1), each
-//!   with half its parent's error. At most `max_created_per_frame` chunks made per frame
-//!   (§3.4.4's request limit); at most `cache_chunks` held, least recently used sibling groups
-//!   evicted. The paper's alternative limit by the viewpoint's velocity is not implemented.
+//!   with half its parent's error. At most `max_queued_chunks` chunks requested and not yet
+//!   finished (§3.4.4's request limit, 4–8 in the thesis), and optionally §3.4.4's limit by the
+//!   viewpoint's velocity (`max_speed_per_spacing`); at most `cache_chunks` held, least
+//!   recently used sibling groups evicted.
 //! - **`loading`** (`loading.rs`): source chunks are resident only after a request, a latency in
 //!   frames and a bandwidth in chunks per frame, under a cap of resident chunks (LRU, the
 //!   paper's cache); synthesised chunks travel the same way.
@@ -73,10 +74,10 @@
 //!   earliest the frame after it was wanted (the asynchronous scheme; latency ≥ 1). Requests
 //!   not served are not queued: the selection asks again while it still wants them. A group
 //!   used in the current frame, or still on its way, is never evicted; with nothing evictable a
-//!   request waits, so the caps hold in every frame. Synthesised chunks' boxes are their own
-//!   samples' range (the source leaves' boxes are not widened by the detail below them), so with
-//!   box culling a leaf whose detail rises above its box can be culled while that detail would
-//!   be in view: the audit counts such samples as holes. With both effects off every count is
+//!   request waits, so the caps hold in every frame. A synthesised chunk's box is its own
+//!   samples' range, and when children are made their parent's box and its ancestors' (source
+//!   chunks' included) grow to enclose theirs, so that box culling, which skips a subtree with
+//!   its root's box, never hides detail in view (`synthesis.rs`; boxes never shrink). With both effects off every count is
 //!   what it was before they existed.
 //! - **A terrain too large for memory** is flown as a small source extended by synthesised
 //!   levels (a 1025² source with six levels is a 65 537² surface,
@@ -229,6 +230,8 @@ pub struct Chunked<'h> {
     draw: ChunkBuffers,
     /// The frame being drawn.
     frame: u64,
+    /// The previous frame's eye (the viewpoint's velocity, for §3.4.4's limit).
+    previous_eye: Option<glam::DVec3>,
     config: ChunkedConfig,
     lambda: f64,
     tree: ChunkTree<'h>,
@@ -290,8 +293,16 @@ impl<'h> Chunked<'h> {
             frame: 0,
             config,
             lambda: view.pixels_per_unit(),
-            detail: detail_config
-                .map(|detail| Box::new(RuntimeDetail::new(detail, geometry, config.skirts))),
+            detail: detail_config.map(|detail| {
+                let spacing = hierarchy.field().spacing();
+                Box::new(RuntimeDetail::new(
+                    detail,
+                    geometry,
+                    config.skirts,
+                    spacing.dx.max(spacing.dy),
+                ))
+            }),
+            previous_eye: None,
             loading: config
                 .loading
                 .map(|loading| Box::new(Loading::new(loading, cells))),
@@ -505,6 +516,7 @@ impl LodAlgorithm for Chunked<'_> {
         // Chunks due by this frame arrive.
         if let Some(detail) = self.detail.as_mut() {
             detail.cache.set_frame(input.frame);
+            detail.enclose_pending(&self.tree);
         }
         if let Some(loading) = self.loading.as_mut() {
             loading.resident.set_frame(input.frame);
@@ -536,7 +548,10 @@ impl LodAlgorithm for Chunked<'_> {
             self.detail.as_deref_mut(),
             self.loading.as_deref_mut(),
             input.frame,
+            self.previous_eye
+                .map_or(0.0, |previous| previous.distance(camera.eye)),
         );
+        self.previous_eye = Some(camera.eye);
 
         // What changed since the previous frame.
         let cells = self.tree.geometry().cells;
@@ -713,6 +728,7 @@ fn available<'a>(
     Available {
         tree,
         resident: loading.as_ref().map(|loading| &loading.resident),
+        widened: detail.as_ref().map(|detail| &detail.widened),
         detail: detail
             .as_ref()
             .map(|detail| (&detail.cache, detail.finest_level)),

@@ -7,6 +7,7 @@
 use super::cache::GroupCache;
 use super::detail::DetailCache;
 use super::tree::{ChunkId, ChunkRecord, ChunkSource, ChunkTree};
+use std::collections::BTreeMap;
 
 /// The source tree, and the detail cache with the deepest synthesised level when detail is on.
 #[derive(Clone, Copy)]
@@ -15,6 +16,8 @@ pub(super) struct Available<'a> {
     pub(super) detail: Option<(&'a DetailCache, u32)>,
     /// With out-of-core loading, the resident source chunks (the root always is).
     pub(super) resident: Option<&'a GroupCache<()>>,
+    /// With detail on, the source chunks whose boxes grew to enclose synthesised chunks.
+    pub(super) widened: Option<&'a BTreeMap<ChunkId, ChunkRecord>>,
 }
 
 impl<'a> Available<'a> {
@@ -25,7 +28,12 @@ impl<'a> Available<'a> {
                 Some(resident) => id == ChunkId::ROOT || resident.get(id).is_some(),
                 None => true,
             };
-            return self.tree.chunk(id).filter(|_| resident);
+            let widened = self.widened.and_then(|widened| widened.get(&id));
+            return self
+                .tree
+                .chunk(id)
+                .filter(|_| resident)
+                .map(|r| widened.unwrap_or(r));
         }
         let (cache, _) = self.detail?;
         cache.get(id).map(|chunk| &chunk.record)
