@@ -1,9 +1,10 @@
 //! Runtime detail below the source resolution (the `chunked` entry's `detail` effect,
 //! Lauritsen–Nielsen §3.3–3.4): every frame of a low flight through the `--check` validators
-//! and the chunked frame validator; the per-frame creation limit and the cache's cap in every
-//! frame; the synthesised chunks equal to the synthesised surface computed for the whole
-//! terrain at once; the same synthesised chunks on every thread count; the two audits, against
-//! the source and against the detail-extended surface.
+//! and the chunked frame validator; the creation limit (chunks requested and not finished) and
+//! the cache's cap in every frame; the velocity-based limit; every box enclosing its
+//! synthesised descendants'; the synthesised chunks equal to the synthesised surface computed
+//! for the whole terrain at once; the same synthesised chunks on every thread count; the two
+//! audits, against the source and against the detail-extended surface.
 
 mod common;
 
@@ -347,4 +348,34 @@ fn every_box_encloses_its_synthesised_childrens_so_culling_opens_no_hole() {
         }
     }
     assert!(checked > 100, "{checked}");
+}
+
+#[test]
+fn the_velocity_limit_refuses_detail_to_a_fast_eye_and_grants_it_to_a_still_one() {
+    let hierarchy = bumpy_terrain(6);
+    let moving = low_flight(&hierarchy, 30);
+    let still = vec![moving[0]; 30];
+    let synthesised = |cameras: &[Camera], k: f64| {
+        let config = ChunkedConfig {
+            detail: Some(DetailConfig {
+                max_speed_per_spacing: Some(k),
+                ..detail(2, 8, 400)
+            }),
+            ..chunked(20.0, 3)
+        };
+        fly(&hierarchy, config, cameras)[1..]
+            .iter()
+            .map(|f| f.synthesised)
+            .sum::<f64>()
+    };
+    // The flight moves about 19 m a frame; the synthesised chunks' spacings are 5 m and 2.5 m.
+    assert_eq!(synthesised(&moving, 0.1), 0.0, "a fast eye gets no detail");
+    assert!(
+        synthesised(&moving, 100.0) > 0.0,
+        "a generous limit refuses nothing"
+    );
+    assert!(
+        synthesised(&still, 0.1) > 0.0,
+        "a still eye gets its detail"
+    );
 }
