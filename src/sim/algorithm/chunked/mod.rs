@@ -87,9 +87,20 @@
 //!   demand, no in-memory `Hierarchy`) is not implemented: the run still preprocesses the whole
 //!   source.
 //!
+//! # What the GPU keeps (issue #31), `buffers.rs`
+//!
+//! Ulrich's chunked LOD's own representation (§3.2.3, §3.2.8, §3.2.14): each chunk a static
+//! vertex buffer (grid and skirts, 16-byte vertices carrying the morph target), made once when
+//! the chunk is first drawn after it became available and released when it is evicted (in-memory
+//! tree chunks: after `IDLE_FRAMES`, 120 frames, undrawn); one index buffer shared by every
+//! chunk (all have the same topology); per frame only the draw list, one draw per drawn chunk
+//! with its blend 1 − f as a 4-byte per-draw constant, the vertex shader morphing by
+//! `draw::morph_height`, which the mesh's heights are computed with too.
+//!
 //! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
 //! triangle list (O(drawn triangles)), the selection's buffers; with runtime detail the cached
-//! chunks (`detail.rs`), with loading the resident chunks' heights (`loading.rs`). Per frame:
+//! chunks (`detail.rs`), with loading the resident chunks' heights (`loading.rs`); the chunks'
+//! vertex buffers (those drawn within the idle window or resident), counted in `memory_bytes`. Per frame:
 //! O(chunks visited + drawn triangles), several selection passes with a target.
 
 mod brute_force;
