@@ -158,8 +158,16 @@ pub(super) fn add_chunk<S: ChunkSource>(
     let id = chunk.id;
     let cells = geometry.cells;
     let side = cells + 1;
-    chunk_vertices(source, geometry, id, record, morph, vertices);
+    // At blend 0 a vertex is drawn at z whatever its target: skip the targets' lookups.
     let blend = blend(chunk.morph);
+    chunk_vertices(
+        source,
+        geometry,
+        id,
+        record,
+        morph && blend != 0.0,
+        vertices,
+    );
     let base = list.vertices().len() as u32;
     for (k, vertex) in vertices.iter().enumerate() {
         let k = k as u32;
