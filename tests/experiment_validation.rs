@@ -377,7 +377,7 @@ fn chunked_with(e: &mut Value, detail: Value, loading: Value) {
 }
 
 fn good_detail() -> Value {
-    json!({"levels": 2, "seed": 1, "amplitude_m": 3, "max_created_per_frame": 8,
+    json!({"levels": 2, "seed": 1, "amplitude_m": 3, "max_queued_chunks": 8,
            "cache_chunks": 256})
 }
 
@@ -395,7 +395,9 @@ fn chunked_detail_and_loading_are_checked_field_by_field() {
     bad_detail["levels"] = json!(0);
     bad_detail["amplitude_m"] = json!(-1);
     bad_detail["roughness"] = json!(1.5);
-    bad_detail["max_created_per_frame"] = json!(3);
+    bad_detail["max_queued_chunks"] = json!(3);
+    bad_detail["max_speed_per_spacing"] = json!(0);
+    bad_detail["max_created_per_frame"] = json!(8);
     bad_detail["cache_chunks"] = json!(0);
     let mut bad_loading = good_loading();
     bad_loading["latency_frames"] = json!(0);
@@ -406,7 +408,11 @@ fn chunked_detail_and_loading_are_checked_field_by_field() {
         "algorithms[0].detail.levels: 0: expected 1 to 8 synthesised levels",
         "algorithms[0].detail.amplitude_m: -1: expected a finite amplitude of at least 0 m",
         "algorithms[0].detail.roughness: 1.5: expected a ratio from 0 to 1",
-        "algorithms[0].detail.max_created_per_frame: 3: expected at least 4 chunks",
+        "algorithms[0].detail.max_queued_chunks: 3: expected at least 4 chunks",
+        "algorithms[0].detail.max_speed_per_spacing: 0: expected a finite number of sample \
+         spacings per frame above 0",
+        "algorithms[0].detail.max_created_per_frame: 8: no longer a key; the creation limit is \
+         `max_queued_chunks`",
         "algorithms[0].detail.cache_chunks: 0: expected at least 4 chunks",
         "algorithms[0].loading.latency_frames: 0: expected at least 1 frame",
         "algorithms[0].loading.bandwidth_chunks_per_frame: 2: expected at least 4 chunks",
@@ -417,7 +423,7 @@ fn chunked_detail_and_loading_are_checked_field_by_field() {
             "{expected} not in {problems:#?}"
         );
     }
-    assert_eq!(problems.len(), 8, "{problems:#?}");
+    assert_eq!(problems.len(), 10, "{problems:#?}");
     let mut missing_seed = good_detail();
     missing_seed.as_object_mut().unwrap().remove("seed");
     assert_one_problem(

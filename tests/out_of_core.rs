@@ -146,7 +146,8 @@ fn no_chunk_is_drawn_before_its_latency_and_bandwidth_and_memory_hold_every_fram
                     seed: 1,
                     amplitude_m: 3.0,
                     roughness: 0.5,
-                    max_created_per_frame: 8,
+                    max_queued_chunks: 8,
+                    max_speed_per_spacing: None,
                     cache_chunks: 64,
                 }),
                 ..config

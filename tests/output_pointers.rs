@@ -218,7 +218,7 @@ fn every_frames_csv_column_of_a_run_with_every_effect_is_documented_and_no_docum
              "target_triangles": 1500, "clipping": true, "geomorphing": true},
             {"name": "geomipmap", "tau_px": 4, "patch_level": 3, "morph": true, "box_culling": true},
             {"name": "chunked", "tau_px": 4, "chunk_level": 3, "box_culling": true, "morph": true,
-             "detail": {"levels": 1, "seed": 1, "amplitude_m": 3, "max_created_per_frame": 8,
+             "detail": {"levels": 1, "seed": 1, "amplitude_m": 3, "max_queued_chunks": 8,
                         "cache_chunks": 64},
              "loading": {"latency_frames": 2, "bandwidth_chunks_per_frame": 16,
                          "resident_chunks": 256}},

@@ -1,9 +1,10 @@
 //! Runtime detail below the source resolution (the `chunked` entry's `detail` effect,
 //! Lauritsen–Nielsen §3.3–3.4): every frame of a low flight through the `--check` validators
-//! and the chunked frame validator; the per-frame creation limit and the cache's cap in every
-//! frame; the synthesised chunks equal to the synthesised surface computed for the whole
-//! terrain at once; the same synthesised chunks on every thread count; the two audits, against
-//! the source and against the detail-extended surface.
+//! and the chunked frame validator; the creation limit (chunks requested and not finished) and
+//! the cache's cap in every frame; the velocity-based limit; every box enclosing its
+//! synthesised descendants'; the synthesised chunks equal to the synthesised surface computed
+//! for the whole terrain at once; the same synthesised chunks on every thread count; the two
+//! audits, against the source and against the detail-extended surface.
 
 mod common;
 
@@ -26,13 +27,14 @@ use roamsim::sim::view::{Camera, Pose};
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 
-fn detail(levels: u32, max_created_per_frame: u32, cache_chunks: u32) -> DetailConfig {
+fn detail(levels: u32, max_queued_chunks: u32, cache_chunks: u32) -> DetailConfig {
     DetailConfig {
         levels,
         seed: 2005,
         amplitude_m: 4.0,
         roughness: 0.5,
-        max_created_per_frame,
+        max_queued_chunks,
+        max_speed_per_spacing: None,
         cache_chunks,
     }
 }
@@ -300,4 +302,80 @@ fn the_detail_audit_measures_against_the_synthesised_surface_and_the_source_audi
     assert_eq!(source1.projected.unwrap().max, 0.0);
     assert_eq!(detail1.projected.unwrap().max, 0.0, "{detail1:?}");
     assert_eq!(detail1.coverage.unwrap().holes, 0);
+}
+
+#[test]
+fn every_box_encloses_its_synthesised_childrens_so_culling_opens_no_hole() {
+    // Culling on, detail with a large amplitude (it rises well above the source leaves' boxes).
+    let hierarchy = bumpy_terrain(6);
+    let cameras = low_flight(&hierarchy, 60);
+    let config = ChunkedConfig {
+        detail: Some(DetailConfig {
+            amplitude_m: 40.0,
+            ..detail(2, 8, 400)
+        }),
+        ..chunked_with_everything(20.0, 3)
+    };
+    let mut algorithm = Chunked::new(&hierarchy, config, &view_600());
+    let mut checked = 0;
+    for (frame, camera) in cameras.iter().enumerate() {
+        checked_step(
+            &hierarchy,
+            &mut algorithm,
+            frame as u64,
+            camera,
+            false,
+            "boxes",
+        );
+        for (id, _) in algorithm.synthesised_chunks() {
+            let inner = *algorithm.chunk(id).expect("a held chunk is available");
+            let mut child = id;
+            while let Some(parent) = child.parent() {
+                let outer = algorithm
+                    .chunk(parent)
+                    .expect("an ancestor of a held chunk");
+                assert!(
+                    outer.z_min <= inner.z_min && outer.z_max >= inner.z_max,
+                    "frame {frame}: {parent:?}'s box {}..{} does not enclose {id:?}'s {}..{}",
+                    outer.z_min,
+                    outer.z_max,
+                    inner.z_min,
+                    inner.z_max
+                );
+                child = parent;
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 100, "{checked}");
+}
+
+#[test]
+fn the_velocity_limit_refuses_detail_to_a_fast_eye_and_grants_it_to_a_still_one() {
+    let hierarchy = bumpy_terrain(6);
+    let moving = low_flight(&hierarchy, 30);
+    let still = vec![moving[0]; 30];
+    let synthesised = |cameras: &[Camera], k: f64| {
+        let config = ChunkedConfig {
+            detail: Some(DetailConfig {
+                max_speed_per_spacing: Some(k),
+                ..detail(2, 8, 400)
+            }),
+            ..chunked(20.0, 3)
+        };
+        fly(&hierarchy, config, cameras)[1..]
+            .iter()
+            .map(|f| f.synthesised)
+            .sum::<f64>()
+    };
+    // The flight moves about 19 m a frame; the synthesised chunks' spacings are 5 m and 2.5 m.
+    assert_eq!(synthesised(&moving, 0.1), 0.0, "a fast eye gets no detail");
+    assert!(
+        synthesised(&moving, 100.0) > 0.0,
+        "a generous limit refuses nothing"
+    );
+    assert!(
+        synthesised(&still, 0.1) > 0.0,
+        "a still eye gets its detail"
+    );
 }

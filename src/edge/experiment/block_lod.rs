@@ -95,7 +95,13 @@ struct DetailEntry {
     /// Default 0.5 (each octave half the previous one's amplitude).
     #[serde(default)]
     roughness: Option<f64>,
-    max_created_per_frame: u32,
+    max_queued_chunks: u32,
+    /// §3.4.4's velocity-based limit; absent: off.
+    #[serde(default)]
+    max_speed_per_spacing: Option<f64>,
+    /// The old name of a different limit, refused with a pointer to the new one.
+    #[serde(default)]
+    max_created_per_frame: Option<u32>,
     cache_chunks: u32,
 }
 
@@ -248,8 +254,26 @@ fn detail_config(
             format!("{roughness}: expected a ratio from 0 to 1"),
         );
     }
+    if let Some(old) = entry.max_created_per_frame {
+        add(
+            "max_created_per_frame",
+            format!(
+                "{old}: no longer a key; the creation limit is `max_queued_chunks`, the chunks \
+                 requested and not yet finished (Lauritsen–Nielsen §3.4.4: 4–8), not chunks made \
+                 per frame"
+            ),
+        );
+    }
+    if let Some(k) = entry.max_speed_per_spacing
+        && !(k > 0.0 && k.is_finite())
+    {
+        add(
+            "max_speed_per_spacing",
+            format!("{k}: expected a finite number of sample spacings per frame above 0"),
+        );
+    }
     for (field, value) in [
-        ("max_created_per_frame", entry.max_created_per_frame),
+        ("max_queued_chunks", entry.max_queued_chunks),
         ("cache_chunks", entry.cache_chunks),
     ] {
         if value < 4 {
@@ -264,7 +288,8 @@ fn detail_config(
         seed: entry.seed,
         amplitude_m: entry.amplitude_m,
         roughness,
-        max_created_per_frame: entry.max_created_per_frame,
+        max_queued_chunks: entry.max_queued_chunks,
+        max_speed_per_spacing: entry.max_speed_per_spacing,
         cache_chunks: entry.cache_chunks,
     }
 }

@@ -64,6 +64,11 @@ impl<T> GroupCache<T> {
         self.entries.get(&id).map(|entry| &entry.value)
     }
 
+    /// The chunk `id` if held, available or on its way, to change it.
+    pub(super) fn get_any_mut(&mut self, id: ChunkId) -> Option<&mut T> {
+        self.entries.get_mut(&id).map(|entry| &mut entry.value)
+    }
+
     /// Chunks held, available or on their way.
     pub(super) fn len(&self) -> usize {
         self.entries.len()

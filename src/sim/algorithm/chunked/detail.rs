@@ -43,10 +43,17 @@
 //!
 //! Synthesised chunks are made in sibling groups of four (a node has four children or none),
 //! when the selection wanted a chunk's children and they were missing (listing 3.7: the chunk
-//! is drawn in their place this frame, the children are there from the next). At most
-//! `max_created_per_frame` chunks are made per frame, requests served in visiting order (nearest
-//! first with front-to-back on); the paper's alternative, refusing requests by the viewpoint's
-//! velocity, is not implemented. The cache holds at most `cache_chunks` chunks: to make room a
+//! is drawn in their place this frame, the children are there from the next). Requests are
+//! served in visiting order (nearest first with front-to-back on) under §3.4.4's creation
+//! limit as the thesis has it: at most `max_queued_chunks` chunks requested and not yet
+//! finished (made but still on their way: the latency of the loading effect, or the frame they
+//! were made in), "new requests will be denied as long as the old ones are not finished"
+//! (4–8 in the thesis). Without loading a group is finished the frame after its request, so the
+//! limit bounds the chunks made in one frame; with a latency it bounds those on their way. The
+//! thesis's better solution is an option: with `max_speed_per_spacing` k, a group is requested
+//! only while the viewpoint moves at most k of the new chunks' sample spacings per frame (the
+//! ratio of the new nodes' sample density to the viewpoint's velocity, refused when too low);
+//! both kinds of refusal are counted in `detail_refused`. The cache holds at most `cache_chunks` chunks: to make room a
 //! group is evicted, least recently used first (a chunk is used when the selection visits it),
 //! only a group none of whose chunks has cached children, and never one used this frame; when
 //! no group can go, the request is refused (counted) and the cap holds.
@@ -84,8 +91,12 @@ pub struct DetailConfig {
     pub amplitude_m: f64,
     /// Each octave's amplitude over the previous one's (0..=1).
     pub roughness: f64,
-    /// Most chunks made per frame (≥ 4: one sibling group).
-    pub max_created_per_frame: u32,
+    /// §3.4.4's creation limit: most chunks requested and not yet finished (≥ 4: one sibling
+    /// group; the thesis suggests 4–8).
+    pub max_queued_chunks: u32,
+    /// §3.4.4's velocity-based limit: a group is requested only while the viewpoint moves at
+    /// most this many of the new chunks' sample spacings per frame (> 0); `None`: off.
+    pub max_speed_per_spacing: Option<f64>,
     /// Most synthesised chunks held (≥ 4).
     pub cache_chunks: u32,
 }
@@ -462,7 +473,8 @@ mod tests {
             seed: 7,
             amplitude_m: 3.0,
             roughness: 0.5,
-            max_created_per_frame: 8,
+            max_queued_chunks: 8,
+            max_speed_per_spacing: None,
             cache_chunks: 64,
         }
     }

@@ -4,8 +4,10 @@
 //!
 //! - **Surface**: the chunk's (2^c + 1)² vertices, its cells split along their south-west–
 //!   north-east diagonal (`block_lod::grid`). With a morph factor f < 1 every vertex the
-//!   parent lacks (odd in the chunk's grid), border vertices included, is drawn at
-//!   z_c + f·(z − z_c), z_c on the parent's surface (eq. 3.4), as a morphing vertex.
+//!   parent lacks (odd in the chunk's grid), border vertices included, is drawn between z and
+//!   z_c, z_c on the parent's surface (eq. 3.4), as a morphing vertex: at
+//!   `draw::morph_height(z, z_c, 1 − f)`, the formula the vertex shader applies to the chunk's
+//!   buffer (z with z_c as its morph target, 1 − f the draw's blend).
 //! - **Skirt** (§3.2.6): below each of the 4·2^c border edges, two vertical triangles down to
 //!   the chunk's skirt depth ([`super::tree::SkirtDepth`]), from every border vertex as drawn
 //!   (morphed or not). A skirt of depth 0 (the paper's, at a leaf) is drawn all the same: the
@@ -14,10 +16,14 @@
 //! Every triangle has the chunk's breadth-first number as its group (one draw batch per
 //! chunk) and the chunk's quadtree level as its level. The vertices are the chunk's own: a
 //! border vertex is added once per chunk that draws it, as each chunk's vertex buffer holds it.
+//! The vertex buffer ([`chunk_vertices`]) and the triangles ([`for_each_chunk_triangle`], the
+//! one index buffer all chunks share) are the same functions the mesh is built from, so the
+//! buffers `buffers.rs` keeps draw exactly this mesh.
 
-use super::super::block_lod::grid::{cell_triangles, coarser_neighbours, morphed_height};
+use super::super::block_lod::grid::{cell_triangles, coarser_neighbours};
 use super::select::DrawnChunk;
-use super::tree::{ChunkGeometry, ChunkRecord, ChunkSource};
+use super::tree::{ChunkGeometry, ChunkId, ChunkRecord, ChunkSource};
+use crate::sim::draw::DrawVertex;
 use crate::sim::mesh::{TriangleInfo, TriangleList, TriangleRole};
 
 /// Vertices a chunk of `cells` cells adds: its grid and one skirt bottom per border vertex.
@@ -31,32 +37,146 @@ pub(super) fn triangles_per_chunk(cells: u32) -> u64 {
     2 * u64::from(cells) * u64::from(cells) + 8 * u64::from(cells)
 }
 
-/// Adds `chunk` (whose record is `record`) to `list`. `indices` is scratch space.
+/// The blend a drawn chunk's vertices are drawn at (its per-draw constant): 1 − f while it
+/// morphs (f < 1), 0 at full detail.
+pub(super) fn blend(morph: f64) -> f32 {
+    if morph < 1.0 {
+        (1.0 - morph) as f32
+    } else {
+        0.0
+    }
+}
+
+/// The border vertex `k` of a chunk of `cells` cells, counter-clockwise from the south-west
+/// corner.
+fn ring(cells: u32, k: u32) -> (u32, u32) {
+    let (edge, t) = (k / cells, k % cells);
+    match edge {
+        0 => (t, 0),
+        1 => (cells, t),
+        2 => (cells - t, cells),
+        _ => (0, cells - t),
+    }
+}
+
+/// Writes into `out` the vertex buffer of chunk `id` (whose record is `record`): its
+/// (2^c + 1)² grid vertices row by row, then one skirt bottom per border vertex
+/// counter-clockwise from the south-west corner. With `morph`, every vertex the parent lacks
+/// (odd in the chunk's grid, border vertices included) carries its height on the parent's
+/// surface, z_c (eq. 3.4), as its morph target, and a skirt bottom carries its top's target less
+/// the skirt depth; the other vertices' target is their height. The buffer does not depend on
+/// the frame: the morph factor is the draw's blend ([`blend`]).
+pub(super) fn chunk_vertices<S: ChunkSource>(
+    source: &S,
+    geometry: &ChunkGeometry,
+    id: ChunkId,
+    record: &ChunkRecord,
+    morph: bool,
+    out: &mut Vec<DrawVertex>,
+) {
+    let cells = geometry.cells;
+    let side = cells + 1;
+    out.clear();
+    for b in 0..=cells {
+        for a in 0..=cells {
+            let z = source.height(id, a, b);
+            let z_target = match coarser_neighbours(a, b) {
+                Some([p, q]) if morph => {
+                    let ends = [source.height(id, p.0, p.1), source.height(id, q.0, q.1)];
+                    (0.5 * (f64::from(ends[0]) + f64::from(ends[1]))) as f32
+                }
+                _ => z,
+            };
+            out.push(DrawVertex {
+                position: geometry.vertex(id, a, b),
+                z,
+                z_target,
+            });
+        }
+    }
+    let depth = f64::from(record.skirt_depth);
+    for k in 0..4 * cells {
+        let (a, b) = ring(cells, k);
+        let top = out[(b * side + a) as usize];
+        out.push(DrawVertex {
+            position: top.position,
+            z: (f64::from(top.z) - depth) as f32,
+            z_target: (f64::from(top.z_target) - depth) as f32,
+        });
+    }
+}
+
+/// Calls `visit` on every triangle of a chunk of `cells` cells, as indices into its vertex
+/// buffer ([`chunk_vertices`]): two per cell, split along the south-west–north-east diagonal,
+/// then two per border edge for the skirt. Every chunk has this topology, so one index buffer
+/// serves them all.
+pub(super) fn for_each_chunk_triangle(cells: u32, mut visit: impl FnMut([u32; 3], TriangleRole)) {
+    let side = cells + 1;
+    let at = |a: u32, b: u32| b * side + a;
+    for b in 0..cells {
+        for a in 0..cells {
+            let (sw, se) = (at(a, b), at(a + 1, b));
+            let (nw, ne) = (at(a, b + 1), at(a + 1, b + 1));
+            for corners in cell_triangles(sw, se, nw, ne) {
+                visit(corners, TriangleRole::Surface);
+            }
+        }
+    }
+    let n_ring = 4 * cells;
+    let top = |k: u32| {
+        let (a, b) = ring(cells, k);
+        at(a, b)
+    };
+    let bottom = |k: u32| side * side + k;
+    for k in 0..n_ring {
+        let next = (k + 1) % n_ring;
+        visit([top(k), top(next), bottom(next)], TriangleRole::Skirt);
+        visit([top(k), bottom(next), bottom(k)], TriangleRole::Skirt);
+    }
+}
+
+/// The index buffer every chunk of `cells` cells is drawn with (a triangle list).
+pub(super) fn chunk_indices(cells: u32) -> Vec<u32> {
+    let mut indices = Vec::with_capacity(3 * triangles_per_chunk(cells) as usize);
+    for_each_chunk_triangle(cells, |corners, _| indices.extend(corners));
+    indices
+}
+
+/// Adds `chunk` (whose record is `record`) to `list`: the vertices of its buffer
+/// ([`chunk_vertices`]) at the heights the GPU draws them at this frame's blend
+/// ([`DrawVertex::drawn`], so the mesh and the buffers agree to the bit), and its triangles.
+/// `vertices` is scratch space.
 pub(super) fn add_chunk<S: ChunkSource>(
     list: &mut TriangleList,
     source: &S,
     geometry: &ChunkGeometry,
     chunk: &DrawnChunk,
     record: &ChunkRecord,
-    indices: &mut Vec<u32>,
+    morph: bool,
+    vertices: &mut Vec<DrawVertex>,
 ) {
     let id = chunk.id;
     let cells = geometry.cells;
     let side = cells + 1;
-    let at = |a: u32, b: u32| (b * side + a) as usize;
-    indices.clear();
-    for b in 0..=cells {
-        for a in 0..=cells {
-            let position = geometry.vertex(id, a, b);
-            let z = source.height(id, a, b);
-            let index = match coarser_neighbours(a, b) {
-                Some([p, q]) if chunk.morph < 1.0 => {
-                    let ends = [source.height(id, p.0, p.1), source.height(id, q.0, q.1)];
-                    list.add_morphing_vertex(position, morphed_height(z, ends, chunk.morph))
-                }
-                _ => list.add_vertex(position, z),
-            };
-            indices.push(index);
+    // At blend 0 a vertex is drawn at z whatever its target: skip the targets' lookups.
+    let blend = blend(chunk.morph);
+    chunk_vertices(
+        source,
+        geometry,
+        id,
+        record,
+        morph && blend != 0.0,
+        vertices,
+    );
+    let base = list.vertices().len() as u32;
+    for (k, vertex) in vertices.iter().enumerate() {
+        let k = k as u32;
+        let drawn = vertex.drawn(blend);
+        let odd = k < side * side && coarser_neighbours(k % side, k / side).is_some();
+        if odd && chunk.morph < 1.0 {
+            list.add_morphing_vertex(drawn.position, drawn.z);
+        } else {
+            list.add_vertex(drawn.position, drawn.z);
         }
     }
     let info = |role| TriangleInfo {
@@ -64,47 +184,9 @@ pub(super) fn add_chunk<S: ChunkSource>(
         group: id.breadth_first_index(),
         level: id.level,
     };
-    for b in 0..cells {
-        for a in 0..cells {
-            let (sw, se) = (indices[at(a, b)], indices[at(a + 1, b)]);
-            let (nw, ne) = (indices[at(a, b + 1)], indices[at(a + 1, b + 1)]);
-            for corners in cell_triangles(sw, se, nw, ne) {
-                list.add_triangle(corners, info(TriangleRole::Surface));
-            }
-        }
-    }
-    // The border, counter-clockwise from the south-west corner, one skirt bottom per vertex
-    // (the bottoms' indices appended to `indices` after the grid's: no allocation per chunk).
-    let ring = |k: u32| -> (u32, u32) {
-        let (edge, t) = (k / cells, k % cells);
-        match edge {
-            0 => (t, 0),
-            1 => (cells, t),
-            2 => (cells - t, cells),
-            _ => (0, cells - t),
-        }
-    };
-    let n_ring = 4 * cells;
-    let depth = f64::from(record.skirt_depth);
-    let bottoms_from = indices.len();
-    for k in 0..n_ring {
-        let (a, b) = ring(k);
-        let vertex = list.vertices()[indices[at(a, b)] as usize];
-        let bottom = list.add_vertex(vertex.position, (f64::from(vertex.z) - depth) as f32);
-        indices.push(bottom);
-    }
-    let (grid, bottoms) = indices.split_at(bottoms_from);
-    let top = |k: u32| {
-        let (a, b) = ring(k);
-        grid[at(a, b)]
-    };
-    for k in 0..n_ring {
-        let next = (k + 1) % n_ring;
-        let (top_k, top_next) = (top(k), top(next));
-        let (bottom_k, bottom_next) = (bottoms[k as usize], bottoms[next as usize]);
-        list.add_triangle([top_k, top_next, bottom_next], info(TriangleRole::Skirt));
-        list.add_triangle([top_k, bottom_next, bottom_k], info(TriangleRole::Skirt));
-    }
+    for_each_chunk_triangle(cells, |corners, role| {
+        list.add_triangle(corners.map(|k| base + k), info(role));
+    });
 }
 
 #[cfg(test)]
@@ -153,7 +235,7 @@ mod tests {
             distance: 0.0,
             morph,
         };
-        let mut indices = Vec::new();
+        let mut vertices = Vec::new();
         for parent in [
             ChunkId::ROOT,
             ChunkId {
@@ -171,7 +253,8 @@ mod tests {
                 &geometry,
                 &drawn(parent, 1.0),
                 &record,
-                &mut indices,
+                true,
+                &mut vertices,
             );
             for child in parent.children() {
                 let record = *tree.record(child);
@@ -181,7 +264,8 @@ mod tests {
                     &geometry,
                     &drawn(child, 0.0),
                     &record,
-                    &mut indices,
+                    true,
+                    &mut vertices,
                 );
             }
             let (a, b) = (

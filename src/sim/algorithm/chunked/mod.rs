@@ -1,8 +1,9 @@
 //! `chunked`: the chunked quadtree of Lauritsen and Nielsen 2005 (§3.2), after Ulrich's chunked
 //! LOD: chunks of (2^c + 1)² vertices at every level of a quadtree, selected top-down each
 //! frame, skirts hung from every chunk border, morphing, box culling and front-to-back order as
-//! effects; runtime detail (§3.3–3.4) and out-of-core loading (§3.2.14) as two more. Nothing is
-//! read from disk: loading is a model counted in frames (`loading.rs`).
+//! effects; runtime detail (§3.3–3.4) and out-of-core loading (§3.2.14) as two more. Loading is
+//! a model counted in frames (`loading.rs`); the loaded chunks' heights can also be read from a
+//! prepared pyramid on disk (see "Heights read from disk" below).
 //!
 //! # The algorithm as the paper gives it
 //!
@@ -63,9 +64,10 @@
 //!   over it; below them, chunks down to `levels` more levels are synthesised from their parent
 //!   by the four-point subdivision (Kobbelt's scheme on a regular grid) with a two-sample border,
 //!   plus a seeded gradient-noise fractal displacement kept apart from the base (§3.3.1), each
-//!   with half its parent's error. At most `max_created_per_frame` chunks made per frame
-//!   (§3.4.4's request limit); at most `cache_chunks` held, least recently used sibling groups
-//!   evicted. The paper's alternative limit by the viewpoint's velocity is not implemented.
+//!   with half its parent's error. At most `max_queued_chunks` chunks requested and not yet
+//!   finished (§3.4.4's request limit, 4–8 in the thesis), and optionally §3.4.4's limit by the
+//!   viewpoint's velocity (`max_speed_per_spacing`); at most `cache_chunks` held, least
+//!   recently used sibling groups evicted.
 //! - **`loading`** (`loading.rs`): source chunks are resident only after a request, a latency in
 //!   frames and a bandwidth in chunks per frame, under a cap of resident chunks (LRU, the
 //!   paper's cache); synthesised chunks travel the same way.
@@ -73,10 +75,10 @@
 //!   earliest the frame after it was wanted (the asynchronous scheme; latency ≥ 1). Requests
 //!   not served are not queued: the selection asks again while it still wants them. A group
 //!   used in the current frame, or still on its way, is never evicted; with nothing evictable a
-//!   request waits, so the caps hold in every frame. Synthesised chunks' boxes are their own
-//!   samples' range (the source leaves' boxes are not widened by the detail below them), so with
-//!   box culling a leaf whose detail rises above its box can be culled while that detail would
-//!   be in view: the audit counts such samples as holes. With both effects off every count is
+//!   request waits, so the caps hold in every frame. A synthesised chunk's box is its own
+//!   samples' range, and when children are made their parent's box and its ancestors' (source
+//!   chunks' included) grow to enclose theirs, so that box culling, which skips a subtree with
+//!   its root's box, never hides detail in view (`synthesis.rs`; boxes never shrink). With both effects off every count is
 //!   what it was before they existed.
 //! - **A terrain too large for memory** is flown as a small source extended by synthesised
 //!   levels (a 1025² source with six levels is a 65 537² surface,
@@ -92,12 +94,24 @@
 //!   records, the lattice, the flight, the audit and the draw still read it), so an experiment
 //!   cannot name a pyramid as its terrain, and the run still holds the whole source.
 //!
+//! # What the GPU keeps (issue #31), `buffers.rs`
+//!
+//! Ulrich's chunked LOD's own representation (§3.2.3, §3.2.8, §3.2.14): each chunk a static
+//! vertex buffer (grid and skirts, 16-byte vertices carrying the morph target), made once when
+//! the chunk is first drawn after it became available and released when it is evicted (in-memory
+//! tree chunks: after `IDLE_FRAMES`, 120 frames, undrawn); one index buffer shared by every
+//! chunk (all have the same topology); per frame only the draw list, one draw per drawn chunk
+//! with its blend 1 − f as a 4-byte per-draw constant, the vertex shader morphing by
+//! `draw::morph_height`, which the mesh's heights are computed with too.
+//!
 //! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
 //! triangle list (O(drawn triangles)), the selection's buffers; with runtime detail the cached
-//! chunks (`detail.rs`), with loading the resident chunks' heights (`loading.rs`). Per frame:
+//! chunks (`detail.rs`), with loading the resident chunks' heights (`loading.rs`); the chunks'
+//! vertex buffers (those drawn within the idle window or resident), counted in `memory_bytes`. Per frame:
 //! O(chunks visited + drawn triangles), several selection passes with a target.
 
 mod brute_force;
+mod buffers;
 mod cache;
 pub mod detail;
 mod loading;
@@ -121,12 +135,13 @@ use super::block_lod::threshold::DetailThreshold;
 use super::block_lod::{BlockGoal, Projection};
 use super::columns::chunked as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::emit::RebuiltBuffers;
+use crate::sim::draw::DrawVertex;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::{Camera, ViewSettings};
+use buffers::ChunkBuffers;
 use detail::DetailGeometry;
 use loading::{DiskHeights, Loading};
 use select::{Selection, SelectionSettings, select};
@@ -229,8 +244,12 @@ pub struct ChunkedConfig {
 
 /// The chunked quadtree. Per frame: O(chunks visited + drawn triangles); buffers are reused.
 pub struct Chunked<'h> {
-    /// The buffers a GPU draws this frame's mesh from.
-    draw: RebuiltBuffers,
+    /// The chunks' vertex buffers, the shared index buffer and the frame's draw list.
+    draw: ChunkBuffers,
+    /// The frame being drawn.
+    frame: u64,
+    /// The previous frame's eye (the viewpoint's velocity, for §3.4.4's limit).
+    previous_eye: Option<glam::DVec3>,
     config: ChunkedConfig,
     lambda: f64,
     tree: ChunkTree<'h>,
@@ -251,7 +270,7 @@ pub struct Chunked<'h> {
     previous_refined: Vec<ChunkId>,
     drawn_sorted: Vec<(ChunkId, u64)>,
     refined_sorted: Vec<ChunkId>,
-    indices: Vec<u32>,
+    vertices: Vec<DrawVertex>,
 }
 
 impl<'h> Chunked<'h> {
@@ -288,11 +307,20 @@ impl<'h> Chunked<'h> {
             leaf_error,
         );
         Chunked {
-            draw: RebuiltBuffers::new(),
+            draw: ChunkBuffers::new(cells, config.morph),
+            frame: 0,
             config,
             lambda: view.pixels_per_unit(),
-            detail: detail_config
-                .map(|detail| Box::new(RuntimeDetail::new(detail, geometry, config.skirts))),
+            detail: detail_config.map(|detail| {
+                let spacing = hierarchy.field().spacing();
+                Box::new(RuntimeDetail::new(
+                    detail,
+                    geometry,
+                    config.skirts,
+                    spacing.dx.max(spacing.dy),
+                ))
+            }),
+            previous_eye: None,
             loading: config
                 .loading
                 .map(|loading| Box::new(Loading::new(loading, cells))),
@@ -306,7 +334,7 @@ impl<'h> Chunked<'h> {
             previous_refined: Vec::new(),
             drawn_sorted: Vec::new(),
             refined_sorted: Vec::new(),
-            indices: Vec::new(),
+            vertices: Vec::new(),
         }
     }
 
@@ -349,6 +377,21 @@ impl<'h> Chunked<'h> {
     /// This frame's culled chunks.
     pub fn culled(&self) -> &[ChunkId] {
         &self.selection.culled
+    }
+
+    /// The chunks holding a vertex buffer after the last prepared frame, in id order.
+    pub fn buffered_chunks(&self) -> Vec<ChunkId> {
+        self.draw.resident().collect()
+    }
+
+    /// Chunk vertex buffers the last prepared frame made.
+    pub fn chunk_buffers_made(&self) -> u64 {
+        self.draw.made()
+    }
+
+    /// Bytes of one chunk's vertex buffer (grid and skirt bottoms).
+    pub fn chunk_buffer_bytes(&self) -> u64 {
+        self.draw.chunk_vertex_bytes(self.tree.geometry().cells)
     }
 
     /// The τ this frame was drawn with (the fixed one, or the one the target search chose).
@@ -472,7 +515,8 @@ impl<'h> Chunked<'h> {
                 &geometry,
                 chunk,
                 &record,
-                &mut self.indices,
+                self.config.morph,
+                &mut self.vertices,
             );
         }
     }
@@ -511,9 +555,11 @@ impl LodAlgorithm for Chunked<'_> {
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
         let camera = input.camera;
+        self.frame = input.frame;
         // Chunks due by this frame arrive.
         if let Some(detail) = self.detail.as_mut() {
             detail.cache.set_frame(input.frame);
+            detail.enclose_pending(&self.tree);
         }
         if let Some(loading) = self.loading.as_mut() {
             loading.resident.set_frame(input.frame);
@@ -548,7 +594,10 @@ impl LodAlgorithm for Chunked<'_> {
             self.detail.as_deref_mut(),
             self.loading.as_deref_mut(),
             input.frame,
+            self.previous_eye
+                .map_or(0.0, |previous| previous.distance(camera.eye)),
         );
+        self.previous_eye = Some(camera.eye);
 
         // What changed since the previous frame.
         let cells = self.tree.geometry().cells;
@@ -631,8 +680,14 @@ impl LodAlgorithm for Chunked<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw
-            .prepare(MeshOutput::triangles(&self.list), self.tree.hierarchy())
+        let source = available(&self.tree, &self.detail, &self.loading);
+        self.draw.prepare(
+            &source,
+            self.tree.geometry(),
+            &self.selection.drawn,
+            self.frame,
+            self.loading.is_none(),
+        )
     }
 
     fn buffers(&self) -> &GpuBuffers {
@@ -656,7 +711,8 @@ impl LodAlgorithm for Chunked<'_> {
                 * std::mem::size_of::<(ChunkId, u64)>()
             + (self.previous_refined.capacity() + self.refined_sorted.capacity())
                 * std::mem::size_of::<ChunkId>()
-            + self.indices.capacity() * std::mem::size_of::<u32>()
+            + self.vertices.capacity() * std::mem::size_of::<DrawVertex>()
+            + self.draw.memory_bytes()
             + self
                 .detail
                 .as_deref()
@@ -719,6 +775,7 @@ fn available<'a>(
         tree,
         resident: loading.as_ref().map(|loading| &loading.resident),
         disk: loading.as_ref().and_then(|loading| loading.disk.as_ref()),
+        widened: detail.as_ref().map(|detail| &detail.widened),
         detail: detail
             .as_ref()
             .map(|detail| (&detail.cache, detail.finest_level)),

@@ -1,8 +1,9 @@
 //! After each frame's selection: mark what it visited as used, then serve its requests for
 //! missing children (Lauritsen–Nielsen's listings 3.6–3.7), in visiting order — a source group
 //! is loaded (out-of-core loading), a group below the source leaves is synthesised (runtime
-//! detail) — within the frame's bandwidth, the creation limit (§3.4.4) and the caps, evicting
-//! least recently used groups to make room. Policies: `loading.rs`, `detail.rs`.
+//! detail) — within the frame's bandwidth, §3.4.4's limits on creation (chunks requested and
+//! not yet finished; optionally the viewpoint's velocity) and the caps, evicting least recently
+//! used groups to make room. Policies: `loading.rs`, `detail.rs`.
 //!
 //! Per frame: O(chunks visited + requests · (held chunks + a chunk's samples)).
 
@@ -32,13 +33,15 @@ pub(super) struct RequestsFrame {
     pub(super) synthesis_ns: u64,
 }
 
-/// Serves `selection`'s requests in `frame` (see the module docs).
+/// Serves `selection`'s requests in `frame`, the viewpoint having moved `speed_m` metres since
+/// the previous frame (see the module docs).
 pub(super) fn serve(
     tree: &ChunkTree,
     selection: &Selection,
     mut detail: Option<&mut RuntimeDetail>,
     mut loading: Option<&mut Loading>,
     frame: u64,
+    speed_m: f64,
 ) -> RequestsFrame {
     let start = Instant::now();
     let leaf_level = tree.leaf_level();
@@ -63,6 +66,10 @@ pub(super) fn serve(
             u64::from(loading.config.latency_frames.max(1)),
         )
     });
+    // Synthesised chunks requested in earlier frames and not finished yet (still on their way).
+    let queued_before = detail
+        .as_deref()
+        .map_or(0, |detail| detail.cache.in_flight() as u64);
     let mut out = RequestsFrame::default();
     for &parent in &selection.requested {
         let first_child: ChunkId = parent.children()[0];
@@ -99,7 +106,8 @@ pub(super) fn serve(
             }
             let cap = detail.cache_cap();
             if bandwidth < 4
-                || out.synthesised + 4 > detail.creation_limit()
+                || queued_before + out.synthesised + 4 > detail.queue_limit()
+                || detail.too_fast_for_children(parent, speed_m)
                 || !make_room(&mut detail.cache, cap, frame, &mut out.evicted)
             {
                 out.refused += 1;

@@ -8,6 +8,7 @@ use super::cache::GroupCache;
 use super::detail::DetailCache;
 use super::loading::DiskHeights;
 use super::tree::{ChunkId, ChunkRecord, ChunkSource, ChunkTree};
+use std::collections::BTreeMap;
 
 /// The source tree, and the detail cache with the deepest synthesised level when detail is on.
 #[derive(Clone, Copy)]
@@ -18,6 +19,8 @@ pub(super) struct Available<'a> {
     pub(super) resident: Option<&'a GroupCache<()>>,
     /// With a source read from disk, the resident chunks' heights as read.
     pub(super) disk: Option<&'a DiskHeights>,
+    /// With detail on, the source chunks whose boxes grew to enclose synthesised chunks.
+    pub(super) widened: Option<&'a BTreeMap<ChunkId, ChunkRecord>>,
 }
 
 impl<'a> Available<'a> {
@@ -28,7 +31,12 @@ impl<'a> Available<'a> {
                 Some(resident) => id == ChunkId::ROOT || resident.get(id).is_some(),
                 None => true,
             };
-            return self.tree.chunk(id).filter(|_| resident);
+            let widened = self.widened.and_then(|widened| widened.get(&id));
+            return self
+                .tree
+                .chunk(id)
+                .filter(|_| resident)
+                .map(|r| widened.unwrap_or(r));
         }
         let (cache, _) = self.detail?;
         cache.get(id).map(|chunk| &chunk.record)
