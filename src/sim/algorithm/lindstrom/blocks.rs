@@ -17,11 +17,14 @@
 //! whole subtree, the largest δ and the number of vertices. Sorting by δ is what lets a frame
 //! decide a node's vertices by interval tests without looking at them one by one
 //! ([`super::coarse`]). Memory: 8 bytes per sample (a `u32` id and an `f32` δ per vertex) plus
-//! about 72 bytes per node; the build is O(samples · log samples) (one sort) and holds, while it
-//! runs, 12 more bytes per sample (the (node, δ, id) triples being sorted) besides the 4 bytes
-//! per sample of the nested errors it is given.
+//! about 72 bytes per node. The build sorts no list of every vertex: it counts each node's
+//! vertices, puts every id straight into its node's range of the final id array, sorts each range
+//! on its own (O(samples · log samples) at most), and turns the nested errors it is given (4 bytes
+//! per sample, indexed by id) into the δ array in place. So while it runs it holds the two
+//! arrays it keeps, 1/8 byte per sample of visited bits and 8 bytes per node, and nothing more
+//! (issue #33: it held 16 bytes per sample, a sorted (node, δ, id) list beside the errors).
 
-use crate::sim::hierarchy::{GridPoint, Hierarchy, VertexClass};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, VertexClass};
 
 /// One block of the quadtree.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,9 +69,9 @@ impl BlockTree {
     }
 
     /// Builds the tree for blocks of (2^`block_level` + 1)² samples; a `block_level` beyond the
-    /// terrain's level means one block (the root) and 0 is taken as 1. It holds 16 bytes per
-    /// sample while it builds (the 12-byte (node, δ, id) list it sorts, with the nested errors,
-    /// dropped once read, or with the δ array kept), 8 once built.
+    /// terrain's level means one block (the root) and 0 is taken as 1. `nested_errors` (indexed
+    /// by id) becomes the δ array; the build holds no more than the tree it returns, 8 bytes per
+    /// sample, plus 1/8 byte per sample and 8 bytes per node while it runs.
     pub(super) fn new(
         hierarchy: &Hierarchy,
         nested_errors: Vec<f32>,
@@ -79,40 +82,44 @@ impl BlockTree {
         let depth = lattice.level() - block_level;
         let n_nodes = nodes_in_complete_tree(depth);
 
-        // (node, δ, id) for every non-corner vertex, then one sort.
-        let mut owned: Vec<(u32, f32, u32)> = Vec::with_capacity(lattice.n_vertices());
-        for j in 0..lattice.side() {
-            for i in 0..lattice.side() {
-                let point = GridPoint::new(i, j);
-                let half = match lattice.classify(point) {
-                    VertexClass::Corner => continue,
-                    VertexClass::Square { half } | VertexClass::Rotated { half, .. } => half,
-                };
-                let node = owner(lattice.level(), depth, point, half);
-                let id = lattice.id(point);
-                owned.push((node, nested_errors[id as usize], id));
-            }
+        // Each node's range of the owned list: count its vertices, then prefix sums.
+        let mut starts = vec![0usize; n_nodes as usize + 1];
+        for_each_owned_vertex(lattice, depth, |node, _| starts[node as usize + 1] += 1);
+        for index in 1..starts.len() {
+            starts[index] += starts[index - 1];
         }
-        drop(nested_errors);
-        owned.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)).then(a.2.cmp(&b.2)));
+        let n_owned = starts[n_nodes as usize];
+        // Every id into its node's range (filled from the range's end, so `ends` is back at the
+        // starts when done), then each range sorted by δ, largest first, ties by id.
+        let mut owned_ids = vec![0u32; n_owned];
+        let mut ends = starts[1..].to_vec();
+        for_each_owned_vertex(lattice, depth, |node, id| {
+            let end = &mut ends[node as usize];
+            *end -= 1;
+            owned_ids[*end] = id;
+        });
+        drop(ends);
+        for range in starts.windows(2) {
+            owned_ids[range[0]..range[1]].sort_unstable_by(|&a, &b| {
+                nested_errors[b as usize]
+                    .total_cmp(&nested_errors[a as usize])
+                    .then(a.cmp(&b))
+            });
+        }
 
         let mut nodes = Vec::with_capacity(n_nodes as usize);
-        let mut cursor = 0;
         for node_depth in 0..=depth {
             let per_side = 1u32 << node_depth;
             let side = lattice.cells() >> node_depth;
             for b in 0..per_side {
                 for a in 0..per_side {
-                    let index = nodes.len() as u32;
-                    let owned_start = cursor;
-                    while cursor < owned.len() && owned[cursor].0 == index {
-                        cursor += 1;
-                    }
+                    let index = nodes.len();
+                    let (owned_start, owned_end) = (starts[index], starts[index + 1]);
                     let (i0, j0) = (a * side, b * side);
                     let centre = GridPoint::new(i0 + side / 2, j0 + side / 2);
                     let (z_min, z_max) = hierarchy.node_height_range(centre, side / 2);
-                    let own_max = if owned_start < cursor {
-                        owned[owned_start].1
+                    let own_max = if owned_start < owned_end {
+                        nested_errors[owned_ids[owned_start] as usize]
                     } else {
                         0.0
                     };
@@ -124,9 +131,9 @@ impl BlockTree {
                         z_min: f64::from(z_min),
                         z_max: f64::from(z_max),
                         owned_start,
-                        owned_end: cursor,
+                        owned_end,
                         subtree_delta_max: own_max,
-                        subtree_vertices: (cursor - owned_start) as u64,
+                        subtree_vertices: (owned_end - owned_start) as u64,
                         subtree_nodes: nodes_in_complete_tree(depth - node_depth),
                     });
                 }
@@ -143,10 +150,12 @@ impl BlockTree {
             parent_node.subtree_delta_max = parent_node.subtree_delta_max.max(delta);
             parent_node.subtree_vertices += vertices;
         }
-        let owned_deltas = owned.iter().map(|entry| entry.1).collect();
-        // In place: the list's buffer becomes the ids' (same alignment), and gives its tail back.
-        let mut owned_ids: Vec<u32> = owned.into_iter().map(|entry| entry.2).collect();
-        owned_ids.shrink_to_fit();
+        // In place: the nested errors, indexed by id, become the δ of the owned list.
+        let owned_deltas = owned_deltas_in_place(
+            nested_errors,
+            &owned_ids,
+            lattice.corners().map(|corner| lattice.id(corner)),
+        );
         BlockTree {
             block_level,
             depth,
@@ -202,6 +211,68 @@ impl BlockTree {
     }
 }
 
+/// Calls `visit(node, id)` for every non-corner vertex with the node that owns it, row by row.
+fn for_each_owned_vertex(lattice: &Lattice, depth: u32, mut visit: impl FnMut(u32, u32)) {
+    for j in 0..lattice.side() {
+        for i in 0..lattice.side() {
+            let point = GridPoint::new(i, j);
+            let half = match lattice.classify(point) {
+                VertexClass::Corner => continue,
+                VertexClass::Square { half } | VertexClass::Rotated { half, .. } => half,
+            };
+            visit(
+                owner(lattice.level(), depth, point, half),
+                lattice.id(point),
+            );
+        }
+    }
+}
+
+/// The δ of every owned vertex in the order of `owned_ids`, made from `nested_errors` (indexed
+/// by id) in its own buffer: `owned_ids` followed by `corner_ids` is a permutation of the ids,
+/// applied cycle by cycle with one visited bit per id; the corners' entries, moved to the end,
+/// are then cut off. O(samples), 1/8 byte per sample besides its input.
+fn owned_deltas_in_place(
+    mut nested_errors: Vec<f32>,
+    owned_ids: &[u32],
+    corner_ids: [u32; 4],
+) -> Vec<f32> {
+    let n = nested_errors.len();
+    assert_eq!(
+        owned_ids.len() + corner_ids.len(),
+        n,
+        "the owned vertices and the corners are every vertex"
+    );
+    let source = |position: usize| -> usize {
+        match owned_ids.get(position) {
+            Some(&id) => id as usize,
+            None => corner_ids[position - owned_ids.len()] as usize,
+        }
+    };
+    let mut visited = vec![0u64; n.div_ceil(64)];
+    for start in 0..n {
+        if visited[start / 64] & (1 << (start % 64)) != 0 {
+            continue;
+        }
+        // Along the cycle through `start`: each position takes the value of its source.
+        let first = nested_errors[start];
+        let mut position = start;
+        loop {
+            visited[position / 64] |= 1 << (position % 64);
+            let from = source(position);
+            if from == start {
+                nested_errors[position] = first;
+                break;
+            }
+            nested_errors[position] = nested_errors[from];
+            position = from;
+        }
+    }
+    nested_errors.truncate(owned_ids.len());
+    nested_errors.shrink_to_fit();
+    nested_errors
+}
+
 /// Nodes of a complete quadtree whose leaves are at `depth`: (4^(depth+1) − 1)/3.
 fn nodes_in_complete_tree(depth: u32) -> u64 {
     ((1u64 << (2 * (depth + 1))) - 1) / 3
@@ -232,4 +303,26 @@ fn owner(level: u32, depth: u32, point: GridPoint, half: u32) -> u32 {
     let a = (point.i / side).min(per_side - 1);
     let b = (point.j / side).min(per_side - 1);
     nodes_in_complete_tree_above(node_depth) + b * per_side + a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::owned_deltas_in_place;
+
+    #[test]
+    fn the_deltas_made_in_place_are_the_nested_errors_in_the_owned_order() {
+        for n in [4usize, 5, 9, 25, 81, 1000] {
+            let nested: Vec<f32> = (0..n).map(|id| id as f32 * 1.5 + 0.25).collect();
+            let corner_ids = [0, 1, (n / 2) as u32, (n - 1) as u32];
+            // The other ids scrambled: cycles of many lengths through the corners' places too.
+            let mut owned_ids: Vec<u32> = (0..n as u32)
+                .filter(|id| !corner_ids.contains(id))
+                .collect();
+            owned_ids.sort_by_key(|&id| (u64::from(id) * 2_654_435_761) % 1009);
+            let expected: Vec<f32> = owned_ids.iter().map(|&id| nested[id as usize]).collect();
+            let deltas = owned_deltas_in_place(nested, &owned_ids, corner_ids);
+            assert_eq!(deltas, expected, "{n} ids");
+            assert_eq!(deltas.capacity(), owned_ids.len());
+        }
+    }
 }
