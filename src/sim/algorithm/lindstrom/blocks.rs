@@ -13,16 +13,17 @@
 //! vertices, and every owned vertex lies in its node's closed square.
 //!
 //! Per node the build stores its square, the height range of the samples in it, its owned
-//! vertices sorted by nested error δ (largest first, ties by id) with their δ, and, for the
-//! whole subtree, the largest δ and the number of vertices. Sorting by δ is what lets a frame
+//! vertices sorted by nested error δ (largest first, ties by id), and, for the whole subtree,
+//! the largest δ and the number of vertices; the δ themselves stay in the nested errors it is
+//! given, indexed by vertex id, read through the ids. Sorting by δ is what lets a frame
 //! decide a node's vertices by interval tests without looking at them one by one
-//! ([`super::coarse`]). Memory: 8 bytes per sample (a `u32` id and an `f32` δ per vertex) plus
-//! about 72 bytes per node. The build sorts no list of every vertex: it counts each node's
-//! vertices, puts every id straight into its node's range of the final id array, sorts each range
-//! on its own (O(samples · log samples) at most), and turns the nested errors it is given (4 bytes
-//! per sample, indexed by id) into the δ array in place. So while it runs it holds the two
-//! arrays it keeps, 1/8 byte per sample of visited bits and 8 bytes per node, and nothing more
-//! (issue #33: it held 16 bytes per sample, a sorted (node, δ, id) list beside the errors).
+//! ([`super::coarse`]). Memory: 8 bytes per sample (a `u32` id per owned vertex and the `f32`
+//! nested errors by id) plus about 72 bytes per node. The build sorts no list of every vertex:
+//! it counts each node's vertices, puts every id straight into its node's range of the final id
+//! array and sorts each range on its own (O(samples · log samples) at most). So while it runs it
+//! holds the two arrays it keeps and 8 bytes per node, nothing more (issue #33: it held 16 bytes
+//! per sample, a sorted (node, δ, id) list beside the errors; a δ array in the ids' order, made
+//! from the errors in place, cost a cache miss a vertex, three times the build's time).
 
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, VertexClass};
 
@@ -57,7 +58,8 @@ pub(super) struct BlockTree {
     depth: u32,
     nodes: Vec<BlockNode>,
     owned_ids: Vec<u32>,
-    owned_deltas: Vec<f32>,
+    /// δ of every vertex, indexed by id (0 at the corners, which no node owns).
+    nested_errors: Vec<f32>,
 }
 
 impl BlockTree {
@@ -65,13 +67,13 @@ impl BlockTree {
     pub(super) fn memory_bytes(&self) -> usize {
         self.nodes.capacity() * std::mem::size_of::<BlockNode>()
             + self.owned_ids.capacity() * std::mem::size_of::<u32>()
-            + self.owned_deltas.capacity() * std::mem::size_of::<f32>()
+            + self.nested_errors.capacity() * std::mem::size_of::<f32>()
     }
 
     /// Builds the tree for blocks of (2^`block_level` + 1)² samples; a `block_level` beyond the
     /// terrain's level means one block (the root) and 0 is taken as 1. `nested_errors` (indexed
-    /// by id) becomes the δ array; the build holds no more than the tree it returns, 8 bytes per
-    /// sample, plus 1/8 byte per sample and 8 bytes per node while it runs.
+    /// by id) is kept as the δ of every vertex; the build holds no more than the tree it
+    /// returns, 8 bytes per sample, plus 8 bytes per node while it runs.
     pub(super) fn new(
         hierarchy: &Hierarchy,
         nested_errors: Vec<f32>,
@@ -150,18 +152,12 @@ impl BlockTree {
             parent_node.subtree_delta_max = parent_node.subtree_delta_max.max(delta);
             parent_node.subtree_vertices += vertices;
         }
-        // In place: the nested errors, indexed by id, become the δ of the owned list.
-        let owned_deltas = owned_deltas_in_place(
-            nested_errors,
-            &owned_ids,
-            lattice.corners().map(|corner| lattice.id(corner)),
-        );
         BlockTree {
             block_level,
             depth,
             nodes,
             owned_ids,
-            owned_deltas,
+            nested_errors,
         }
     }
 
@@ -205,9 +201,14 @@ impl BlockTree {
         &self.owned_ids[node.owned_start..node.owned_end]
     }
 
+    /// The nested error δ of the vertex `id`.
+    pub(super) fn delta(&self, id: u32) -> f32 {
+        self.nested_errors[id as usize]
+    }
+
     /// The δ of a node's owned vertices, in the order of [`Self::owned_ids`] (non-increasing).
-    pub(super) fn owned_deltas(&self, node: &BlockNode) -> &[f32] {
-        &self.owned_deltas[node.owned_start..node.owned_end]
+    pub(super) fn owned_deltas(&self, node: &BlockNode) -> impl Iterator<Item = f32> + '_ {
+        self.owned_ids(node).iter().map(|&id| self.delta(id))
     }
 }
 
@@ -226,51 +227,6 @@ fn for_each_owned_vertex(lattice: &Lattice, depth: u32, mut visit: impl FnMut(u3
             );
         }
     }
-}
-
-/// The δ of every owned vertex in the order of `owned_ids`, made from `nested_errors` (indexed
-/// by id) in its own buffer: `owned_ids` followed by `corner_ids` is a permutation of the ids,
-/// applied cycle by cycle with one visited bit per id; the corners' entries, moved to the end,
-/// are then cut off. O(samples), 1/8 byte per sample besides its input.
-fn owned_deltas_in_place(
-    mut nested_errors: Vec<f32>,
-    owned_ids: &[u32],
-    corner_ids: [u32; 4],
-) -> Vec<f32> {
-    let n = nested_errors.len();
-    assert_eq!(
-        owned_ids.len() + corner_ids.len(),
-        n,
-        "the owned vertices and the corners are every vertex"
-    );
-    let source = |position: usize| -> usize {
-        match owned_ids.get(position) {
-            Some(&id) => id as usize,
-            None => corner_ids[position - owned_ids.len()] as usize,
-        }
-    };
-    let mut visited = vec![0u64; n.div_ceil(64)];
-    for start in 0..n {
-        if visited[start / 64] & (1 << (start % 64)) != 0 {
-            continue;
-        }
-        // Along the cycle through `start`: each position takes the value of its source.
-        let first = nested_errors[start];
-        let mut position = start;
-        loop {
-            visited[position / 64] |= 1 << (position % 64);
-            let from = source(position);
-            if from == start {
-                nested_errors[position] = first;
-                break;
-            }
-            nested_errors[position] = nested_errors[from];
-            position = from;
-        }
-    }
-    nested_errors.truncate(owned_ids.len());
-    nested_errors.shrink_to_fit();
-    nested_errors
 }
 
 /// Nodes of a complete quadtree whose leaves are at `depth`: (4^(depth+1) − 1)/3.
@@ -303,26 +259,4 @@ fn owner(level: u32, depth: u32, point: GridPoint, half: u32) -> u32 {
     let a = (point.i / side).min(per_side - 1);
     let b = (point.j / side).min(per_side - 1);
     nodes_in_complete_tree_above(node_depth) + b * per_side + a
-}
-
-#[cfg(test)]
-mod tests {
-    use super::owned_deltas_in_place;
-
-    #[test]
-    fn the_deltas_made_in_place_are_the_nested_errors_in_the_owned_order() {
-        for n in [4usize, 5, 9, 25, 81, 1000] {
-            let nested: Vec<f32> = (0..n).map(|id| id as f32 * 1.5 + 0.25).collect();
-            let corner_ids = [0, 1, (n / 2) as u32, (n - 1) as u32];
-            // The other ids scrambled: cycles of many lengths through the corners' places too.
-            let mut owned_ids: Vec<u32> = (0..n as u32)
-                .filter(|id| !corner_ids.contains(id))
-                .collect();
-            owned_ids.sort_by_key(|&id| (u64::from(id) * 2_654_435_761) % 1009);
-            let expected: Vec<f32> = owned_ids.iter().map(|&id| nested[id as usize]).collect();
-            let deltas = owned_deltas_in_place(nested, &owned_ids, corner_ids);
-            assert_eq!(deltas, expected, "{n} ids");
-            assert_eq!(deltas.capacity(), owned_ids.len());
-        }
-    }
 }
