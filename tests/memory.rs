@@ -1,6 +1,7 @@
 //! What a run holds in memory, measured by the operating system in a process of its own (cargo
 //! runs tests as threads of one process, so the binary is spawned): a chunked-only run of a
-//! 4097² terrain peaks within 7 bytes per sample, loading included; and a terrain too large for
+//! 4097² terrain peaks within 7 bytes per sample, loading included; Lindstrom's and ROAM's
+//! preprocessing hold nothing beyond the state their frames keep; and a terrain too large for
 //! the in-memory hierarchy is refused before it is read, naming the limit and the memory.
 
 mod common;
@@ -11,6 +12,13 @@ use std::path::Path;
 
 /// An experiment with one chunked LOD entry over `terrain`, 20 frames of a circle.
 fn chunked_experiment(name: &str, terrain: Value, centre_m: f64) -> Value {
+    let chunked = json!({"name": "chunked", "label": "chunked", "chunk_level": 4,
+                         "box_culling": true, "tau_px": 14.1});
+    experiment(name, terrain, centre_m, chunked)
+}
+
+/// An experiment with one `entry` over `terrain`, 20 frames of a circle.
+fn experiment(name: &str, terrain: Value, centre_m: f64, entry: Value) -> Value {
     json!({
         "format_version": 1,
         "name": name,
@@ -21,8 +29,7 @@ fn chunked_experiment(name: &str, terrain: Value, centre_m: f64) -> Value {
         "flight": {"frames": 20, "look": {"along_path": {"pitch_deg": -20}},
                    "path": {"circle": {"centre_m": [centre_m, centre_m], "radius_m": 8000,
                                        "altitude_m": 3000, "frames_per_lap": 2400}}},
-        "algorithms": [{"name": "chunked", "label": "chunked", "chunk_level": 4,
-                        "box_culling": true, "tau_px": 14.1}],
+        "algorithms": [entry],
         "outputs": {"plots": false}
     })
 }
@@ -60,6 +67,68 @@ fn a_chunked_run_of_a_4097_square_terrain_peaks_within_7_bytes_per_sample() {
     assert_eq!(summary["terrain"]["bytes_per_sample"].as_f64(), Some(4.0));
     let frames = summary["run"]["frames_resident_bytes"].as_f64().unwrap();
     assert!(frames <= peak && frames / samples > 4.0, "{frames} bytes");
+}
+
+/// `study-scaling`'s synthetic terrain of side 2^`level` + 1 and its centre in metres.
+fn synthetic(level: u32) -> (Value, f64) {
+    let terrain = json!({"synthetic": {"level": level, "seed": 2001, "amplitude_m": 300,
+        "amplitude_scale_m": 30720, "roughness": 0.5, "spacing_m": {"dx": 30, "dy": 30}}});
+    (terrain, f64::from(1u32 << level) * 30.0 / 2.0)
+}
+
+/// Runs `entry` alone over the terrain of side 2^`level` + 1 on one thread and returns
+/// summary.json's peak and frames resident sets in bytes per sample (`None` where the system
+/// reports none).
+fn resident_per_sample(level: u32, entry: Value) -> Option<(f64, f64)> {
+    let dir = tempfile::tempdir().unwrap();
+    let (terrain, centre_m) = synthetic(level);
+    save(
+        dir.path(),
+        "one-entry.json",
+        &experiment("one-entry", terrain, centre_m, entry),
+    );
+    let args = ["run", "one-entry.json", "--out", "out", "--threads", "1"];
+    succeeds(&args, dir.path());
+    let summary: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let samples = f64::from((1u32 << level) + 1).powi(2);
+    let peak = summary["run"]["peak_resident_bytes"].as_f64()?;
+    let frames = summary["run"]["frames_resident_bytes"].as_f64().unwrap();
+    Some((peak / samples, frames / samples))
+}
+
+/// Whether the run's peak is within the resident set of its frames and a tenth: no
+/// preprocessing transient above the state the entry keeps. The terrain must be large enough
+/// for a transient to show: what the allocator keeps after a transient is freed counts in the
+/// frames' resident set too, and weighs less the more samples there are.
+fn peaks_at_its_frames_state(level: u32, entry: Value, state_per_sample: f64) {
+    let Some((peak, frames)) = resident_per_sample(level, entry) else {
+        return; // Not Linux: no resident set to read.
+    };
+    // The frames hold the heights (4 bytes per sample) and the entry's own state.
+    assert!(frames > 4.0 + state_per_sample, "frames {frames} B/sample");
+    assert!(
+        peak <= frames * 1.1,
+        "peak {peak} B/sample against {frames} B/sample during the frames"
+    );
+}
+
+#[test]
+fn lindstroms_preprocessing_peaks_within_its_frames_resident_set_and_a_tenth() {
+    // Its δ-sorted blocks keep 8 bytes per sample; building them held 16 more for a moment.
+    let lindstrom = json!({"name": "lindstrom", "label": "lindstrom", "block_level": 4,
+                           "tau_px": 1.68});
+    peaks_at_its_frames_state(11, lindstrom, 8.0);
+}
+
+#[test]
+fn roams_preprocessing_peaks_within_its_frames_resident_set_and_a_tenth() {
+    // Its per-triangle thicknesses keep 8 bytes per sample; their build held 4–8 more, which
+    // at 2049² the frames' resident set kept too (freed, not returned): hence 4097².
+    let roam = json!({"name": "roam", "label": "roam", "culling_flags": true, "tau_px": 13.2});
+    peaks_at_its_frames_state(12, roam, 8.0);
 }
 
 #[test]

@@ -233,23 +233,13 @@ impl Hierarchy {
         }
     }
 
-    /// Every vertex's nested error under `rule`, indexed by vertex id (0 at corners). O(samples).
+    /// Every vertex's nested error under `rule`, indexed by vertex id (0 at corners). O(samples);
+    /// holds nothing but its result (4 bytes per sample).
     pub fn nested_vertex_errors(&self, rule: NestingRule) -> Vec<f32> {
         let lattice = &self.lattice;
         let mut nested = vec![0.0f32; lattice.n_vertices()];
-        let mut half = 1;
-        while half < lattice.cells() {
-            // Children of rotated(h) are squares of half h/2 (done); children of square(h) are
-            // rotated(h), done just before.
-            for horizontal in [true, false] {
-                for p in rotated_points(lattice, half, horizontal) {
-                    nested[lattice.id(p) as usize] = self.nest(p, rule, &nested);
-                }
-            }
-            for p in square_points(lattice, half) {
-                nested[lattice.id(p) as usize] = self.nest(p, rule, &nested);
-            }
-            half *= 2;
+        for p in vertices_finest_first(lattice) {
+            nested[lattice.id(p) as usize] = self.nest(p, rule, &nested);
         }
         nested
     }
@@ -318,25 +308,39 @@ pub fn square_points(lattice: &Lattice, half: u32) -> impl Iterator<Item = GridP
     })
 }
 
-/// All rotated vertices of half-size `half` on horizontal (or vertical) edges.
+/// Every non-corner vertex, level by level from the finest: the rotated vertices of half-size 1,
+/// the squares of half-size 1, the rotated vertices of half-size 2, and so on. A vertex's
+/// children (rotated(h)'s are squares of half-size h/2, square(h)'s are rotated(h)) come before
+/// it, so a bottom-up table can be filled in one pass. Generated as read: O(1) memory.
+pub fn vertices_finest_first(lattice: &Lattice) -> impl Iterator<Item = GridPoint> + use<> {
+    let lattice = *lattice;
+    std::iter::successors(Some(1u32), |half| half.checked_mul(2))
+        .take_while(move |&half| half < lattice.cells())
+        .flat_map(move |half| {
+            rotated_points(&lattice, half, true)
+                .chain(rotated_points(&lattice, half, false))
+                .chain(square_points(&lattice, half))
+        })
+}
+
+/// All rotated vertices of half-size `half` on horizontal (or vertical) edges, row by row,
+/// generated as they are read (nothing is collected: at half-size 1 they are half the samples).
 fn rotated_points(
     lattice: &Lattice,
     half: u32,
     horizontal: bool,
 ) -> impl Iterator<Item = GridPoint> + use<> {
     let cells = lattice.cells();
-    let odd = move || (half..cells).step_by(2 * half as usize);
-    let even = move || (0..=cells).step_by(2 * half as usize);
-    let points: Vec<GridPoint> = if horizontal {
-        even()
-            .flat_map(|j| odd().map(move |i| GridPoint::new(i, j)))
-            .collect()
+    let step = 2 * half as usize;
+    // Odd multiples of `half` strictly inside, even ones from border to border.
+    let odd = move || (half..cells).step_by(step);
+    let even = move || (0..cells + 1).step_by(step);
+    let (rows, columns) = if horizontal {
+        (even(), odd())
     } else {
-        odd()
-            .flat_map(|j| even().map(move |i| GridPoint::new(i, j)))
-            .collect()
+        (odd(), even())
     };
-    points.into_iter()
+    rows.flat_map(move |j| columns.clone().map(move |i| GridPoint::new(i, j)))
 }
 
 /// The largest of finite values.

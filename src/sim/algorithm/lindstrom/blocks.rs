@@ -13,15 +13,19 @@
 //! vertices, and every owned vertex lies in its node's closed square.
 //!
 //! Per node the build stores its square, the height range of the samples in it, its owned
-//! vertices sorted by nested error δ (largest first, ties by id) with their δ, and, for the
-//! whole subtree, the largest δ and the number of vertices. Sorting by δ is what lets a frame
+//! vertices sorted by nested error δ (largest first, ties by id), and, for the whole subtree,
+//! the largest δ and the number of vertices; the δ themselves stay in the nested errors it is
+//! given, indexed by vertex id, read through the ids. Sorting by δ is what lets a frame
 //! decide a node's vertices by interval tests without looking at them one by one
-//! ([`super::coarse`]). Memory: 8 bytes per sample (a `u32` id and an `f32` δ per vertex) plus
-//! about 72 bytes per node; the build is O(samples · log samples) (one sort) and holds, while it
-//! runs, 12 more bytes per sample (the (node, δ, id) triples being sorted) besides the 4 bytes
-//! per sample of the nested errors it is given.
+//! ([`super::coarse`]). Memory: 8 bytes per sample (a `u32` id per owned vertex and the `f32`
+//! nested errors by id) plus about 72 bytes per node. The build sorts no list of every vertex:
+//! it counts each node's vertices, puts every id straight into its node's range of the final id
+//! array and sorts each range on its own (O(samples · log samples) at most). So while it runs it
+//! holds the two arrays it keeps and 8 bytes per node, nothing more (issue #33: it held 16 bytes
+//! per sample, a sorted (node, δ, id) list beside the errors; a δ array in the ids' order, made
+//! from the errors in place, cost a cache miss a vertex, three times the build's time).
 
-use crate::sim::hierarchy::{GridPoint, Hierarchy, VertexClass};
+use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, VertexClass};
 
 /// One block of the quadtree.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,7 +58,8 @@ pub(super) struct BlockTree {
     depth: u32,
     nodes: Vec<BlockNode>,
     owned_ids: Vec<u32>,
-    owned_deltas: Vec<f32>,
+    /// δ of every vertex, indexed by id (0 at the corners, which no node owns).
+    nested_errors: Vec<f32>,
 }
 
 impl BlockTree {
@@ -62,13 +67,13 @@ impl BlockTree {
     pub(super) fn memory_bytes(&self) -> usize {
         self.nodes.capacity() * std::mem::size_of::<BlockNode>()
             + self.owned_ids.capacity() * std::mem::size_of::<u32>()
-            + self.owned_deltas.capacity() * std::mem::size_of::<f32>()
+            + self.nested_errors.capacity() * std::mem::size_of::<f32>()
     }
 
     /// Builds the tree for blocks of (2^`block_level` + 1)² samples; a `block_level` beyond the
-    /// terrain's level means one block (the root) and 0 is taken as 1. It holds 16 bytes per
-    /// sample while it builds (the 12-byte (node, δ, id) list it sorts, with the nested errors,
-    /// dropped once read, or with the δ array kept), 8 once built.
+    /// terrain's level means one block (the root) and 0 is taken as 1. `nested_errors` (indexed
+    /// by id) is kept as the δ of every vertex; the build holds no more than the tree it
+    /// returns, 8 bytes per sample, plus 8 bytes per node while it runs.
     pub(super) fn new(
         hierarchy: &Hierarchy,
         nested_errors: Vec<f32>,
@@ -79,40 +84,44 @@ impl BlockTree {
         let depth = lattice.level() - block_level;
         let n_nodes = nodes_in_complete_tree(depth);
 
-        // (node, δ, id) for every non-corner vertex, then one sort.
-        let mut owned: Vec<(u32, f32, u32)> = Vec::with_capacity(lattice.n_vertices());
-        for j in 0..lattice.side() {
-            for i in 0..lattice.side() {
-                let point = GridPoint::new(i, j);
-                let half = match lattice.classify(point) {
-                    VertexClass::Corner => continue,
-                    VertexClass::Square { half } | VertexClass::Rotated { half, .. } => half,
-                };
-                let node = owner(lattice.level(), depth, point, half);
-                let id = lattice.id(point);
-                owned.push((node, nested_errors[id as usize], id));
-            }
+        // Each node's range of the owned list: count its vertices, then prefix sums.
+        let mut starts = vec![0usize; n_nodes as usize + 1];
+        for_each_owned_vertex(lattice, depth, |node, _| starts[node as usize + 1] += 1);
+        for index in 1..starts.len() {
+            starts[index] += starts[index - 1];
         }
-        drop(nested_errors);
-        owned.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)).then(a.2.cmp(&b.2)));
+        let n_owned = starts[n_nodes as usize];
+        // Every id into its node's range (filled from the range's end, so `ends` is back at the
+        // starts when done), then each range sorted by δ, largest first, ties by id.
+        let mut owned_ids = vec![0u32; n_owned];
+        let mut ends = starts[1..].to_vec();
+        for_each_owned_vertex(lattice, depth, |node, id| {
+            let end = &mut ends[node as usize];
+            *end -= 1;
+            owned_ids[*end] = id;
+        });
+        drop(ends);
+        for range in starts.windows(2) {
+            owned_ids[range[0]..range[1]].sort_unstable_by(|&a, &b| {
+                nested_errors[b as usize]
+                    .total_cmp(&nested_errors[a as usize])
+                    .then(a.cmp(&b))
+            });
+        }
 
         let mut nodes = Vec::with_capacity(n_nodes as usize);
-        let mut cursor = 0;
         for node_depth in 0..=depth {
             let per_side = 1u32 << node_depth;
             let side = lattice.cells() >> node_depth;
             for b in 0..per_side {
                 for a in 0..per_side {
-                    let index = nodes.len() as u32;
-                    let owned_start = cursor;
-                    while cursor < owned.len() && owned[cursor].0 == index {
-                        cursor += 1;
-                    }
+                    let index = nodes.len();
+                    let (owned_start, owned_end) = (starts[index], starts[index + 1]);
                     let (i0, j0) = (a * side, b * side);
                     let centre = GridPoint::new(i0 + side / 2, j0 + side / 2);
                     let (z_min, z_max) = hierarchy.node_height_range(centre, side / 2);
-                    let own_max = if owned_start < cursor {
-                        owned[owned_start].1
+                    let own_max = if owned_start < owned_end {
+                        nested_errors[owned_ids[owned_start] as usize]
                     } else {
                         0.0
                     };
@@ -124,9 +133,9 @@ impl BlockTree {
                         z_min: f64::from(z_min),
                         z_max: f64::from(z_max),
                         owned_start,
-                        owned_end: cursor,
+                        owned_end,
                         subtree_delta_max: own_max,
-                        subtree_vertices: (cursor - owned_start) as u64,
+                        subtree_vertices: (owned_end - owned_start) as u64,
                         subtree_nodes: nodes_in_complete_tree(depth - node_depth),
                     });
                 }
@@ -143,16 +152,12 @@ impl BlockTree {
             parent_node.subtree_delta_max = parent_node.subtree_delta_max.max(delta);
             parent_node.subtree_vertices += vertices;
         }
-        let owned_deltas = owned.iter().map(|entry| entry.1).collect();
-        // In place: the list's buffer becomes the ids' (same alignment), and gives its tail back.
-        let mut owned_ids: Vec<u32> = owned.into_iter().map(|entry| entry.2).collect();
-        owned_ids.shrink_to_fit();
         BlockTree {
             block_level,
             depth,
             nodes,
             owned_ids,
-            owned_deltas,
+            nested_errors,
         }
     }
 
@@ -196,9 +201,31 @@ impl BlockTree {
         &self.owned_ids[node.owned_start..node.owned_end]
     }
 
+    /// The nested error δ of the vertex `id`.
+    pub(super) fn delta(&self, id: u32) -> f32 {
+        self.nested_errors[id as usize]
+    }
+
     /// The δ of a node's owned vertices, in the order of [`Self::owned_ids`] (non-increasing).
-    pub(super) fn owned_deltas(&self, node: &BlockNode) -> &[f32] {
-        &self.owned_deltas[node.owned_start..node.owned_end]
+    pub(super) fn owned_deltas(&self, node: &BlockNode) -> impl Iterator<Item = f32> + '_ {
+        self.owned_ids(node).iter().map(|&id| self.delta(id))
+    }
+}
+
+/// Calls `visit(node, id)` for every non-corner vertex with the node that owns it, row by row.
+fn for_each_owned_vertex(lattice: &Lattice, depth: u32, mut visit: impl FnMut(u32, u32)) {
+    for j in 0..lattice.side() {
+        for i in 0..lattice.side() {
+            let point = GridPoint::new(i, j);
+            let half = match lattice.classify(point) {
+                VertexClass::Corner => continue,
+                VertexClass::Square { half } | VertexClass::Rotated { half, .. } => half,
+            };
+            visit(
+                owner(lattice.level(), depth, point, half),
+                lattice.id(point),
+            );
+        }
     }
 }
 

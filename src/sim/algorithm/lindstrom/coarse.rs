@@ -233,8 +233,8 @@ fn decide_owned_vertices(
     counts: &mut CoarseCounts,
     kept: &mut LevelBuckets,
 ) {
-    let ids = frame.blocks.owned_ids(node);
-    let deltas = frame.blocks.owned_deltas(node);
+    let blocks = frame.blocks;
+    let ids = blocks.owned_ids(node);
     let n_owned = ids.len();
     // δ is non-increasing along the list, and both tests are monotone in δ; last frame's cuts
     // (when the node was open) are where the searches start.
@@ -244,15 +244,15 @@ fn decide_owned_vertices(
         (0, n_owned)
     };
     let kept_end = partition_point_from(
-        deltas,
+        ids,
         kept_hint,
-        |&delta| bounds.keeps(delta, frame.tau_px),
+        |&id| bounds.keeps(blocks.delta(id), frame.tau_px),
         &mut counts.interval_probes,
     );
     let removed_start = partition_point_from(
-        deltas,
+        ids,
         removed_hint,
-        |&delta| !bounds.removes(delta, frame.tau_px),
+        |&id| !bounds.removes(blocks.delta(id), frame.tau_px),
         &mut counts.interval_probes,
     )
     .max(kept_end);
@@ -277,10 +277,8 @@ fn decide_owned_vertices(
         kept.push(lattice, id);
     }
     counts.vertices_kept += kept_end as u64;
-    for (&id, &delta) in ids[kept_end..removed_start]
-        .iter()
-        .zip(&deltas[kept_end..removed_start])
-    {
+    for &id in &ids[kept_end..removed_start] {
+        let delta = blocks.delta(id);
         let point = lattice.point(id);
         let position = field.position(point.i as usize, point.j as usize);
         if frame.tolerance.keeps(delta, position - frame.eye) {

@@ -28,11 +28,11 @@ pub(super) fn validate_blocks(
             return Err(BlockTreeError(format!("node {index}: wrong depth or side")));
         }
         let ids = blocks.owned_ids(node);
-        let deltas = blocks.owned_deltas(node);
+        let deltas: Vec<f32> = blocks.owned_deltas(node).collect();
         if deltas.windows(2).any(|pair| pair[0] < pair[1]) {
             return Err(BlockTreeError(format!("node {index}: δ not sorted")));
         }
-        for (&id, &delta) in ids.iter().zip(deltas) {
+        for (&id, &delta) in ids.iter().zip(&deltas) {
             let point = lattice.point(id);
             if owners[id as usize] != u32::MAX {
                 return Err(BlockTreeError(format!("{point:?} owned twice")));
@@ -71,8 +71,7 @@ pub(super) fn validate_blocks(
             vertices += blocks.owned_ids(descendant).len() as u64;
             delta_max = blocks
                 .owned_deltas(descendant)
-                .iter()
-                .fold(delta_max, |a, &b| a.max(b));
+                .fold(delta_max, |a, b| a.max(b));
             stack.extend(blocks.children(k).into_iter().flatten());
         }
         if (delta_max, vertices, nodes)

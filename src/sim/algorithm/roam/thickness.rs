@@ -22,7 +22,9 @@
 //! the per-triangle `max_plus_own` table, shared with the priority when that is the rule in use.
 //! Every value is rounded up to `f32`.
 
-use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice, NestingRule, VertexClass, round_up};
+use crate::sim::hierarchy::{
+    GridPoint, Hierarchy, Lattice, NestingRule, round_up, vertices_finest_first,
+};
 
 /// Where the nested thickness of a triangle comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,44 +121,33 @@ pub fn apex_slot(split: GridPoint, apex: GridPoint) -> usize {
     }
 }
 
-/// Eq. (1) for every triangle, finest level first. O(samples); holds the vertex ids by level
-/// (4 bytes per sample) while it runs.
+/// Eq. (1) for every triangle, finest level first ([`vertices_finest_first`], generated as
+/// read). O(samples); holds nothing but the table it returns (8 bytes per sample).
 fn per_triangle(hierarchy: &Hierarchy, rule: NestingRule) -> Vec<[f32; 2]> {
     let lattice = hierarchy.lattice();
-    let mut by_level: Vec<Vec<u32>> = vec![Vec::new(); 2 * lattice.level() as usize];
-    for id in 0..lattice.n_vertices() as u32 {
-        let level = match lattice.classify(lattice.point(id)) {
-            VertexClass::Corner => continue,
-            VertexClass::Rotated { half, .. } => 2 * half.trailing_zeros() as usize,
-            VertexClass::Square { half } => 2 * half.trailing_zeros() as usize + 1,
-        };
-        by_level[level].push(id);
-    }
     let mut table = vec![[0.0f32; 2]; lattice.n_vertices()];
     // A triangle's children split at vertices one level finer: done before it.
-    for ids in &by_level {
-        for &id in ids {
-            let split = lattice.point(id);
-            let Some([left, right]) = lattice.bisected_edge(split) else {
-                continue;
+    for split in vertices_finest_first(lattice) {
+        let id = lattice.id(split);
+        let Some([left, right]) = lattice.bisected_edge(split) else {
+            continue;
+        };
+        let own = hierarchy.vertex_error(split).abs();
+        for &apex in lattice.parents(split).as_slice() {
+            let child = |end: GridPoint| -> f64 {
+                let (si, sj) = (apex.i + end.i, apex.j + end.j);
+                if si % 2 != 0 || sj % 2 != 0 {
+                    return 0.0; // the child's hypotenuse has no grid midpoint
+                }
+                let mid = GridPoint::new(si / 2, sj / 2);
+                f64::from(table[lattice.id(mid) as usize][apex_slot(mid, split)])
             };
-            let own = hierarchy.vertex_error(split).abs();
-            for &apex in lattice.parents(split).as_slice() {
-                let child = |end: GridPoint| -> f64 {
-                    let (si, sj) = (apex.i + end.i, apex.j + end.j);
-                    if si % 2 != 0 || sj % 2 != 0 {
-                        return 0.0; // the child's hypotenuse has no grid midpoint
-                    }
-                    let mid = GridPoint::new(si / 2, sj / 2);
-                    f64::from(table[lattice.id(mid) as usize][apex_slot(mid, split)])
-                };
-                let children = child(left).max(child(right));
-                let value = match rule {
-                    NestingRule::Max => own.max(children),
-                    NestingRule::MaxPlusOwn => own + children,
-                };
-                table[id as usize][apex_slot(split, apex)] = round_up(value);
-            }
+            let children = child(left).max(child(right));
+            let value = match rule {
+                NestingRule::Max => own.max(children),
+                NestingRule::MaxPlusOwn => own + children,
+            };
+            table[id as usize][apex_slot(split, apex)] = round_up(value);
         }
     }
     table
