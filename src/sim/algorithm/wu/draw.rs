@@ -17,14 +17,17 @@
 //!
 //! **Bookkeeping.** The slots themselves, their free list and swap-remove are the shared
 //! [`LeafBuffer`] (`sim::draw::incremental`, ROAM's too), keyed here by [`Leaf`]. Per active
-//! vertex (a hash map by vertex id, O(mesh), nothing per sample): its vertex slot and the slots of the at most four leaf triangles whose right angle it is, by the
-//! direction from it to their hypotenuse (axis directions for block centres, diagonals for edge
-//! midpoints and the base corners); per triangle slot, the triangle it holds (apex and direction),
-//! so that a moved triangle's owner learns its new slot. `update` only records each vertex
-//! inserted or deleted (a push, in the order the mesh changed); `prepare_draw` replays them,
-//! which is the timed buffer upkeep of `frame_ns`. With morphing (`morph.rs`) the drawn mesh's
-//! edits replace the vertex set's: insertions at a morph's start height, and height rewrites
-//! (12 bytes a morphing vertex a frame).
+//! vertex (a hash map by vertex id, O(mesh), nothing per sample): its vertex slot and the slots
+//! of the at most four leaf triangles whose right angle it is, by the direction from it to their
+//! hypotenuse (axis directions for block centres, diagonals for edge midpoints and the base
+//! corners); per triangle slot, the triangle it holds (apex and direction), so that a moved
+//! triangle's owner learns its new slot. Inserting or deleting a vertex looks up its own entry,
+//! each parent's and the hypotenuse's two ends once each (plus a moved triangle's apex), never
+//! once per corner written. `update` only records each vertex inserted or deleted (a push, in
+//! the order the mesh changed); `prepare_draw` replays them, which is the timed buffer upkeep of
+//! `frame_ns`. With morphing (`morph.rs`) the drawn mesh's edits replace the vertex set's:
+//! insertions at a morph's start height, and height rewrites (12 bytes a morphing vertex a
+//! frame).
 //!
 //! **Why a list, one draw.** The buffers hold the whole mesh, drawn by one call: Wu's in-view
 //! refinement (§3.2) already leaves what is outside the cone coarse, so culling blocks on the
@@ -105,12 +108,19 @@ impl Leaf {
 
     /// The corners counter-clockwise seen from above (the winding every drawn triangle keeps).
     fn corners(&self) -> [GridPoint; 3] {
-        let [a, b, c] = [self.apex, self.ends[0], self.ends[1]].map(|p| (p.i as i64, p.j as i64));
+        self.ordered([self.apex, self.ends[0], self.ends[1]])
+    }
+
+    /// What belongs to the apex and the two ends (in that order), in the order of
+    /// [`Leaf::corners`]: the apex first, the ends swapped where the winding needs it.
+    fn ordered<T>(&self, [apex, first, second]: [T; 3]) -> [T; 3] {
+        let xy = |p: GridPoint| (i64::from(p.i), i64::from(p.j));
+        let (a, b, c) = (xy(self.apex), xy(self.ends[0]), xy(self.ends[1]));
         let area2 = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
         if area2 >= 0 {
-            [self.apex, self.ends[0], self.ends[1]]
+            [apex, first, second]
         } else {
-            [self.apex, self.ends[1], self.ends[0]]
+            [apex, second, first]
         }
     }
 }
@@ -219,40 +229,88 @@ impl WuBuffers {
             + self.pending.capacity() * size_of::<Change>()
     }
 
-    /// Splits the diamond of `p` around it.
+    /// Splits the diamond of `p` around it. `p`'s slots are kept in hand and entered once, and
+    /// the hypotenuse's ends are looked up once for both parents: five lookups an insertion,
+    /// with the buffers written in the same order as one lookup per corner would.
     fn insert(&mut self, lattice: &Lattice, p: GridPoint, z: f32) {
-        self.add_vertex(lattice, p, z);
         let ends = lattice
             .bisected_edge(p)
             .expect("a corner is never inserted");
+        let vertex = self
+            .buffer
+            .add_vertex(DrawVertex::fixed(SubgridPoint::from(p), z));
+        let mut own = VertexSlots {
+            vertex,
+            triangles: [NO_SLOT; 4],
+        };
+        let end_slots = [
+            self.vertex_slot(lattice, ends[0]),
+            self.vertex_slot(lattice, ends[1]),
+        ];
         for &a in lattice.parents(p).as_slice() {
             let parent = Leaf { apex: a, ends };
-            let slot = self.take_triangle_slot(lattice, parent);
+            let apex = self.apex_slots(lattice, a);
+            let slot = std::mem::replace(&mut apex.triangles[parent.direction()], NO_SLOT);
+            debug_assert_ne!(slot, NO_SLOT, "{parent:?} is not a leaf of the buffers");
+            let a_slot = apex.vertex;
+            // Each half has apex `p` and ends `a` and one end of the parent's hypotenuse.
             let [first, second] = halves(p, parent);
-            self.put(lattice, slot, first);
-            let corners = self.corner_slots(lattice, second);
+            let corners = first.ordered([vertex, a_slot, end_slots[0]]);
+            self.buffer.set_leaf(slot, first, corners);
+            own.triangles[first.direction()] = slot;
+            let corners = second.ordered([vertex, a_slot, end_slots[1]]);
             let appended = self.buffer.push_leaf(second, corners);
-            self.remember(lattice, appended, second);
+            own.triangles[second.direction()] = appended;
         }
+        let previous = self.slots.insert(lattice.id(p), own);
+        debug_assert!(previous.is_none(), "{p:?} inserted twice");
     }
 
-    /// Merges the diamond of `p` back and frees its vertex slot.
+    /// Merges the diamond of `p` back and frees its vertex slot. As in [`WuBuffers::insert`],
+    /// `p`'s slots are taken out once and the ends looked up once.
     fn delete(&mut self, lattice: &Lattice, p: GridPoint) {
         let ends = lattice.bisected_edge(p).expect("a corner is never deleted");
+        let mut own = self
+            .slots
+            .remove(&lattice.id(p))
+            .expect("a deleted vertex had a slot");
+        let end_slots = [
+            self.vertex_slot(lattice, ends[0]),
+            self.vertex_slot(lattice, ends[1]),
+        ];
         for &a in lattice.parents(p).as_slice() {
             let parent = Leaf { apex: a, ends };
             let [first, second] = halves(p, parent);
-            let slot = self.take_triangle_slot(lattice, first);
-            self.put(lattice, slot, parent);
-            let hole = self.take_triangle_slot(lattice, second);
+            let slot = std::mem::replace(&mut own.triangles[first.direction()], NO_SLOT);
+            debug_assert_ne!(slot, NO_SLOT, "{first:?} is not a leaf of the buffers");
+            let apex = self.apex_slots(lattice, a);
+            apex.triangles[parent.direction()] = slot;
+            let corners = parent.ordered([apex.vertex, end_slots[0], end_slots[1]]);
+            self.buffer.set_leaf(slot, parent, corners);
+            let hole = std::mem::replace(&mut own.triangles[second.direction()], NO_SLOT);
+            debug_assert_ne!(hole, NO_SLOT, "{second:?} is not a leaf of the buffers");
             if let Some(moved) = self.buffer.remove_leaf(hole) {
-                self.remember(lattice, hole, moved);
+                if moved.apex == p {
+                    own.triangles[moved.direction()] = hole;
+                } else {
+                    self.remember(lattice, hole, moved);
+                }
             }
         }
-        let id = lattice.id(p);
-        let removed = self.slots.remove(&id).expect("a deleted vertex had a slot");
-        debug_assert!(removed.triangles.iter().all(|&t| t == NO_SLOT));
-        self.buffer.free_vertex(removed.vertex);
+        debug_assert!(own.triangles.iter().all(|&t| t == NO_SLOT));
+        self.buffer.free_vertex(own.vertex);
+    }
+
+    /// The vertex slot of an active vertex.
+    fn vertex_slot(&self, lattice: &Lattice, q: GridPoint) -> u32 {
+        self.slots[&lattice.id(q)].vertex
+    }
+
+    /// The slots of a leaf's apex (active).
+    fn apex_slots(&mut self, lattice: &Lattice, apex: GridPoint) -> &mut VertexSlots {
+        self.slots
+            .get_mut(&lattice.id(apex))
+            .expect("a leaf's apex is active")
     }
 
     /// Gives `p` a vertex slot and writes it, drawn at height `z`.
@@ -267,24 +325,6 @@ impl WuBuffers {
             },
         );
         debug_assert!(previous.is_none(), "{p:?} inserted twice");
-    }
-
-    /// The slot of a leaf, forgotten by its apex (the caller fills or removes it).
-    fn take_triangle_slot(&mut self, lattice: &Lattice, leaf: Leaf) -> u32 {
-        let entry = self
-            .slots
-            .get_mut(&lattice.id(leaf.apex))
-            .expect("a leaf's apex is active");
-        let slot = std::mem::replace(&mut entry.triangles[leaf.direction()], NO_SLOT);
-        debug_assert_ne!(slot, NO_SLOT, "{leaf:?} is not a leaf of the buffers");
-        slot
-    }
-
-    /// Puts `leaf` into triangle slot `slot` (an existing one) and writes its indices.
-    fn put(&mut self, lattice: &Lattice, slot: u32, leaf: Leaf) {
-        let corners = self.corner_slots(lattice, leaf);
-        self.buffer.set_leaf(slot, leaf, corners);
-        self.remember(lattice, slot, leaf);
     }
 
     /// The vertex slots of a leaf's corners, counter-clockwise.
