@@ -34,6 +34,7 @@ use super::tree::{ChunkGeometry, ChunkId};
 use crate::sim::draw::emit::vertex_bytes;
 use crate::sim::draw::{BufferId, DrawCall, DrawCounts, DrawVertex, GpuBuffers, Topology};
 use std::collections::BTreeMap;
+use std::collections::btree_map::Entry;
 
 /// Frames an in-memory tree chunk's buffer stays resident without being drawn (two seconds at
 /// 60 frames a second).
@@ -83,9 +84,28 @@ impl ChunkBuffers {
         }
     }
 
+    /// Frame `frame`'s buffers, made during its update (before the mesh, which reads them):
+    /// releases the buffers of chunks no longer available, then makes the buffer of every chunk
+    /// of `drawn` that has none. [`ChunkBuffers::prepare`] then issues the draws.
+    pub(super) fn make_drawn(
+        &mut self,
+        source: &Available,
+        geometry: &ChunkGeometry,
+        drawn: &[DrawnChunk],
+        frame: u64,
+    ) {
+        // Evicted chunks first: an id made again later is a new chunk.
+        self.release(|id, _| source.get(id).is_none());
+        self.made = 0;
+        for chunk in drawn {
+            self.resident_for(source, geometry, chunk.id, frame);
+        }
+    }
+
     /// Frame `frame`'s upkeep: releases the buffers of chunks no longer available (and of
     /// in-memory tree chunks idle for [`IDLE_FRAMES`]), makes the buffers of drawn chunks that
-    /// have none, and issues one draw per chunk of `drawn`, in order. `evictable_by_idle`: whether
+    /// have none (all were made by [`ChunkBuffers::make_drawn`] unless something was evicted
+    /// since), and issues one draw per chunk of `drawn`, in order. `evictable_by_idle`: whether
     /// chunks at or above `source`'s tree leaves have no cache of their own (no loading).
     pub(super) fn prepare(
         &mut self,
@@ -95,34 +115,10 @@ impl ChunkBuffers {
         frame: u64,
         evictable_by_idle: bool,
     ) -> DrawCounts {
-        // Evicted chunks first: an id made again later is a new chunk.
         self.release(|id, _| source.get(id).is_none());
-        self.made = 0;
         self.gpu.clear_draws();
-        let morph = self.bytes_per_vertex == vertex_bytes(true);
         for chunk in drawn {
-            let resident = match self.resident.get_mut(&chunk.id) {
-                Some(resident) => resident,
-                None => {
-                    let record = source.record(chunk.id);
-                    mesh::chunk_vertices(
-                        source,
-                        geometry,
-                        chunk.id,
-                        record,
-                        morph,
-                        &mut self.scratch,
-                    );
-                    let vertices = self
-                        .gpu
-                        .create_vertices(self.scratch.clone(), self.bytes_per_vertex);
-                    self.made += 1;
-                    self.resident.entry(chunk.id).or_insert(Resident {
-                        vertices,
-                        last_drawn: frame,
-                    })
-                }
-            };
+            let resident = self.resident_for(source, geometry, chunk.id, frame);
             resident.last_drawn = frame;
             let vertices = resident.vertices;
             self.gpu.upload_constants(CONSTANT_BYTES);
@@ -143,6 +139,49 @@ impl ChunkBuffers {
             });
         }
         self.gpu.end_frame()
+    }
+
+    /// Chunk `id`'s residency, its buffer made now (at `frame`) when it has none.
+    fn resident_for(
+        &mut self,
+        source: &Available,
+        geometry: &ChunkGeometry,
+        id: ChunkId,
+        frame: u64,
+    ) -> &mut Resident {
+        match self.resident.entry(id) {
+            Entry::Occupied(resident) => resident.into_mut(),
+            Entry::Vacant(slot) => {
+                let morph = self.bytes_per_vertex == vertex_bytes(true);
+                let record = source.record(id);
+                mesh::chunk_vertices(source, geometry, id, record, morph, &mut self.scratch);
+                let vertices = self
+                    .gpu
+                    .create_vertices(self.scratch.clone(), self.bytes_per_vertex);
+                self.made += 1;
+                slot.insert(Resident {
+                    vertices,
+                    last_drawn: frame,
+                })
+            }
+        }
+    }
+
+    /// The vertex buffer of resident chunk `id` ([`mesh::chunk_vertices`]).
+    ///
+    /// # Panics
+    /// When `id` has no buffer (not made by [`ChunkBuffers::make_drawn`] this frame).
+    pub(super) fn vertices(&self, id: ChunkId) -> &[DrawVertex] {
+        let resident = self
+            .resident
+            .get(&id)
+            .expect("a drawn chunk's buffer is resident");
+        self.gpu.vertices(resident.vertices)
+    }
+
+    /// The index buffer every chunk shares ([`mesh::chunk_indices`]).
+    pub(super) fn indices(&self) -> &[u32] {
+        self.gpu.indices(self.indices)
     }
 
     /// Releases the vertex buffers of the chunks `release` names.
@@ -169,7 +208,8 @@ impl ChunkBuffers {
         self.resident.keys().copied()
     }
 
-    /// Vertex buffers made in the last prepared frame.
+    /// Vertex buffers made this frame (by its update, or its draw when something was evicted
+    /// in between).
     pub(super) fn made(&self) -> u64 {
         self.made
     }

@@ -16,9 +16,9 @@
 //! Every triangle has the chunk's breadth-first number as its group (one draw batch per
 //! chunk) and the chunk's quadtree level as its level. The vertices are the chunk's own: a
 //! border vertex is added once per chunk that draws it, as each chunk's vertex buffer holds it.
-//! The vertex buffer ([`chunk_vertices`]) and the triangles ([`for_each_chunk_triangle`], the
-//! one index buffer all chunks share) are the same functions the mesh is built from, so the
-//! buffers `buffers.rs` keeps draw exactly this mesh.
+//! The mesh is built from the buffers `buffers.rs` keeps ([`add_chunk`] reads a chunk's vertex
+//! buffer, [`chunk_vertices`], and the one index buffer all chunks share, [`chunk_indices`]),
+//! so they draw exactly this mesh.
 
 use super::super::block_lod::grid::{cell_triangles, coarser_neighbours};
 use super::select::DrawnChunk;
@@ -142,51 +142,60 @@ pub(super) fn chunk_indices(cells: u32) -> Vec<u32> {
     indices
 }
 
-/// Adds `chunk` (whose record is `record`) to `list`: the vertices of its buffer
-/// ([`chunk_vertices`]) at the heights the GPU draws them at this frame's blend
-/// ([`DrawVertex::drawn`], so the mesh and the buffers agree to the bit), and its triangles.
-/// `vertices` is scratch space.
-pub(super) fn add_chunk<S: ChunkSource>(
+/// Adds `chunk` to `list`: `vertices`, its vertex buffer ([`chunk_vertices`], kept by
+/// `buffers.rs`), at the heights the GPU draws them at this frame's blend
+/// ([`DrawVertex::drawn`], so the mesh and the buffers agree to the bit), and its triangles,
+/// `indices` ([`chunk_indices`], the shared index buffer). Reads no height: O(chunk's vertices
+/// and triangles).
+pub(super) fn add_chunk(
     list: &mut TriangleList,
-    source: &S,
     geometry: &ChunkGeometry,
     chunk: &DrawnChunk,
-    record: &ChunkRecord,
-    morph: bool,
-    vertices: &mut Vec<DrawVertex>,
+    vertices: &[DrawVertex],
+    indices: &[u32],
 ) {
     let id = chunk.id;
     let cells = geometry.cells;
     let side = cells + 1;
-    // At blend 0 a vertex is drawn at z whatever its target: skip the targets' lookups.
+    let grid = (side * side) as usize;
+    debug_assert_eq!(vertices.len() as u64, vertices_per_chunk(cells));
+    debug_assert_eq!(indices.len() as u64, 3 * triangles_per_chunk(cells));
     let blend = blend(chunk.morph);
-    chunk_vertices(
-        source,
-        geometry,
-        id,
-        record,
-        morph && blend != 0.0,
-        vertices,
-    );
+    let morphing = chunk.morph < 1.0;
     let base = list.vertices().len() as u32;
-    for (k, vertex) in vertices.iter().enumerate() {
-        let k = k as u32;
-        let drawn = vertex.drawn(blend);
-        let odd = k < side * side && coarser_neighbours(k % side, k / side).is_some();
-        if odd && chunk.morph < 1.0 {
-            list.add_morphing_vertex(drawn.position, drawn.z);
-        } else {
-            list.add_vertex(drawn.position, drawn.z);
+    // The grid row by row (a vertex the parent lacks, odd in a or b, morphs), then the skirt
+    // bottoms, which do not.
+    for (b, row) in vertices[..grid].chunks_exact(side as usize).enumerate() {
+        for (a, vertex) in row.iter().enumerate() {
+            let drawn = vertex.drawn(blend);
+            if morphing && (a | b) % 2 == 1 {
+                list.add_morphing_vertex(drawn.position, drawn.z);
+            } else {
+                list.add_vertex(drawn.position, drawn.z);
+            }
         }
+    }
+    for vertex in &vertices[grid..] {
+        let drawn = vertex.drawn(blend);
+        list.add_vertex(drawn.position, drawn.z);
     }
     let info = |role| TriangleInfo {
         role,
         group: id.breadth_first_index(),
         level: id.level,
     };
-    for_each_chunk_triangle(cells, |corners, role| {
-        list.add_triangle(corners.map(|k| base + k), info(role));
-    });
+    let surface = 3 * 2 * (cells * cells) as usize;
+    for (k, corners) in indices.chunks_exact(3).enumerate() {
+        let role = if 3 * k < surface {
+            TriangleRole::Surface
+        } else {
+            TriangleRole::Skirt
+        };
+        list.add_triangle(
+            [base + corners[0], base + corners[1], base + corners[2]],
+            info(role),
+        );
+    }
 }
 
 #[cfg(test)]
@@ -236,6 +245,7 @@ mod tests {
             morph,
         };
         let mut vertices = Vec::new();
+        let indices = chunk_indices(geometry.cells);
         for parent in [
             ChunkId::ROOT,
             ChunkId {
@@ -247,25 +257,23 @@ mod tests {
             let mut whole = TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted);
             let mut split = TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted);
             let record = *tree.record(parent);
+            chunk_vertices(&tree, &geometry, parent, &record, true, &mut vertices);
             add_chunk(
                 &mut whole,
-                &tree,
                 &geometry,
                 &drawn(parent, 1.0),
-                &record,
-                true,
-                &mut vertices,
+                &vertices,
+                &indices,
             );
             for child in parent.children() {
                 let record = *tree.record(child);
+                chunk_vertices(&tree, &geometry, child, &record, true, &mut vertices);
                 add_chunk(
                     &mut split,
-                    &tree,
                     &geometry,
                     &drawn(child, 0.0),
-                    &record,
-                    true,
-                    &mut vertices,
+                    &vertices,
+                    &indices,
                 );
             }
             let (a, b) = (

@@ -102,7 +102,9 @@
 //! tree chunks: after `IDLE_FRAMES`, 120 frames, undrawn); one index buffer shared by every
 //! chunk (all have the same topology); per frame only the draw list, one draw per drawn chunk
 //! with its blend 1 − f as a 4-byte per-draw constant, the vertex shader morphing by
-//! `draw::morph_height`, which the mesh's heights are computed with too.
+//! `draw::morph_height`, which the mesh's heights are computed with too. The update makes the
+//! drawn chunks' missing buffers and builds the mesh from the buffers' vertices and the shared
+//! indices: a chunk's heights are read once, when its buffer is made, not every frame.
 //!
 //! Memory: 16 bytes per chunk for the tree (about 0.005 B per sample with 65² chunks), the
 //! triangle list (O(drawn triangles)), the selection's buffers; with runtime detail the cached
@@ -135,7 +137,6 @@ use super::block_lod::threshold::DetailThreshold;
 use super::block_lod::{BlockGoal, Projection};
 use super::columns::chunked as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::DrawVertex;
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList};
@@ -270,7 +271,6 @@ pub struct Chunked<'h> {
     previous_refined: Vec<ChunkId>,
     drawn_sorted: Vec<(ChunkId, u64)>,
     refined_sorted: Vec<ChunkId>,
-    vertices: Vec<DrawVertex>,
 }
 
 impl<'h> Chunked<'h> {
@@ -334,7 +334,6 @@ impl<'h> Chunked<'h> {
             previous_refined: Vec::new(),
             drawn_sorted: Vec::new(),
             refined_sorted: Vec::new(),
-            vertices: Vec::new(),
         }
     }
 
@@ -506,17 +505,19 @@ impl<'h> Chunked<'h> {
             let (low, high) = geometry.square(id);
             self.list.add_culled_region(low, high);
         }
+        // The drawn chunks' buffers first: the mesh is read from them (a chunk's vertices are
+        // computed once, when its buffer is made).
         let source = available(&self.tree, &self.detail, &self.loading);
+        self.draw
+            .make_drawn(&source, &geometry, &self.selection.drawn, self.frame);
+        let indices = self.draw.indices();
         for chunk in &self.selection.drawn {
-            let record = *source.record(chunk.id);
             mesh::add_chunk(
                 &mut self.list,
-                &source,
                 &geometry,
                 chunk,
-                &record,
-                self.config.morph,
-                &mut self.vertices,
+                self.draw.vertices(chunk.id),
+                indices,
             );
         }
     }
@@ -711,7 +712,6 @@ impl LodAlgorithm for Chunked<'_> {
                 * std::mem::size_of::<(ChunkId, u64)>()
             + (self.previous_refined.capacity() + self.refined_sorted.capacity())
                 * std::mem::size_of::<ChunkId>()
-            + self.vertices.capacity() * std::mem::size_of::<DrawVertex>()
             + self.draw.memory_bytes()
             + self
                 .detail
