@@ -309,43 +309,6 @@ impl RawSampleChoice {
     }
 }
 
-/// `roamsim prepare`: writes the pyramid, progress on stderr every 5 % of the rows.
-fn prepare(
-    source: roamsim::edge::pyramid::RawSource,
-    chunk_level: u32,
-    out: &std::path::Path,
-) -> Result<(), Failure> {
-    let start = std::time::Instant::now();
-    let mut last_percent = 0;
-    let summary =
-        roamsim::edge::pyramid::prepare_from_raw(&source, chunk_level, out, &mut |done, rows| {
-            let percent = done * 100 / rows;
-            if percent >= last_percent + 5 || done == rows {
-                last_percent = percent;
-                eprintln!(
-                    "prepare: {done}/{rows} rows ({percent}%), {:.0} s elapsed",
-                    start.elapsed().as_secs_f64()
-                );
-            }
-        })
-        .map_err(|error| Failure::Error(error.to_string()))?;
-    let header = summary.header;
-    println!(
-        "{}: {} × {} samples, chunks of {}² ({} levels, {} chunks), {:?} heights, {} bytes; \
-         row bands held at most {} bytes",
-        out.display(),
-        header.side(),
-        header.side(),
-        header.cells() + 1,
-        header.leaf_level() + 1,
-        header.n_chunks(),
-        header.sample,
-        summary.file_bytes,
-        summary.band_bytes
-    );
-    Ok(())
-}
-
 /// terrain.file.fit.
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum FitChoice {
@@ -443,7 +406,7 @@ fn main() -> ExitCode {
             spacing_m,
             chunk_level,
             out,
-        } => prepare(
+        } => roamsim::edge::pyramid::prepare_command(
             roamsim::edge::pyramid::RawSource {
                 path: terrain,
                 layout: roamsim::edge::terrain_readers::RawLayout {
@@ -463,7 +426,8 @@ fn main() -> ExitCode {
             },
             chunk_level,
             &out,
-        ),
+        )
+        .map_err(Failure::Error),
         #[cfg(not(feature = "preview"))]
         Command::Preview { .. } => needs_preview_feature("preview"),
         #[cfg(not(feature = "preview"))]

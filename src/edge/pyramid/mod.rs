@@ -21,10 +21,12 @@
 //! [`ChunkRecord::internal`]: crate::sim::algorithm::chunked::ChunkRecord::internal
 //! [`chunk_own_error`]: crate::sim::algorithm::chunked::chunk_own_error
 
+mod command;
 mod loader;
 mod open;
 mod prepare;
 
+pub use command::prepare_command;
 pub use loader::PyramidLoader;
 pub use open::PyramidFile;
 pub use prepare::{PrepareSummary, RawSource, prepare_from_raw};
