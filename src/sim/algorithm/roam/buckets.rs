@@ -1,6 +1,6 @@
 //! Duchaineau's bucketed priority queue, made exact at its top: the default kind of ROAM's two
 //! queues (`queues.rs`, SPEC §6's split and merge queues). It orders by [`QueueKey`] and nothing
-//! else; what goes in and when is the core's (`core.rs`).
+//! else; what goes in and when is the core's (`core/`).
 //!
 //! Duchaineau's implementation notes for ROAM replace a heap by about 2048 buckets (his own code
 //! uses 4096, log-spaced), each an unsorted doubly linked list; an element goes to the bucket of

@@ -2,7 +2,7 @@
 //! when its time-dependent bound could reach the crossover, and each recomputation is scheduled
 //! on a small ring of per-frame lists. It is not a change to the mesh: it only decides when a
 //! priority is recomputed, the meshes are those of full recomputation, and splits and merges
-//! stay the frame loop's (`mod.rs`, `core.rs`).
+//! stay the frame loop's (`mod.rs`, `core/recompute.rs`).
 //!
 //! **The rule.** "Given a velocity bound on the viewpoint, bounds can be obtained for
 //! screen-distortion priorities over time … Recomputation of a triangle can safely be deferred

@@ -1,5 +1,5 @@
 //! Merging a diamond (ROAM'97's merge; SPEC §6): its one or two split parent triangles become
-//! leaves again. Topology only: which diamond to merge is the merge queue's (`core.rs`).
+//! leaves again. Topology only: which diamond to merge is the merge queue's (`core/adapt.rs`).
 //!
 //! A diamond is mergeable when every child of its parents is a leaf. Merging removes the split
 //! vertex from the mesh, gives the parents back the children's outer neighbours (relinking those

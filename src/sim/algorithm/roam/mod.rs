@@ -24,7 +24,8 @@
 //! (`split.rs`), merged by diamonds (`merge.rs`), two priority queues (`queues.rs`): leaves that
 //! can split, largest priority first; mergeable diamonds, smallest first. The mesh is the set of
 //! split vertices (hypotenuse midpoints) plus the corners, a [`VertexSet`] of the shared family;
-//! the triangle count is the number of leaves. `core.rs` holds the state and its operations.
+//! the triangle count is the number of leaves. `core/` holds the state and its operations,
+//! `extras.rs` the extra columns, `rebuild.rs` `roam-rebuild`.
 //!
 //! **Priorities** are ROAM's eq. (3) wedgie bound over the nested wedgie thickness e_T
 //! (`priority.rs`); a diamond's is the larger of its parents'. The thickness is eq. (1) of the
@@ -106,9 +107,11 @@ mod core;
 mod cull;
 mod deferral;
 mod draw;
+mod extras;
 mod merge;
 mod priority;
 mod queues;
+mod rebuild;
 mod split;
 mod strips;
 mod thickness;
@@ -117,6 +120,7 @@ mod validate;
 pub use deferral::MotionBound;
 pub use draw::BYTES_PER_CHANGE as UPLOAD_BYTES_PER_CHANGE;
 pub use queues::QueueKind;
+pub use rebuild::RoamRebuild;
 pub use thickness::ThicknessScope;
 pub use validate::{BintreeError, PriorityCheck};
 
@@ -129,6 +133,7 @@ use crate::sim::mesh::VertexSet;
 use crate::sim::stats::FrameStats;
 use crate::sim::view::Camera;
 use crate::sim::zone::SpeedBound;
+use extras::columns;
 use glam::DVec3;
 use priority::ViewFrame;
 use queues::QueueKey;
@@ -169,118 +174,6 @@ pub struct RoamConfig {
 impl RoamConfig {
     fn goal_is_target(&self) -> bool {
         matches!(self.goal, RoamGoal::TargetTriangles(_))
-    }
-}
-
-/// The extra columns of a run: the base ones, then those of the effects that are on.
-fn columns(config: &RoamConfig, incremental: bool) -> &'static [&'static str] {
-    use super::columns::roam::{
-        DEFERRED, FLAG_TESTS, FORCED_SPLITS, MERGE_QUEUE, OSCILLATION_GUARD_STOPS,
-        PRIORITY_RECOMPUTATIONS, REVALIDATIONS, SPLIT_QUEUE, TRIANGLES_PER_STRIP,
-    };
-    const BASE: &[&str] = &[
-        FORCED_SPLITS,
-        SPLIT_QUEUE,
-        MERGE_QUEUE,
-        PRIORITY_RECOMPUTATIONS,
-        OSCILLATION_GUARD_STOPS,
-    ];
-    const TABLE: [&[&str]; 8] = [
-        BASE,
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            MERGE_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            OSCILLATION_GUARD_STOPS,
-            DEFERRED,
-            REVALIDATIONS,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            MERGE_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            OSCILLATION_GUARD_STOPS,
-            FLAG_TESTS,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            MERGE_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            OSCILLATION_GUARD_STOPS,
-            DEFERRED,
-            REVALIDATIONS,
-            FLAG_TESTS,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            MERGE_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            OSCILLATION_GUARD_STOPS,
-            TRIANGLES_PER_STRIP,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            MERGE_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            OSCILLATION_GUARD_STOPS,
-            DEFERRED,
-            REVALIDATIONS,
-            TRIANGLES_PER_STRIP,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            MERGE_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            OSCILLATION_GUARD_STOPS,
-            FLAG_TESTS,
-            TRIANGLES_PER_STRIP,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            MERGE_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            OSCILLATION_GUARD_STOPS,
-            DEFERRED,
-            REVALIDATIONS,
-            FLAG_TESTS,
-            TRIANGLES_PER_STRIP,
-        ],
-    ];
-    const REBUILD: [&[&str]; 4] = [
-        &[FORCED_SPLITS, SPLIT_QUEUE, PRIORITY_RECOMPUTATIONS],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            FLAG_TESTS,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            TRIANGLES_PER_STRIP,
-        ],
-        &[
-            FORCED_SPLITS,
-            SPLIT_QUEUE,
-            PRIORITY_RECOMPUTATIONS,
-            FLAG_TESTS,
-            TRIANGLES_PER_STRIP,
-        ],
-    ];
-    let culling = usize::from(config.culling_flags);
-    let strips = usize::from(config.strips);
-    if incremental {
-        TABLE[usize::from(config.deferral) + 2 * culling + 4 * strips]
-    } else {
-        REBUILD[culling + 2 * strips]
     }
 }
 
@@ -505,121 +398,5 @@ impl Roam<'_> {
     }
 }
 
-/// `roam-rebuild`: split-only greedy refinement from the base mesh every frame. Per frame:
-/// O(splits) plus O(grid/64) for the inserted/deleted counts, plus O(1) per split for flags and
-/// strips when those are on.
-pub struct RoamRebuild<'h> {
-    core: Core<'h>,
-    previous_mesh: VertexSet,
-}
-
-impl<'h> RoamRebuild<'h> {
-    pub fn new(hierarchy: &'h Hierarchy, config: RoamConfig, speed: SpeedBound) -> RoamRebuild<'h> {
-        let config = RoamConfig {
-            deferral: false,
-            ..config
-        };
-        let motion = MotionBound {
-            metres_per_frame: speed.horizontal.hypot(speed.vertical),
-            radians_per_frame: None,
-        };
-        let placeholder = placeholder_camera();
-        let core = Core::new(hierarchy, config, motion, false, &placeholder);
-        let previous_mesh = core.bintree.mesh().clone();
-        RoamRebuild {
-            core,
-            previous_mesh,
-        }
-    }
-
-    /// The largest priority in the split queue (0 when empty).
-    pub fn max_split_priority(&self) -> f64 {
-        self.core.queues.top_split().map_or(0.0, |(_, k)| k.value)
-    }
-
-    /// The priority of the last triangle this frame's rebuild chose to split.
-    pub fn last_split_priority(&self) -> Option<f64> {
-        self.core.last_split.map(|k| k.value)
-    }
-}
-
-impl LodAlgorithm for RoamRebuild<'_> {
-    fn memory_bytes(&self) -> usize {
-        self.core.memory_bytes() + self.previous_mesh.memory_bytes()
-    }
-
-    fn name(&self) -> &'static str {
-        REBUILD_NAME
-    }
-
-    fn extra_columns(&self) -> &'static [&'static str] {
-        columns(&self.core.config, false)
-    }
-
-    fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
-        let core = &mut self.core;
-        core.frame = input.frame;
-        core.counters = FrameCounters::default();
-        core.last_split = None;
-        core.view = ViewFrame::new(input.camera);
-        self.previous_mesh.clone_from(core.bintree.mesh());
-        core.bintree.reset();
-        core.draw.reset(&core.bintree, core.hierarchy);
-        core.fill_root_geometry();
-        core.queues.clear();
-        core.update_flags();
-        core.flag_changes.clear();
-        for root in core.bintree.roots() {
-            if core.config.strips
-                && (!core.config.culling_flags || !core.bintree.get(root).flags.is_out())
-            {
-                strips::attach(&mut core.bintree, root);
-            }
-            core.queue_triangle(root);
-        }
-        core.adapt(true);
-
-        let counters = core.counters;
-        let mesh = core.bintree.mesh();
-        stats.triangles = core.bintree.n_leaves();
-        stats.splits = counters.splits;
-        stats.merges = 0;
-        stats.vertices_inserted = mesh
-            .iter()
-            .filter(|&id| !self.previous_mesh.contains(id))
-            .count() as u64;
-        stats.vertices_deleted = self
-            .previous_mesh
-            .iter()
-            .filter(|&id| !mesh.contains(id))
-            .count() as u64;
-        stats.metric_evaluations = counters.evaluations;
-        stats.extra = core.extras(columns(&core.config, false));
-    }
-
-    fn prepare_draw(&mut self) -> DrawCounts {
-        self.core.draw.prepare()
-    }
-
-    fn buffers(&self) -> &GpuBuffers {
-        self.core.draw.gpu()
-    }
-
-    fn mesh(&self) -> MeshOutput<'_> {
-        MeshOutput::lattice(self.core.bintree.mesh())
-    }
-
-    fn triangle_count(&self) -> u64 {
-        self.core.bintree.n_leaves()
-    }
-}
-
 #[cfg(test)]
 mod tests;
-
-impl RoamRebuild<'_> {
-    /// The current 4-8 mesh (what [`LodAlgorithm::mesh`] hands the runner).
-    pub fn vertex_set(&self) -> &VertexSet {
-        self.core.bintree.mesh()
-    }
-}

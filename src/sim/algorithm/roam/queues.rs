@@ -1,5 +1,5 @@
 //! ROAM's two priority queues (SPEC §6): leaf triangles to split, mergeable diamonds to merge,
-//! and the total order both kinds share. What enters them and when is the core's (`core.rs`).
+//! and the total order both kinds share. What enters them and when is the core's (`core/`).
 //!
 //! Priorities need a total order that does not depend on how the slot map happened to allocate
 //! keys, so a [`QueueKey`] is the priority value (by `f64::total_cmp`) followed by a tie key

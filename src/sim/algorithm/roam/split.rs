@@ -1,5 +1,6 @@
 //! Splitting a leaf triangle, with ROAM's recursive forced split of a coarser base neighbour
-//! (ROAM'97; SPEC §6). Topology only: which triangle to split is the split queue's (`core.rs`).
+//! (ROAM'97; SPEC §6). Topology only: which triangle to split is the split queue's
+//! (`core/adapt.rs`).
 //!
 //! A triangle splits together with its base neighbour when that neighbour is at the same level
 //! (the two form a diamond); when the neighbour is one level coarser it is split first
