@@ -110,7 +110,7 @@ pub(super) fn chunk_vertices<S: ChunkSource>(
 /// buffer ([`chunk_vertices`]): two per cell, split along the south-west–north-east diagonal,
 /// then two per border edge for the skirt. Every chunk has this topology, so one index buffer
 /// serves them all.
-pub(super) fn for_each_chunk_triangle(cells: u32, mut visit: impl FnMut([u32; 3], TriangleRole)) {
+pub(super) fn for_each_chunk_triangle(cells: u32, mut visit: impl FnMut([u32; 3])) {
     let side = cells + 1;
     let at = |a: u32, b: u32| b * side + a;
     for b in 0..cells {
@@ -118,7 +118,7 @@ pub(super) fn for_each_chunk_triangle(cells: u32, mut visit: impl FnMut([u32; 3]
             let (sw, se) = (at(a, b), at(a + 1, b));
             let (nw, ne) = (at(a, b + 1), at(a + 1, b + 1));
             for corners in cell_triangles(sw, se, nw, ne) {
-                visit(corners, TriangleRole::Surface);
+                visit(corners);
             }
         }
     }
@@ -130,15 +130,15 @@ pub(super) fn for_each_chunk_triangle(cells: u32, mut visit: impl FnMut([u32; 3]
     let bottom = |k: u32| side * side + k;
     for k in 0..n_ring {
         let next = (k + 1) % n_ring;
-        visit([top(k), top(next), bottom(next)], TriangleRole::Skirt);
-        visit([top(k), bottom(next), bottom(k)], TriangleRole::Skirt);
+        visit([top(k), top(next), bottom(next)]);
+        visit([top(k), bottom(next), bottom(k)]);
     }
 }
 
 /// The index buffer every chunk of `cells` cells is drawn with (a triangle list).
 pub(super) fn chunk_indices(cells: u32) -> Vec<u32> {
     let mut indices = Vec::with_capacity(3 * triangles_per_chunk(cells) as usize);
-    for_each_chunk_triangle(cells, |corners, _| indices.extend(corners));
+    for_each_chunk_triangle(cells, |corners| indices.extend(corners));
     indices
 }
 
