@@ -18,19 +18,19 @@
 //!   triangles, the same for every patch of a level. Every three consecutive indices are a
 //!   triangle (every other one reversed, as a GPU reads a strip); those with a repeated index
 //!   are the strip's joins (role degenerate).
-//! - **Cracks** (§3, crack policy `collapsed`): where a side's neighbour is at a coarser level
-//!   k′ < k, the side's vertices that the neighbour lacks are moved (in the vertex buffer, the
-//!   index buffer unchanged) onto one the neighbour has; the triangles this flattens are
+//! - **Cracks** (§3, crack policy `collapsed`, `mesh.rs`): where a side's neighbour is at a coarser
+//!   level k′ < k, the side's vertices that the neighbour lacks are moved (in the vertex buffer,
+//!   the index buffer unchanged) onto one the neighbour has; the triangles this flattens are
 //!   degenerate too, and the rest of the patch meets the neighbour edge for edge.
-//! - **GPU side** (issue #31, §2–3): the paper keeps "one index buffer for all patches of the
-//!   same level" (the strip, built once per level on first use) and per patch a vertex buffer
-//!   holding its level's vertices, border ones already moved onto the coarser neighbour's, so a
-//!   patch's vertex buffer is rewritten only when its level or a neighbour's collapsing level
-//!   changes (its shape: k and the four side levels, a culled neighbour's side at k), never
-//!   otherwise; a culled patch keeps its buffer. One strip draw per drawn patch. The index buffer starts with its first index
-//!   repeated, which makes a GPU read the paper's strip with the parity roamsim draws it with
-//!   (counter-clockwise; see Winding below): one more degenerate triangle per draw, counted in
-//!   `triangles_submitted`, not in the mesh.
+//! - **GPU side** (issue #31, §2–3, `buffers.rs`): the paper keeps "one index buffer for all
+//!   patches of the same level" (the strip, built once per level on first use) and per patch a
+//!   vertex buffer holding its level's vertices, border ones already moved onto the coarser
+//!   neighbour's, so a patch's vertex buffer is rewritten only when its level or a neighbour's
+//!   collapsing level changes (its shape: k and the four side levels, a culled neighbour's side at
+//!   k), never otherwise; a culled patch keeps its buffer. One strip draw per drawn patch. The
+//!   index buffer starts with its first index repeated, which makes a GPU read the paper's strip
+//!   with the parity roamsim draws it with (counter-clockwise; see Winding below): one more
+//!   degenerate triangle per draw, counted in `triangles_submitted`, not in the mesh.
 //! - **Box culling** (§3), an effect (`box_culling`): a patch whose box (square × its samples'
 //!   height range) lies entirely outside the view volume is not drawn and is declared to the
 //!   mesh as a culled region. The paper projects each patch's box to the screen and tests it
@@ -95,6 +95,8 @@
 //! level. Per frame: O(patches in view + quadtree nodes visited + drawn indices) with culling,
 //! O(patches + drawn indices) without.
 
+mod buffers;
+mod mesh;
 mod select;
 pub mod strip;
 mod validate;
@@ -107,30 +109,16 @@ use super::block_lod::quadtree::PatchQuadtree;
 use super::block_lod::threshold::BlockBox;
 use super::columns::vanek as columns;
 use super::{FrameInput, LodAlgorithm};
-use crate::sim::draw::{
-    BufferId, DrawCall, DrawCounts, DrawVertex, GpuBuffers, Topology, VERTEX_BYTES,
-};
+use crate::sim::draw::{BufferId, DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::{GridPoint, Hierarchy};
-use crate::sim::mesh::{
-    CrackPolicy, MeshOutput, SubgridPoint, TriangleInfo, TriangleList, TriangleRole,
-};
+use crate::sim::mesh::{CrackPolicy, MeshOutput, TriangleList, TriangleRole};
 use crate::sim::stats::FrameStats;
 use crate::sim::view::Camera;
 use glam::DVec3;
 
 pub(super) const NAME: &str = "vanek";
 
-const EXTRA_COLUMNS: &[&str] = &[
-    columns::STRIP_INDICES,
-    columns::DEGENERATE_TRIANGLES,
-    columns::COLLAPSED_TRIANGLES,
-    columns::PATCHES_CULLED,
-    columns::PATCH_LOD_MEAN,
-    columns::DISTANCE_MULTIPLIER,
-    columns::TARGET_UNREACHABLE,
-];
-
-/// With box culling, also the quadtree nodes visited.
+/// The extra columns; with box culling, also the last one, the quadtree nodes visited.
 const CULLING_COLUMNS: &[&str] = &[
     columns::STRIP_INDICES,
     columns::DEGENERATE_TRIANGLES,
@@ -141,6 +129,7 @@ const CULLING_COLUMNS: &[&str] = &[
     columns::TARGET_UNREACHABLE,
     columns::QUADTREE_NODES_VISITED,
 ];
+const EXTRA_COLUMNS: &[&str] = CULLING_COLUMNS.split_at(CULLING_COLUMNS.len() - 1).0;
 
 // Sides of a patch, in the order of the per-side arrays.
 const WEST: usize = 0;
@@ -164,11 +153,6 @@ pub struct VanekConfig {
 
 /// What a drawn patch drew: its level and the level each side is collapsed to.
 type Shape = [u32; 5];
-
-/// The vertices a patch at level k holds, (2^k + 1)².
-fn patch_vertex_count(k: u32) -> u64 {
-    ((1u64 << k) + 1).pow(2)
-}
 
 /// The Vaněk–Ježek patches. Per frame: O(patches in view + quadtree nodes visited + drawn
 /// indices) with box culling, O(patches + drawn indices) without; buffers reused.
@@ -359,18 +343,6 @@ impl<'h> Vanek<'h> {
         }
     }
 
-    /// The level each side of `patch` is drawn at: the coarser of the patch's and its drawn
-    /// neighbour's (the patch's own on the domain's border and beside a culled patch, which
-    /// draws nothing to meet).
-    fn side_lods(&self, patch: usize) -> [u32; 4] {
-        let own = self.lods[patch];
-        [WEST, EAST, SOUTH, NORTH].map(|side| {
-            self.neighbour(patch, side)
-                .filter(|&q| self.is_drawn(q))
-                .map_or(own, |q| own.min(self.lods[q]))
-        })
-    }
-
     /// Chooses the level of every patch not culled with distances multiplied by `multiplier`;
     /// returns the triangles they draw.
     fn choose_lods(&mut self, multiplier: f64) -> u64 {
@@ -394,131 +366,6 @@ impl<'h> Vanek<'h> {
         }
     }
 
-    /// Adds patch `patch` to the list: its level's vertices, collapsed towards coarser sides,
-    /// and its strip's triangles. Returns its shape.
-    fn add_patch(&mut self, patch: usize) -> Shape {
-        let k = self.lods[patch];
-        let sides = self.side_lods(patch);
-        let m = (1u32 << k) + 1;
-        let stride = 1u32 << (self.patch_level - k);
-        let (x0, y0) = self.origin(patch);
-        let steps = sides.map(|side| 1u32 << (k - side));
-        self.moved.clear();
-        let base = self.list.vertices().len() as u32;
-        for r in 0..m {
-            for c in 0..m {
-                let (mut cc, mut rr) = (c, r);
-                // South and west: back to the vertex at or before; north and east: on to the
-                // one at or after (see the module docs).
-                if r == 0 {
-                    cc -= cc % steps[SOUTH];
-                } else if r == m - 1 {
-                    cc += (steps[NORTH] - cc % steps[NORTH]) % steps[NORTH];
-                }
-                if c == 0 {
-                    rr -= rr % steps[WEST];
-                } else if c == m - 1 {
-                    rr += (steps[EAST] - rr % steps[EAST]) % steps[EAST];
-                }
-                let (i, j) = (x0 + cc * stride, y0 + rr * stride);
-                let z = self.hierarchy.height(GridPoint::new(i, j));
-                self.list.add_vertex(SubgridPoint::grid(i, j), z);
-                self.moved.push((cc, rr));
-            }
-        }
-        let shape = [k, sides[0], sides[1], sides[2], sides[3]];
-        self.drawn.push((patch, base, shape));
-        let mut indices = std::mem::take(&mut self.strip);
-        strip::degenerate_strip_into(m, m, &mut indices);
-        self.strip_indices += indices.len() as u64;
-        for (t, w) in indices.windows(3).enumerate() {
-            let [a, b, c] = strip::strip_triangle(t, [w[0], w[1], w[2]]);
-            let role = if a == b || b == c || a == c {
-                TriangleRole::Degenerate
-            } else if area2(
-                self.moved[a as usize],
-                self.moved[b as usize],
-                self.moved[c as usize],
-            ) == 0
-            {
-                self.collapsed += 1;
-                TriangleRole::Degenerate
-            } else {
-                TriangleRole::Surface
-            };
-            self.list.add_triangle(
-                [base + a, base + b, base + c],
-                TriangleInfo {
-                    role,
-                    group: patch as u32,
-                    level: k,
-                },
-            );
-        }
-        self.strip = indices;
-        shape
-    }
-
-    /// Draws every patch at the given levels (the paper's k, row by row; clamped to n), without
-    /// culling: for exhaustive tests of the collapsing, which no eye position could reach.
-    /// The next [`LodAlgorithm::update`] chooses the levels again.
-    pub fn draw_with_lods(&mut self, lods: &[u32]) {
-        assert_eq!(lods.len(), self.lods.len(), "one level per patch");
-        for (mine, &k) in self.lods.iter_mut().zip(lods) {
-            *mine = k.min(self.patch_level);
-        }
-        self.visible.clear();
-        self.visible.extend(0..self.lods.len() as u32);
-        self.culled_squares.clear();
-        self.begin_frame();
-        self.draw();
-    }
-
-    /// Builds the list from this frame's levels and culling; returns the counters that
-    /// compare it with the last frame drawn: patches drawn finer, coarser, vertices of the
-    /// patches whose shape changed (the new and the old).
-    fn draw(&mut self) -> [u64; 4] {
-        self.list.clear();
-        self.drawn.clear();
-        self.strip_indices = 0;
-        self.collapsed = 0;
-        for &((x0, y0), cells) in &self.culled_squares {
-            self.list.add_culled_region(
-                SubgridPoint::grid(x0, y0),
-                SubgridPoint::grid(x0 + cells, y0 + cells),
-            );
-        }
-        let (mut finer, mut coarser, mut inserted, mut deleted) = (0, 0, 0, 0);
-        let frame = self.frame;
-        for index in 0..self.visible.len() {
-            let patch = self.visible[index] as usize;
-            let now = self.add_patch(patch);
-            let before = self.states[patch]
-                .filter(|&(drawn_in, _)| drawn_in + 1 == frame)
-                .map(|(_, shape)| shape);
-            match before {
-                None => inserted += patch_vertex_count(now[0]),
-                Some(before) if before != now => {
-                    inserted += patch_vertex_count(now[0]);
-                    deleted += patch_vertex_count(before[0]);
-                    finer += u64::from(now[0] > before[0]);
-                    coarser += u64::from(now[0] < before[0]);
-                }
-                Some(_) => {}
-            }
-            self.states[patch] = Some((frame, now));
-        }
-        for &patch in &self.previous_drawn {
-            if !self.is_drawn(patch as usize)
-                && let Some((_, shape)) = self.states[patch as usize]
-            {
-                deleted += patch_vertex_count(shape[0]);
-            }
-        }
-        self.previous_drawn.clone_from(&self.visible);
-        [finer, coarser, inserted, deleted]
-    }
-
     /// Checks the triangle list against this frame's levels (counts, collapsed borders lining
     /// up; see `validate.rs`), not the levels themselves.
     pub fn validate_mesh(&self) -> Result<(), VanekError> {
@@ -530,14 +377,6 @@ impl<'h> Vanek<'h> {
     pub fn validate(&self, camera: &Camera) -> Result<(), VanekError> {
         validate::validate(self, camera)
     }
-}
-
-/// Twice the signed area of the triangle over three (column, row) positions.
-fn area2(a: (u32, u32), b: (u32, u32), c: (u32, u32)) -> i64 {
-    let (ax, ay) = (i64::from(a.0), i64::from(a.1));
-    let (bx, by) = (i64::from(b.0) - ax, i64::from(b.1) - ay);
-    let (cx, cy) = (i64::from(c.0) - ax, i64::from(c.1) - ay);
-    bx * cy - by * cx
 }
 
 impl LodAlgorithm for Vanek<'_> {
@@ -610,51 +449,7 @@ impl LodAlgorithm for Vanek<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.gpu.clear_draws();
-        self.patches_rewritten = 0;
-        for &(patch, base, shape) in &self.drawn {
-            let k = shape[0];
-            let m = (1u32 << k) + 1;
-            let (indices, index_count) = *self.level_strips[k as usize].get_or_insert_with(|| {
-                // The paper's strip, after one repeated first index: a GPU then reads it with
-                // the parity roamsim draws it with (counter-clockwise, `strip.rs`), at the cost
-                // of one more degenerate triangle per draw.
-                let mut indices = strip::degenerate_strip(m, m);
-                indices.insert(0, indices[0]);
-                let count = indices.len() as u32;
-                (self.gpu.create_indices(indices), count)
-            });
-            let patch_vertices = &self.list.vertices()[base as usize..(base + m * m) as usize];
-            let vertices = match self.patch_vertices[patch] {
-                Some((buffer, held)) if held == shape => buffer,
-                Some((buffer, _)) => {
-                    self.gpu.replace_vertices(buffer, |out| {
-                        out.extend(patch_vertices.iter().map(|&v| DrawVertex::of(v)));
-                    });
-                    self.patch_vertices[patch] = Some((buffer, shape));
-                    self.patches_rewritten += 1;
-                    buffer
-                }
-                None => {
-                    let buffer = self.gpu.create_vertices(
-                        patch_vertices.iter().map(|&v| DrawVertex::of(v)).collect(),
-                        VERTEX_BYTES,
-                    );
-                    self.patch_vertices[patch] = Some((buffer, shape));
-                    self.patches_rewritten += 1;
-                    buffer
-                }
-            };
-            self.gpu.draw(DrawCall {
-                vertices,
-                indices,
-                first_index: 0,
-                index_count,
-                topology: Topology::TriangleStrip,
-                blend: 0.0,
-            });
-        }
-        self.gpu.end_frame()
+        self.write_buffers()
     }
 
     fn buffers(&self) -> &GpuBuffers {
