@@ -79,7 +79,7 @@ pub(super) fn read(
     Ok((grid, spacing, note))
 }
 
-/// A raster's size and place for a mosaic (`mosaic.rs`), from GDAL's GeoTransform and spatial
+/// A raster's size and place for a mosaic (`mosaic/`), from GDAL's GeoTransform and spatial
 /// reference; no sample is read.
 pub(super) fn georeferenced_tile(path: &Path) -> Result<GeoreferencedTile, TerrainReadError> {
     let dataset = open(path)?;

@@ -126,7 +126,7 @@ pub(super) fn read(
 }
 
 /// Where a GeoTIFF lies, from its tags alone (its samples are not decoded): what a mosaic
-/// (`mosaic.rs`) places it by.
+/// (`mosaic/`) places it by.
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct TiffPlacement {
     pub(super) columns: usize,

@@ -7,7 +7,7 @@
 //! 1″ posts). −32768 marks a void. The spacing is derived from the tile name (`N48E009.hgt`)
 //! when it parses as one; the reader does not look at neighbouring tiles, and it does not drop
 //! the row and column every tile shares with its neighbours. Placing tiles by their names and
-//! joining them on those shared edges is the mosaic's (`mosaic.rs`), which uses this module's
+//! joining them on those shared edges is the mosaic's (`mosaic/`), which uses this module's
 //! tile names, sizes and spacing.
 
 use super::{
@@ -103,7 +103,7 @@ impl SrtmTileKind {
         self.spacing_at(f64::from(south_latitude_degrees) + 0.5)
     }
 
-    /// Spacing in metres at a given latitude (a mosaic's centre: `mosaic.rs`).
+    /// Spacing in metres at a given latitude (a mosaic's centre: `mosaic/srtm.rs`).
     fn spacing_at(self, centre_latitude_degrees: f64) -> Spacing {
         let dy = self.post_spacing_arc_seconds() * METRES_PER_DEGREE_LATITUDE / 3600.0;
         let dx = dy * centre_latitude_degrees.to_radians().cos();

@@ -14,7 +14,7 @@
 //! the file and with no `.prj`, the entry point of the fuzz targets and the parser property
 //! tests. The path then only names the file in errors (and gives an `.hgt` tile its name).
 //!
-//! **Many files as one terrain** (`mosaic.rs`): SRTM tiles placed by their names, GeoTIFF tiles
+//! **Many files as one terrain** (`mosaic/`): SRTM tiles placed by their names, GeoTIFF tiles
 //! by their georeference, or the sources of a GDAL VRT (`vrt.rs`, parsed by
 //! [`parse_vrt_bytes`], the VRT's fuzz and property entry point) by its windows, laid out from
 //! the files' headers first ([`lay_out_mosaic`]: gaps, mixed resolutions and missing tiles are

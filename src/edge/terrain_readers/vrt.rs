@@ -1,6 +1,6 @@
 //! The GDAL VRT parser: the XML of a virtual mosaic (`gdalbuildvrt`'s output and what people
 //! write by hand in its common subset) into a [`VrtMosaic`], a description of which window of
-//! which file goes where. It reads no source file and no height: the mosaic (`mosaic.rs`) lays
+//! which file goes where. It reads no source file and no height: the mosaic (`mosaic/`) lays
 //! the sources out and reads them. The options and errors a user meets:
 //! `docs/experiment-format.md`, "Mosaics".
 //!
