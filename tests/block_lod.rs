@@ -8,7 +8,8 @@
 mod common;
 
 use common::algorithms::{chunked, chunked_with_everything, geomipmap};
-use common::{bumpy_terrain, checked_step, view_600};
+use common::scenes::{extended_terrain, short_sighted_camera};
+use common::{bumpy_terrain, checked_step, fly_checked, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::chunked::{ChunkId, chunks_from_scratch};
 use roamsim::sim::algorithm::columns::chunked::{
@@ -27,7 +28,7 @@ use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::{CrackPolicy, MeshOutput, TriangleList, TriangleRole};
 use roamsim::sim::stats::{FrameStats, SurfaceCoverage};
 use roamsim::sim::terrain::{Heightfield, Spacing};
-use roamsim::sim::view::{Camera, Pose, ViewSettings};
+use roamsim::sim::view::{Camera, Pose};
 
 /// Eyes over a terrain of side `side` with 10 m posts: above every sample, at 4 m and 70 m
 /// over the highest ground, looking along +x and 25° down.
@@ -285,32 +286,31 @@ fn without_skirts_the_audit_finds_the_cracks_the_skirts_cover() {
         };
         let mut algorithm = Chunked::new(&hierarchy, config, &view_600());
         let (mut cracks, mut open_with, mut open_without) = (0, 0, 0);
-        for (frame, camera) in low_flight().iter().enumerate() {
-            checked_step(
-                &hierarchy,
-                &mut algorithm,
-                frame as u64,
-                camera,
-                false,
-                "skirts",
-            );
-            let Some(list) = (match algorithm.mesh() {
-                MeshOutput::Triangles(list) => Some(list),
-                MeshOutput::Lattice(_) => None,
-            }) else {
-                panic!("chunked draws a triangle list");
-            };
-            let with = audit(&hierarchy, algorithm.mesh(), camera);
-            let bare = without_skirts(list, &hierarchy);
-            let without = audit(&hierarchy, MeshOutput::triangles(&bare), camera);
-            // The surface is the same: the same cracks; only what covers them differs.
-            assert_eq!(with.crack_samples, without.crack_samples);
-            assert_eq!(without.cracks_uncovered, without.crack_samples);
-            assert_eq!(without.crack_uncovered_max_m, without.crack_gap_max_m);
-            cracks += with.crack_samples;
-            open_with += with.cracks_uncovered;
-            open_without += without.cracks_uncovered;
-        }
+        let cameras = low_flight();
+        fly_checked(
+            &hierarchy,
+            &mut algorithm,
+            &cameras,
+            "skirts",
+            |_, camera, _, algorithm| {
+                let Some(list) = (match algorithm.mesh() {
+                    MeshOutput::Triangles(list) => Some(list),
+                    MeshOutput::Lattice(_) => None,
+                }) else {
+                    panic!("chunked draws a triangle list");
+                };
+                let with = audit(&hierarchy, algorithm.mesh(), camera);
+                let bare = without_skirts(list, &hierarchy);
+                let without = audit(&hierarchy, MeshOutput::triangles(&bare), camera);
+                // The surface is the same: the same cracks; only what covers them differs.
+                assert_eq!(with.crack_samples, without.crack_samples);
+                assert_eq!(without.cracks_uncovered, without.crack_samples);
+                assert_eq!(without.crack_uncovered_max_m, without.crack_gap_max_m);
+                cracks += with.crack_samples;
+                open_with += with.cracks_uncovered;
+                open_without += without.cracks_uncovered;
+            },
+        );
         assert!(
             cracks > 100,
             "{skirts:?}: the flight should tear borders ({cracks})"
@@ -438,22 +438,16 @@ fn fly_chunked(
     cameras: &[Camera],
 ) -> Vec<FrameStats> {
     let mut algorithm = Chunked::new(hierarchy, config, &view_600());
-    cameras
-        .iter()
-        .enumerate()
-        .map(|(frame, camera)| {
-            let stats = checked_step(
-                hierarchy,
-                &mut algorithm,
-                frame as u64,
-                camera,
-                false,
-                "fly",
-            );
+    fly_checked(
+        hierarchy,
+        &mut algorithm,
+        cameras,
+        "fly",
+        |_, camera, stats, algorithm| {
             algorithm.validate_frame(camera).unwrap();
             stats
-        })
-        .collect()
+        },
+    )
 }
 
 #[test]
@@ -489,21 +483,19 @@ fn culling_drops_chunks_outside_the_view_and_leaves_no_hole_in_it() {
         },
         &view_600(),
     );
-    for (frame, camera) in cameras.iter().enumerate() {
-        checked_step(
-            &hierarchy,
-            &mut algorithm,
-            frame as u64,
-            camera,
-            false,
-            "holes",
-        );
-        assert_eq!(
-            audit(&hierarchy, algorithm.mesh(), camera).holes,
-            0,
-            "frame {frame}"
-        );
-    }
+    fly_checked(
+        &hierarchy,
+        &mut algorithm,
+        &cameras,
+        "holes",
+        |frame, camera, _, algorithm| {
+            assert_eq!(
+                audit(&hierarchy, algorithm.mesh(), camera).holes,
+                0,
+                "frame {frame}"
+            );
+        },
+    );
 }
 
 #[test]
@@ -787,29 +779,8 @@ fn geomipmap_buffers_are_the_mesh_and_only_a_level_or_morph_change_writes_a_vert
 fn geomipmap_with_box_culling_visits_the_patches_in_view_not_the_terrain() {
     // The same view over a terrain 16 times larger: the quadtree visits a few more nodes (its
     // depth), the level tests stay those of the patches in view.
-    let terrain = |level: u32| {
-        let side = (1usize << level) + 1;
-        let heights = (0..side * side)
-            .map(|k| {
-                let (i, j) = (k % side, k / side);
-                20.0 * (0.9 * i as f32).sin() * (0.7 * j as f32).cos()
-                    + ((i * 7919 + j * 104_729) % 97) as f32 * 0.3
-            })
-            .collect();
-        Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 10.0, dy: 10.0 }).unwrap())
-    };
-    let (small, large) = (terrain(7), terrain(9));
-    let camera = Camera::new(
-        &Pose {
-            position: DVec3::new(300.0, 300.0, 80.0),
-            yaw: 0.6,
-            pitch: -0.3,
-        },
-        ViewSettings {
-            far: 600.0,
-            ..view_600()
-        },
-    );
+    let (small, large) = (extended_terrain(7), extended_terrain(9));
+    let camera = short_sighted_camera();
     let run = |hierarchy: &Hierarchy| {
         let config = GeomipmapConfig {
             box_culling: true,

@@ -7,15 +7,15 @@
 mod common;
 
 use common::algorithms::{chunked, chunked_with_everything};
-use common::{bumpy_terrain, checked_step, extra, view_600};
-use glam::DVec3;
+use common::scenes::{DiagonalFlight, diagonal_flight};
+use common::{bumpy_terrain, checked_step, extra, fly_checked, view_600};
 use roamsim::sim::algorithm::chunked::{ChunkId, DetailConfig, LoadingConfig};
 use roamsim::sim::algorithm::columns::chunked::{
     CHUNKS_COARSER, CHUNKS_LOADED, DETAIL_SYNTHESISED, REQUESTS_IN_FLIGHT, RESIDENT_CHUNKS,
 };
 use roamsim::sim::algorithm::{Chunked, ChunkedConfig};
-use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
-use roamsim::sim::view::{Camera, Pose};
+use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::view::Camera;
 use std::collections::HashMap;
 
 fn loading(latency_frames: u32, bandwidth: u32, resident_chunks: u32) -> LoadingConfig {
@@ -28,24 +28,15 @@ fn loading(latency_frames: u32, bandwidth: u32, resident_chunks: u32) -> Loading
 
 /// A flight 8 m above the ground along the terrain's diagonal, looking ahead and down.
 fn low_flight(hierarchy: &Hierarchy, frames: u32) -> Vec<Camera> {
-    let field = hierarchy.field();
-    let last = field.side() as u32 - 1;
-    (0..frames)
-        .map(|k| {
-            let t = 0.05 + 0.9 * f64::from(k) / f64::from(frames);
-            let i = (t * f64::from(last)).round() as u32;
-            let ground = f64::from(hierarchy.height(GridPoint::new(i, i)));
-            let position = field.position(i as usize, i as usize);
-            Camera::new(
-                &Pose {
-                    position: DVec3::new(position.x, position.y, ground + 8.0),
-                    yaw: std::f64::consts::FRAC_PI_4,
-                    pitch: -0.3,
-                },
-                view_600(),
-            )
-        })
-        .collect()
+    let flight = DiagonalFlight {
+        frames,
+        above_ground_m: 8.0,
+        start: 0.05,
+        span: 0.9,
+        pitch: -0.3,
+        yaw_swing: 0.0,
+    };
+    diagonal_flight(hierarchy, flight)
 }
 
 /// Flies `config`, every frame checked, asserting that every chunk's first appearance comes at
@@ -156,17 +147,15 @@ fn no_chunk_is_drawn_before_its_latency_and_bandwidth_and_memory_hold_every_fram
         }
         // Without the effect every source chunk is there: nothing is drawn coarser.
         let mut algorithm = Chunked::new(&hierarchy, base, &view_600());
-        for (frame, camera) in cameras.iter().enumerate() {
-            checked_step(
-                &hierarchy,
-                &mut algorithm,
-                frame as u64,
-                camera,
-                false,
-                name,
-            );
-            assert!(algorithm.requested().is_empty(), "{name}, frame {frame}");
-        }
+        fly_checked(
+            &hierarchy,
+            &mut algorithm,
+            &cameras,
+            name,
+            |frame, _, _, algorithm| {
+                assert!(algorithm.requested().is_empty(), "{name}, frame {frame}");
+            },
+        );
     }
 }
 

@@ -9,7 +9,8 @@
 mod common;
 
 use common::algorithms::{chunked, chunked_with_everything};
-use common::{bumpy_terrain, checked_step, extra, view_600};
+use common::scenes::{DiagonalFlight, diagonal_flight};
+use common::{bumpy_terrain, extra, fly_checked, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::chunked::detail::DetailField;
 use roamsim::sim::algorithm::chunked::{ChunkId, DetailConfig};
@@ -20,7 +21,7 @@ use roamsim::sim::algorithm::columns::chunked::{
 use roamsim::sim::algorithm::{AlgorithmConfig, Chunked, ChunkedConfig};
 use roamsim::sim::audit::AuditSettings;
 use roamsim::sim::flight::Flight;
-use roamsim::sim::hierarchy::{GridPoint, Hierarchy};
+use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::run::{Effects, RunInputs, run_algorithm};
 use roamsim::sim::view::ViewSettings;
 use roamsim::sim::view::{Camera, Pose};
@@ -39,26 +40,18 @@ fn detail(levels: u32, max_queued_chunks: u32, cache_chunks: u32) -> DetailConfi
     }
 }
 
-/// A flight 5 m above the ground along the terrain's diagonal, looking ahead and down.
+/// A flight 5 m above the ground along the terrain's diagonal, looking ahead and down, its yaw
+/// swinging.
 fn low_flight(hierarchy: &Hierarchy, frames: u32) -> Vec<Camera> {
-    let field = hierarchy.field();
-    let last = field.side() as u32 - 1;
-    (0..frames)
-        .map(|k| {
-            let t = 0.1 + 0.8 * f64::from(k) / f64::from(frames);
-            let i = (t * f64::from(last)).round() as u32;
-            let ground = f64::from(hierarchy.height(GridPoint::new(i, i)));
-            let position = field.position(i as usize, i as usize);
-            Camera::new(
-                &Pose {
-                    position: DVec3::new(position.x, position.y, ground + 5.0),
-                    yaw: std::f64::consts::FRAC_PI_4 + 0.3 * (f64::from(k) * 0.2).sin(),
-                    pitch: -0.35,
-                },
-                view_600(),
-            )
-        })
-        .collect()
+    let flight = DiagonalFlight {
+        frames,
+        above_ground_m: 5.0,
+        start: 0.1,
+        span: 0.8,
+        pitch: -0.35,
+        yaw_swing: 0.3,
+    };
+    diagonal_flight(hierarchy, flight)
 }
 
 /// What one frame left: the detail columns and a hash of every cached chunk (ids and height
@@ -89,22 +82,16 @@ fn cache_hash(algorithm: &Chunked) -> u64 {
 fn fly(hierarchy: &Hierarchy, config: ChunkedConfig, cameras: &[Camera]) -> Vec<DetailFrame> {
     let mut algorithm = Chunked::new(hierarchy, config, &view_600());
     algorithm.validate_tree().unwrap();
-    cameras
-        .iter()
-        .enumerate()
-        .map(|(frame, camera)| {
-            let stats = checked_step(
-                hierarchy,
-                &mut algorithm,
-                frame as u64,
-                camera,
-                false,
-                "detail",
-            );
+    fly_checked(
+        hierarchy,
+        &mut algorithm,
+        cameras,
+        "detail",
+        |frame, camera, stats, algorithm| {
             algorithm
                 .validate_frame(camera)
                 .unwrap_or_else(|e| panic!("frame {frame}: {e}"));
-            let column = |name| extra(&algorithm, &stats, name);
+            let column = |name| extra(algorithm, &stats, name);
             DetailFrame {
                 synthesised: column(DETAIL_SYNTHESISED),
                 evicted: column(DETAIL_EVICTED),
@@ -112,10 +99,10 @@ fn fly(hierarchy: &Hierarchy, config: ChunkedConfig, cameras: &[Camera]) -> Vec<
                 refused: column(DETAIL_REFUSED),
                 coarser: column(CHUNKS_COARSER),
                 deepest_drawn: column(DETAIL_DEEPEST_DRAWN),
-                cache_hash: cache_hash(&algorithm),
+                cache_hash: cache_hash(algorithm),
             }
-        })
-        .collect()
+        },
+    )
 }
 
 #[test]
@@ -177,16 +164,13 @@ fn the_synthesised_chunks_are_the_synthesised_surface_of_the_whole_terrain() {
         ..chunked(1.0, 3)
     };
     let mut algorithm = Chunked::new(&hierarchy, config, &view_600());
-    for (frame, camera) in cameras.iter().enumerate() {
-        checked_step(
-            &hierarchy,
-            &mut algorithm,
-            frame as u64,
-            camera,
-            false,
-            "detail",
-        );
-    }
+    fly_checked(
+        &hierarchy,
+        &mut algorithm,
+        &cameras,
+        "detail",
+        |_, _, _, _| (),
+    );
     let fields = [1, 2].map(|depth| DetailField::new(&hierarchy, &detail(2, 16, 400), depth));
     let chunks = algorithm.synthesised_chunks();
     assert!(chunks.len() >= 16, "{}", chunks.len());
@@ -318,35 +302,33 @@ fn every_box_encloses_its_synthesised_childrens_so_culling_opens_no_hole() {
     };
     let mut algorithm = Chunked::new(&hierarchy, config, &view_600());
     let mut checked = 0;
-    for (frame, camera) in cameras.iter().enumerate() {
-        checked_step(
-            &hierarchy,
-            &mut algorithm,
-            frame as u64,
-            camera,
-            false,
-            "boxes",
-        );
-        for (id, _) in algorithm.synthesised_chunks() {
-            let inner = *algorithm.chunk(id).expect("a held chunk is available");
-            let mut child = id;
-            while let Some(parent) = child.parent() {
-                let outer = algorithm
-                    .chunk(parent)
-                    .expect("an ancestor of a held chunk");
-                assert!(
-                    outer.z_min <= inner.z_min && outer.z_max >= inner.z_max,
-                    "frame {frame}: {parent:?}'s box {}..{} does not enclose {id:?}'s {}..{}",
-                    outer.z_min,
-                    outer.z_max,
-                    inner.z_min,
-                    inner.z_max
-                );
-                child = parent;
-                checked += 1;
+    fly_checked(
+        &hierarchy,
+        &mut algorithm,
+        &cameras,
+        "boxes",
+        |frame, _, _, algorithm| {
+            for (id, _) in algorithm.synthesised_chunks() {
+                let inner = *algorithm.chunk(id).expect("a held chunk is available");
+                let mut child = id;
+                while let Some(parent) = child.parent() {
+                    let outer = algorithm
+                        .chunk(parent)
+                        .expect("an ancestor of a held chunk");
+                    assert!(
+                        outer.z_min <= inner.z_min && outer.z_max >= inner.z_max,
+                        "frame {frame}: {parent:?}'s box {}..{} does not enclose {id:?}'s {}..{}",
+                        outer.z_min,
+                        outer.z_max,
+                        inner.z_min,
+                        inner.z_max
+                    );
+                    child = parent;
+                    checked += 1;
+                }
             }
-        }
-    }
+        },
+    );
     assert!(checked > 100, "{checked}");
 }
 

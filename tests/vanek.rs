@@ -8,6 +8,7 @@
 mod common;
 
 use common::algorithms::vanek;
+use common::scenes::{extended_terrain, short_sighted_camera};
 use common::{bumpy_terrain, checked_step, extra, view_600};
 use glam::DVec3;
 use roamsim::sim::algorithm::columns::vanek::{
@@ -23,7 +24,6 @@ use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::mesh::TriangleRole;
 use roamsim::sim::mesh::check::MeshChecker;
 use roamsim::sim::stats::FrameStats;
-use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose, ViewSettings};
 
 /// Eyes over the terrain: above every sample, 4 m and 70 m over the highest ground, turning.
@@ -443,36 +443,12 @@ fn the_buffers_are_the_mesh_and_a_patch_whose_level_and_neighbours_hold_is_not_r
     }
 }
 
-/// A terrain of 2^level + 1 samples a side whose height at a sample does not depend on the
-/// terrain's size: a larger one extends a smaller one.
-fn extended_terrain(level: u32) -> Hierarchy {
-    let side = (1usize << level) + 1;
-    let heights = (0..side * side)
-        .map(|k| {
-            let (i, j) = (k % side, k / side);
-            20.0 * (0.9 * i as f32).sin() * (0.7 * j as f32).cos()
-                + ((i * 7919 + j * 104_729) % 97) as f32 * 0.3
-        })
-        .collect();
-    Hierarchy::new(Heightfield::new(side, heights, Spacing { dx: 10.0, dy: 10.0 }).unwrap())
-}
-
 #[test]
 fn with_culling_a_patch_outside_the_view_is_neither_drawn_nor_given_a_level() {
     // The same view over a terrain 16 times larger: the quadtree visits a few more nodes (its
     // depth), the level computations stay those of the patches in view, one per patch drawn
     // and per pass of the target's search.
-    let camera = Camera::new(
-        &Pose {
-            position: DVec3::new(300.0, 300.0, 80.0),
-            yaw: 0.6,
-            pitch: -0.3,
-        },
-        ViewSettings {
-            far: 600.0,
-            ..view_600()
-        },
-    );
+    let camera = short_sighted_camera();
     for target_triangles in [None, Some(2000)] {
         let config = VanekConfig {
             box_culling: true,

@@ -9,6 +9,7 @@ pub mod algorithms;
 pub mod cli;
 pub mod experiment;
 pub mod patches;
+pub mod scenes;
 
 use glam::DVec3;
 use roamsim::sim::algorithm::{BrokenBounds, FrameInput, LodAlgorithm};
@@ -113,6 +114,27 @@ pub fn checked_step_breaking(
         "{context}, frame {frame}: the algorithm's count and its statistics"
     );
     stats
+}
+
+/// Flies `algorithm` over `cameras`, frame k seen from `cameras[k]` with no motion bound
+/// broken, each frame checked as [`checked_step`] checks it (panics naming `context` and the
+/// frame); then `each_frame` gets the frame's number, camera and statistics and the algorithm,
+/// for the suite's own checks. Returns what `each_frame` returned, frame by frame.
+pub fn fly_checked<A: LodAlgorithm, T>(
+    hierarchy: &Hierarchy,
+    algorithm: &mut A,
+    cameras: &[Camera],
+    context: &str,
+    mut each_frame: impl FnMut(usize, &Camera, FrameStats, &mut A) -> T,
+) -> Vec<T> {
+    cameras
+        .iter()
+        .enumerate()
+        .map(|(frame, camera)| {
+            let stats = checked_step(hierarchy, algorithm, frame as u64, camera, false, context);
+            each_frame(frame, camera, stats, algorithm)
+        })
+        .collect()
 }
 
 /// The value of the algorithm-specific column `name` (a constant of
