@@ -14,8 +14,10 @@
 //!   rewritten whole every frame and drawn by one triangle-list call. The P-blocks go with them:
 //!   their few vertices are the CPU's too (§3.1.2).
 //!
-//! What it is not: the tessellator itself (`tessellate.rs`, which the CPU-side mesh and the
-//! [`BlockTessellator`] share, so the buffers draw the mesh bit for bit) or the selection.
+//! What it is not: the tessellator itself (`tessellate.rs`), the frame's record of blocks and
+//! strips (`lazy_mesh.rs`, which keeps the patch words and the strips' list that `prepare`
+//! writes, and makes the mesh from them through the same [`BlockTessellator`], so the buffers
+//! draw the mesh bit for bit) or the selection.
 
 use super::tessellate::{self, EdgeSpacing, PatchScratch, Rect};
 use crate::sim::draw::patches::Tessellator;
@@ -89,8 +91,8 @@ pub fn patch_words(
 }
 
 /// The GPU's tessellation stage for the blocks: a patch's words and the height map (resident as
-/// a texture) give its triangles, by the same function as the CPU-side mesh
-/// ([`tessellate::add_quad_patch`]).
+/// a texture) give its triangles ([`tessellate::add_quad_patch`]). The mesh the runner reads is
+/// made by it too (`lazy_mesh.rs`), so what the GPU draws and the mesh are one code.
 #[derive(Debug)]
 pub struct BlockTessellator {
     field: Arc<Heightfield>,
@@ -99,7 +101,27 @@ pub struct BlockTessellator {
 }
 
 impl BlockTessellator {
-    fn patch(&self, patch: &[u32]) -> (Rect, EdgeSpacing, [EdgeSpacing; 4]) {
+    /// The tessellator of a method spacing its edges by `mode`, over `hierarchy`'s height map.
+    pub fn new(hierarchy: &Hierarchy, mode: SpacingMode) -> BlockTessellator {
+        BlockTessellator {
+            field: hierarchy.shared_field(),
+            lattice: *hierarchy.lattice(),
+            mode,
+        }
+    }
+
+    /// The words of the patch of block `rect` at spacings `inner` and `outer`.
+    pub fn words(
+        &self,
+        rect: Rect,
+        inner: EdgeSpacing,
+        outer: [EdgeSpacing; 4],
+    ) -> [u32; PATCH_WORDS] {
+        patch_words(self.mode, rect, inner, outer)
+    }
+
+    /// What a patch's words say: its rectangle, inner spacing and four outer spacings.
+    pub fn patch(&self, patch: &[u32]) -> (Rect, EdgeSpacing, [EdgeSpacing; 4]) {
         let rect = Rect {
             x0: i64::from(patch[0]),
             y0: i64::from(patch[1]),
@@ -109,6 +131,24 @@ impl BlockTessellator {
         let inner = self.mode.decode(patch[4]);
         let outer = [5, 6, 7, 8].map(|k| self.mode.decode(patch[k]));
         (rect, inner, outer)
+    }
+
+    /// Adds the triangles of `patch` (its words) to `list` with `info`, as the GPU makes them.
+    /// Returns (vertices added, triangles added).
+    pub fn add_patch(
+        &self,
+        patch: &[u32],
+        list: &mut TriangleList,
+        info: TriangleInfo,
+        scratch: &mut PatchScratch,
+    ) -> (u64, u64) {
+        let (rect, inner, outer) = self.patch(patch);
+        tessellate::add_quad_patch(list, &self.field, rect, inner, outer, info, scratch)
+    }
+
+    /// An empty list over the terrain's domain with `crack_policy`.
+    pub fn empty_list(&self, crack_policy: CrackPolicy) -> TriangleList {
+        TriangleList::new(&self.lattice, crack_policy)
     }
 }
 
@@ -123,22 +163,13 @@ impl Tessellator for BlockTessellator {
     }
 
     fn for_each_triangle(&self, patch: &[u32], visit: &mut dyn FnMut([SurfacePoint; 3])) {
-        let (rect, inner, outer) = self.patch(patch);
-        let mut list = TriangleList::new(&self.lattice, CrackPolicy::Stitched);
+        let mut list = self.empty_list(CrackPolicy::Stitched);
         let info = TriangleInfo {
             role: TriangleRole::Surface,
             group: 0,
             level: 0,
         };
-        tessellate::add_quad_patch(
-            &mut list,
-            &self.field,
-            rect,
-            inner,
-            outer,
-            info,
-            &mut PatchScratch::default(),
-        );
+        self.add_patch(patch, &mut list, info, &mut PatchScratch::default());
         let vertices = list.vertices();
         for corners in list.triangles() {
             visit(corners.map(|k| vertices[k as usize]));
@@ -146,18 +177,8 @@ impl Tessellator for BlockTessellator {
     }
 }
 
-/// A run of the frame's triangle list that the CPU wrote (a node's strips and P-block): its
-/// vertices and its triangles, which refer only to those vertices.
-#[derive(Clone, Copy, Debug)]
-struct CpuRun {
-    first_vertex: u32,
-    vertices: u32,
-    first_triangle: u32,
-    triangles: u32,
-}
-
-/// The GPU-side state of one stitching-strips entry: the blocks' instance buffer, the strips'
-/// vertex and index buffers, and this frame's blocks and strips as the update left them.
+/// The GPU-side state of one stitching-strips entry: the blocks' instance buffer and the strips'
+/// vertex and index buffers.
 #[derive(Debug)]
 pub struct StitchingBuffers {
     gpu: GpuBuffers,
@@ -167,94 +188,42 @@ pub struct StitchingBuffers {
     no_vertices: BufferId,
     strip_vertices: BufferId,
     strip_indices: BufferId,
-    mode: SpacingMode,
-    /// This frame's patch words, as the update drew the blocks.
-    words: Vec<u32>,
-    /// This frame's strips and P-blocks, as runs of the triangle list.
-    runs: Vec<CpuRun>,
 }
 
 impl StitchingBuffers {
-    /// Empty buffers and the method's tessellator, registered with them.
-    pub fn new(hierarchy: &Hierarchy, mode: SpacingMode) -> StitchingBuffers {
+    /// Empty buffers, `tessellator` registered with them as their tessellation stage.
+    pub fn new(tessellator: Arc<BlockTessellator>) -> StitchingBuffers {
         let mut gpu = GpuBuffers::new();
-        gpu.set_tessellator(Arc::new(BlockTessellator {
-            field: hierarchy.shared_field(),
-            lattice: *hierarchy.lattice(),
-            mode,
-        }));
+        gpu.set_tessellator(tessellator);
         StitchingBuffers {
             blocks: gpu.create_indices(Vec::new()),
             no_vertices: gpu.create_vertices(Vec::new(), VERTEX_BYTES),
             strip_vertices: gpu.create_vertices(Vec::new(), VERTEX_BYTES),
             strip_indices: gpu.create_indices(Vec::new()),
             gpu,
-            mode,
-            words: Vec::new(),
-            runs: Vec::new(),
         }
     }
 
-    /// Forgets last frame's blocks and strips (the update draws the next frame's).
-    pub fn begin_frame(&mut self) {
-        self.words.clear();
-        self.runs.clear();
-    }
-
-    /// Records a drawn M-block: its rectangle and spacings, as its patch will carry them.
-    pub fn push_block(&mut self, rect: Rect, inner: EdgeSpacing, outer: [EdgeSpacing; 4]) {
-        self.words
-            .extend_from_slice(&patch_words(self.mode, rect, inner, outer));
-    }
-
-    /// Records that the list's vertices from `first_vertex` and triangles from `first_triangle`
-    /// on are the CPU's (a node's strips and P-block), written into the strips' buffers.
-    pub fn push_cpu_run(&mut self, list: &TriangleList, first_vertex: usize, first_triangle: u64) {
-        let count = |n: usize| u32::try_from(n).expect("fewer than 2^32 vertices and triangles");
-        let run = CpuRun {
-            first_vertex: count(first_vertex),
-            vertices: count(list.vertices().len() - first_vertex),
-            first_triangle: count(first_triangle as usize),
-            triangles: count((list.n_triangles() - first_triangle) as usize),
-        };
-        if run.triangles > 0 {
-            self.runs.push(run);
-        }
-    }
-
-    /// Writes this frame's blocks and strips, issues the frame's draws (the patches, then the
-    /// strips), and ends the frame.
-    pub fn prepare(&mut self, list: &TriangleList) -> DrawCounts {
-        let words = &self.words;
+    /// Writes this frame's blocks (`words`, their patches) and strips and P-blocks (`cpu`, the
+    /// list the CPU built, nothing else in it), issues the frame's draws (the patches, then the
+    /// strips) and ends the frame. O(words + the strips' vertices and triangles).
+    pub fn prepare(&mut self, words: &[u32], cpu: &TriangleList) -> DrawCounts {
         self.gpu
             .replace_indices(self.blocks, |out| out.extend_from_slice(words));
-        let runs = &self.runs;
-        let mut strip_indices = 0;
         self.gpu.replace_vertices(self.strip_vertices, |out| {
-            for run in runs {
-                let range = run.first_vertex as usize..(run.first_vertex + run.vertices) as usize;
-                out.extend(list.vertices()[range].iter().map(|&v| DrawVertex::of(v)));
-            }
+            out.extend(cpu.vertices().iter().map(|&v| DrawVertex::of(v)))
         });
         self.gpu.replace_indices(self.strip_indices, |out| {
-            let mut base = 0;
-            for run in runs {
-                let range =
-                    run.first_triangle as usize..(run.first_triangle + run.triangles) as usize;
-                for corners in &list.triangles()[range] {
-                    out.extend(corners.map(|k| k - run.first_vertex + base));
-                }
-                base += run.vertices;
-            }
-            strip_indices = out.len() as u32;
+            out.extend(cpu.triangles().iter().flatten())
         });
+        let strip_indices = u32::try_from(cpu.n_triangles() * 3).expect("fewer than 2^32 indices");
         self.gpu.clear_draws();
-        if !self.words.is_empty() {
+        if !words.is_empty() {
             self.gpu.draw(DrawCall {
                 vertices: self.no_vertices,
                 indices: self.blocks,
                 first_index: 0,
-                index_count: self.words.len() as u32,
+                index_count: u32::try_from(words.len()).expect("fewer than 2^32 words"),
                 topology: Topology::Patches,
                 blend: 0.0,
             });
@@ -276,11 +245,9 @@ impl StitchingBuffers {
         &self.gpu
     }
 
-    /// Heap bytes on the CPU side: the buffers' model and this frame's records.
+    /// Heap bytes on the CPU side: the buffers' model.
     pub fn memory_bytes(&self) -> usize {
         self.gpu.memory_bytes()
-            + self.words.capacity() * size_of::<u32>()
-            + self.runs.capacity() * size_of::<CpuRun>()
     }
 }
 

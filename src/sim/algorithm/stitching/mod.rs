@@ -71,7 +71,8 @@
 //! - **Counters.** `splits` / `merges`: nodes split this frame and not the previous, and the
 //!   reverse; `vertices_inserted` / `vertices_deleted`: the vertices of every block, and of
 //!   every node's cross of strips and P-block, that differs from last frame's (positions or
-//!   heights; all of the new and all of the old); `metric_evaluations`: nodes whose ρ was computed. Columns:
+//!   heights; all of the new and all of the old; a block's compared from its patch words,
+//!   `changes.rs`); `metric_evaluations`: nodes whose ρ was computed. Columns:
 //!   `m_blocks`, `m_blocks_culled`, `p_blocks`, `strips`, `strips_culled`,
 //!   `tessellation_factor_mean` (over the M-blocks), the histogram of F
 //!   (`tessellation_factor_2_4` … `tessellation_factor_32_64`: blocks with F in [2, 4), …,
@@ -89,16 +90,28 @@
 //! rebuilds every frame (§4.2: "the work of DSS generation needs to be done in every frame"),
 //! written whole into one vertex and one index buffer each frame and drawn as one list. So a
 //! frame uploads 36 bytes a drawn block plus its strips' geometry, whatever the blocks' factors
-//! (Methods I and II: the blocks alone). The GPU's tessellator is the CPU simulation that makes
-//! the mesh (`tessellate.rs`), registered with the buffers, so the buffers draw the mesh bit for
-//! bit. The mesh (`MeshOutput`) still holds the blocks' triangles, made inside `update` by that
-//! simulation: `update_ns` and `frame_ns` include the tessellation a GPU would do.
+//! (Methods I and II: the blocks alone). The GPU's tessellator is the CPU simulation
+//! (`tessellate.rs`), registered with the buffers.
 //!
-//! Memory: the tree (136 bytes a node), a few words of frame state per node, the triangle list
-//! and a few reused buffers. Per frame: O(nodes + triangles).
+//! **What the update does, and what it leaves to the GPU.** The update is the paper's CPU work:
+//! the selection and factors, each drawn block's patch words, the strips and P-blocks (and
+//! roamsim's counters: the vertex changes, compared from the patch words; the histogram). It
+//! tessellates no block: the mesh (`MeshOutput`) is made from the frame's patch words by the
+//! registered tessellator the first time it is read in the frame (the audit, `--check`,
+//! culling's rendered count, PLY export, the preview; `lazy_mesh.rs`), outside the timed spans,
+//! so the mesh and what the GPU draws are one code, and the mesh is the list the update made
+//! before, bit for bit. So `update_ns` is the paper's CPU work, `frame_ns` adds writing the words
+//! and the strips into the buffers, and neither includes the tessellation a GPU does.
+//!
+//! Memory: the tree (136 bytes a node), a few words of frame state per node, the patch words,
+//! the strips' list, the mesh once read, and a few reused buffers. Per frame: O(nodes + the
+//! strips' triangles) in the update, O(triangles) when the mesh is read.
 
 mod buffers;
+mod changes;
+mod lazy_mesh;
 mod select;
+mod spacing;
 mod strips;
 mod tessellate;
 mod tree;
@@ -118,15 +131,17 @@ use super::{FrameInput, LodAlgorithm};
 use crate::sim::draw::{DrawCounts, GpuBuffers};
 use crate::sim::hierarchy::Hierarchy;
 use crate::sim::mesh::{
-    CrackPolicy, MeshOutput, SUBGRID_UNITS_PER_CELL, SurfacePoint, TriangleInfo, TriangleList,
-    TriangleRole,
+    CrackPolicy, MeshOutput, SUBGRID_UNITS_PER_CELL, TriangleInfo, TriangleRole,
 };
 use crate::sim::stats::FrameStats;
 use crate::sim::view::Camera;
-use buffers::{SpacingMode, StitchingBuffers};
+use buffers::{BlockTessellator, SpacingMode, StitchingBuffers};
+use changes::VertexChanges;
 use glam::DVec3;
+use lazy_mesh::LazyMesh;
+use std::sync::Arc;
 use std::time::Instant;
-use tessellate::{EAST, NORTH, PatchScratch, Rect, SOUTH, WEST};
+use tessellate::Rect;
 use tree::Tree;
 
 pub(super) const NAME: &str = "stitching-strips";
@@ -178,6 +193,9 @@ enum NodeState {
 pub struct Stitching<'h> {
     /// What the GPU draws this frame's mesh from: the blocks' patches, the strips (`buffers.rs`).
     draw: StitchingBuffers,
+    /// This frame's blocks (patch words) and strips, and its mesh once read (`lazy_mesh.rs`).
+    mesh: LazyMesh,
+    tessellator: Arc<BlockTessellator>,
     hierarchy: &'h Hierarchy,
     config: StitchingConfig,
     tree: Tree,
@@ -188,40 +206,10 @@ pub struct Stitching<'h> {
     leaf_index: Vec<u32>,
     /// Method I: the leaf (index into `leaves`) owning each finest cell, row by row.
     owners: Vec<u32>,
-    list: TriangleList,
-    patch_scratch: PatchScratch,
     strip_scratch: strips::StripScratch,
     frame: FrameCounts,
-    /// Per node, what it drew last frame and this frame (its block, or its cross of strips and
-    /// P-block): which of the two, and the range of its vertices in that frame's list; `None`:
-    /// nothing. A node's vertices are compared exactly with last frame's (kept in
-    /// `vertices_before`), not through a hash of them (hashing was a third of the update).
-    drawn_before: Vec<Option<DrawnRange>>,
-    drawn_now: Vec<Option<DrawnRange>>,
-    vertices_before: Vec<SurfacePoint>,
-}
-
-/// What a node drew in one frame: `tag` (0: its block, 1: its strips and P-block) and its
-/// vertices, `len` of them from index `first` of that frame's list.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct DrawnRange {
-    tag: u8,
-    first: u32,
-    len: u32,
-}
-
-impl DrawnRange {
-    fn vertices(self, list: &[SurfacePoint]) -> &[SurfacePoint] {
-        &list[self.first as usize..(self.first + self.len) as usize]
-    }
-}
-
-/// Whether two vertex lists are the same, heights compared bit for bit.
-fn same_vertices(a: &[SurfacePoint], b: &[SurfacePoint]) -> bool {
-    a.len() == b.len()
-        && a.iter()
-            .zip(b)
-            .all(|(a, b)| a.position == b.position && a.z.to_bits() == b.z.to_bits())
+    /// What each node drew last frame and this frame, for `vertices_inserted` / `_deleted`.
+    changes: VertexChanges,
 }
 
 /// What a frame drew, for the statistics and the validator.
@@ -263,14 +251,22 @@ impl<'h> Stitching<'h> {
         let tree = Tree::new(field, block_level, half_width);
         let finest = 1usize << tree.depth_max();
         let n = tree.n_nodes();
+        let tessellator = Arc::new(BlockTessellator::new(
+            hierarchy,
+            match config.method {
+                StitchingMethod::PowerOfTwo => SpacingMode::Equal,
+                _ => SpacingMode::FractionalEven,
+            },
+        ));
+        let crack_policy = if config.method == StitchingMethod::Strips {
+            CrackPolicy::Stitched
+        } else {
+            CrackPolicy::Closed
+        };
         Stitching {
-            draw: StitchingBuffers::new(
-                hierarchy,
-                match config.method {
-                    StitchingMethod::PowerOfTwo => SpacingMode::Equal,
-                    _ => SpacingMode::FractionalEven,
-                },
-            ),
+            draw: StitchingBuffers::new(tessellator.clone()),
+            mesh: LazyMesh::new(tessellator.clone(), crack_policy),
+            tessellator,
             hierarchy,
             config,
             tree,
@@ -283,31 +279,10 @@ impl<'h> Stitching<'h> {
             } else {
                 Vec::new()
             },
-            list: TriangleList::new(
-                hierarchy.lattice(),
-                if config.method == StitchingMethod::Strips {
-                    CrackPolicy::Stitched
-                } else {
-                    CrackPolicy::Closed
-                },
-            ),
-            patch_scratch: PatchScratch::default(),
             strip_scratch: strips::StripScratch::default(),
             frame: FrameCounts::default(),
-            drawn_before: vec![None; n],
-            drawn_now: vec![None; n],
-            vertices_before: Vec::new(),
+            changes: VertexChanges::new(n),
         }
-    }
-
-    /// Records that node `index` drew the list's vertices from `first` on.
-    fn record_drawn(&mut self, index: usize, first: usize, tag: u8) {
-        let len = self.list.vertices().len() - first;
-        self.drawn_now[index] = Some(DrawnRange {
-            tag,
-            first: u32::try_from(first).expect("fewer than 2^32 vertices"),
-            len: u32::try_from(len).expect("fewer than 2^32 vertices"),
-        });
     }
 
     /// This frame's M-blocks (quadtree leaves) in traversal order, with their factors.
@@ -417,114 +392,6 @@ impl<'h> Stitching<'h> {
         evaluations
     }
 
-    /// Method I: records which leaf owns each finest cell.
-    fn fill_owners(&mut self) {
-        if self.config.method == StitchingMethod::PowerOfTwo {
-            let finest = 1u32 << self.tree.depth_max();
-            for (k, id) in self.leaves.iter().enumerate() {
-                let size = 1u32 << (self.tree.depth_max() - id.depth);
-                for y in id.iy * size..(id.iy + 1) * size {
-                    for x in id.ix * size..(id.ix + 1) * size {
-                        self.owners[(y * finest + x) as usize] = k as u32;
-                    }
-                }
-            }
-        }
-    }
-
-    /// Method I: the leaves (indices into `leaves`) across side `side` of leaf `k`, in order.
-    fn neighbours_across(&self, k: usize, side: usize, out: &mut Vec<u32>) {
-        out.clear();
-        let id = self.leaves[k];
-        let finest = 1i64 << self.tree.depth_max();
-        let size = 1i64 << (self.tree.depth_max() - id.depth);
-        let (x0, y0) = (i64::from(id.ix) * size, i64::from(id.iy) * size);
-        let cells: Box<dyn Iterator<Item = (i64, i64)>> = match side {
-            SOUTH => Box::new((x0..x0 + size).map(move |x| (x, y0 - 1))),
-            NORTH => Box::new((x0..x0 + size).map(move |x| (x, y0 + size))),
-            WEST => Box::new((y0..y0 + size).map(move |y| (x0 - 1, y))),
-            _ => Box::new((y0..y0 + size).map(move |y| (x0 + size, y))),
-        };
-        for (x, y) in cells {
-            if !(0..finest).contains(&x) || !(0..finest).contains(&y) {
-                continue;
-            }
-            let owner = self.owners[(y * finest + x) as usize];
-            if out.last() != Some(&owner) {
-                out.push(owner);
-            }
-        }
-    }
-
-    /// Method I: a leaf's side length and interior spacing, raw units.
-    fn pow2_size_and_spacing(&self, k: usize) -> (i64, i64) {
-        let id = self.leaves[k];
-        let square = self.tree.square(id);
-        let size = square.x1 - square.x0;
-        let factor = self.factor(id).expect("a leaf") as i64;
-        (size, size / factor)
-    }
-
-    /// Method I: the spacing shared along side `side` of leaf `k`, computed from that side: the
-    /// coarsest interior spacing of the leaf and every leaf across it, but no coarser than the
-    /// smallest of them.
-    fn pow2_side_spacing(&self, k: usize, side: usize, neighbours: &mut Vec<u32>) -> i64 {
-        self.neighbours_across(k, side, neighbours);
-        let (size, spacing) = self.pow2_size_and_spacing(k);
-        let (mut coarsest, mut smallest) = (spacing, size);
-        for &n in neighbours.iter() {
-            let (size, spacing) = self.pow2_size_and_spacing(n as usize);
-            coarsest = coarsest.max(spacing);
-            smallest = smallest.min(size);
-        }
-        coarsest.min(smallest)
-    }
-
-    /// The outer spacings of leaf `k`'s four sides (south, east, north, west).
-    fn outer_spacings(&self, k: usize) -> [EdgeSpacing; 4] {
-        let id = self.leaves[k];
-        let own = self.factor(id).expect("a leaf");
-        match self.config.method {
-            StitchingMethod::Strips => [EdgeSpacing::FractionalEven(own); 4],
-            StitchingMethod::Uniform => [SOUTH, EAST, NORTH, WEST].map(|side| {
-                let (dx, dy) = match side {
-                    SOUTH => (0, -1),
-                    NORTH => (0, 1),
-                    WEST => (-1, 0),
-                    _ => (1, 0),
-                };
-                let (x, y) = (i64::from(id.ix) + dx, i64::from(id.iy) + dy);
-                let per_side = 1i64 << id.depth;
-                let f = if (0..per_side).contains(&x) && (0..per_side).contains(&y) {
-                    let neighbour = NodeId {
-                        depth: id.depth,
-                        ix: x as u32,
-                        iy: y as u32,
-                    };
-                    own.max(self.factor(neighbour).expect("uniform leaves"))
-                } else {
-                    own
-                };
-                EdgeSpacing::FractionalEven(f)
-            }),
-            StitchingMethod::PowerOfTwo => {
-                let mut neighbours = Vec::new();
-                let (size, _) = self.pow2_size_and_spacing(k);
-                [SOUTH, EAST, NORTH, WEST].map(|side| {
-                    self.neighbours_across(k, side, &mut neighbours);
-                    let spacing = match neighbours[..] {
-                        [n] if self.pow2_size_and_spacing(n as usize).0 > size => {
-                            let opposite = (side + 2) % 4;
-                            self.pow2_side_spacing(n as usize, opposite, &mut Vec::new())
-                        }
-                        _ => self.pow2_side_spacing(k, side, &mut neighbours),
-                    };
-                    EdgeSpacing::Equal((size / spacing) as u32)
-                })
-            }
-        }
-    }
-
     /// The leaves under `id` (itself when a leaf).
     fn leaves_under(&self, id: NodeId) -> u64 {
         match self.state[self.tree.index(id)] {
@@ -534,9 +401,11 @@ impl<'h> Stitching<'h> {
         }
     }
 
-    /// Draws this frame's selection into the list.
+    /// Draws this frame's selection: the blocks' patches, the strips and P-blocks (the mesh is
+    /// made from them when read, `lazy_mesh.rs`).
     fn draw(&mut self, camera: Option<&Camera>) {
-        self.list.clear();
+        self.mesh.begin_frame();
+        self.changes.begin_frame();
         self.frame.drawn_leaves.clear();
         self.frame.drawn_strips.clear();
         self.frame.m_blocks_culled = 0;
@@ -544,8 +413,6 @@ impl<'h> Stitching<'h> {
         self.frame.strips_culled = 0;
         self.frame.cpu_vertices = 0;
         self.frame.strip_ns = 0;
-        self.drawn_now.fill(None);
-        self.draw.begin_frame();
         self.draw_node(NodeId::ROOT, camera);
     }
 
@@ -559,7 +426,9 @@ impl<'h> Stitching<'h> {
         let index = self.tree.index(id);
         let region = self.tree.region(id);
         if self.outside(camera, region, id) {
-            self.list.add_culled_region(region.low(), region.high());
+            self.mesh
+                .cpu_mut()
+                .add_culled_region(region.low(), region.high());
             self.frame.m_blocks_culled += self.leaves_under(id);
             return;
         }
@@ -571,23 +440,10 @@ impl<'h> Stitching<'h> {
                     StitchingMethod::PowerOfTwo => EdgeSpacing::Equal(factor as u32),
                     _ => EdgeSpacing::FractionalEven(factor),
                 };
-                let info = TriangleInfo {
-                    role: TriangleRole::Surface,
-                    group: index as u32,
-                    level: id.depth,
-                };
-                let first = self.list.vertices().len();
-                tessellate::add_quad_patch(
-                    &mut self.list,
-                    self.hierarchy.field(),
-                    region,
-                    inner,
-                    outer,
-                    info,
-                    &mut self.patch_scratch,
-                );
-                self.record_drawn(index, first, 0);
-                self.draw.push_block(region, inner, outer);
+                let patch = self
+                    .mesh
+                    .push_block(region, inner, outer, index as u32, id.depth);
+                self.changes.record_block(index, patch);
                 self.frame.drawn_leaves.push(id);
             }
             NodeState::Split => {
@@ -605,8 +461,8 @@ impl<'h> Stitching<'h> {
     /// The four strips and the P-block of split node `id`.
     fn draw_cross(&mut self, id: NodeId, camera: Option<&Camera>) {
         let start = Instant::now();
-        let first = self.list.vertices().len();
-        let first_triangle = self.list.n_triangles();
+        let first = self.mesh.cpu().vertices().len();
+        let first_triangle = self.mesh.cpu().n_triangles();
         let group = self.tree.index(id) as u32;
         let field = self.hierarchy.field();
         let state = &self.state;
@@ -618,12 +474,14 @@ impl<'h> Stitching<'h> {
         for arm in strips::ARMS {
             let rect = arm.rect(tree, id);
             if self.outside(camera, rect, id) {
-                self.list.add_culled_region(rect.low(), rect.high());
+                self.mesh
+                    .cpu_mut()
+                    .add_culled_region(rect.low(), rect.high());
                 self.frame.strips_culled += 1;
                 continue;
             }
             let (vertices, _) = strips::add_strip(
-                &mut self.list,
+                self.mesh.cpu_mut(),
                 field,
                 tree,
                 &factor,
@@ -637,7 +495,9 @@ impl<'h> Stitching<'h> {
         }
         let rect = strips::p_block_rect(tree, id);
         if self.outside(camera, rect, id) {
-            self.list.add_culled_region(rect.low(), rect.high());
+            self.mesh
+                .cpu_mut()
+                .add_culled_region(rect.low(), rect.high());
         } else {
             let info = TriangleInfo {
                 role: TriangleRole::Surface,
@@ -645,12 +505,13 @@ impl<'h> Stitching<'h> {
                 level: id.depth,
             };
             let (vertices, _) =
-                strips::add_p_block(&mut self.list, field, rect, self.config.p_block, info);
+                strips::add_p_block(self.mesh.cpu_mut(), field, rect, self.config.p_block, info);
             self.frame.cpu_vertices += vertices;
             self.frame.p_blocks += 1;
         }
-        self.record_drawn(group as usize, first, 1);
-        self.draw.push_cpu_run(&self.list, first, first_triangle);
+        let end = self.mesh.cpu().vertices().len();
+        self.changes.record_cross(group as usize, first, end);
+        self.mesh.end_cpu_run(first, first_triangle);
         self.frame.strip_ns += start.elapsed().as_nanos() as u64;
     }
 
@@ -728,31 +589,14 @@ impl LodAlgorithm for Stitching<'_> {
             let bin = (f.log2().floor() as usize).clamp(1, 5) - 1;
             histogram[bin] += 1;
         }
-        stats.triangles = self.list.n_triangles();
+        stats.triangles = self.mesh.n_triangles();
         stats.splits = splits;
         stats.merges = merges;
-        let (mut inserted, mut deleted) = (0, 0);
-        let vertices_now = self.list.vertices();
-        for (now, before) in self.drawn_now.iter().zip(&self.drawn_before) {
-            let same = match (now, before) {
-                (None, None) => true,
-                (Some(now), Some(before)) => {
-                    now.tag == before.tag
-                        && same_vertices(
-                            now.vertices(vertices_now),
-                            before.vertices(&self.vertices_before),
-                        )
-                }
-                _ => false,
-            };
-            if !same {
-                inserted += now.map_or(0, |r| u64::from(r.len));
-                deleted += before.map_or(0, |r| u64::from(r.len));
-            }
-        }
-        std::mem::swap(&mut self.drawn_now, &mut self.drawn_before);
-        self.vertices_before.clear();
-        self.vertices_before.extend_from_slice(vertices_now);
+        let (inserted, deleted) = self.changes.end_frame(
+            &self.tessellator,
+            self.mesh.words(),
+            self.mesh.cpu().vertices(),
+        );
         stats.vertices_inserted = inserted;
         stats.vertices_deleted = deleted;
         stats.metric_evaluations = evaluations;
@@ -770,7 +614,7 @@ impl LodAlgorithm for Stitching<'_> {
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
-        self.draw.prepare(&self.list)
+        self.draw.prepare(self.mesh.words(), self.mesh.cpu())
     }
 
     fn buffers(&self) -> &GpuBuffers {
@@ -778,11 +622,11 @@ impl LodAlgorithm for Stitching<'_> {
     }
 
     fn mesh(&self) -> MeshOutput<'_> {
-        MeshOutput::triangles(&self.list)
+        MeshOutput::triangles(self.mesh.list())
     }
 
     fn triangle_count(&self) -> u64 {
-        self.list.n_triangles()
+        self.mesh.n_triangles()
     }
 
     fn memory_bytes(&self) -> usize {
@@ -792,14 +636,11 @@ impl LodAlgorithm for Stitching<'_> {
             + self.leaves.capacity() * std::mem::size_of::<NodeId>()
             + self.leaf_index.capacity() * 4
             + self.owners.capacity() * 4
-            + self.list.memory_bytes()
-            + self.patch_scratch.memory_bytes()
+            + self.mesh.memory_bytes()
             + self.strip_scratch.memory_bytes()
             + self.frame.drawn_leaves.capacity() * std::mem::size_of::<NodeId>()
             + self.frame.drawn_strips.capacity() * std::mem::size_of::<(NodeId, strips::Arm)>()
-            + (self.drawn_before.capacity() + self.drawn_now.capacity())
-                * std::mem::size_of::<Option<DrawnRange>>()
-            + self.vertices_before.capacity() * std::mem::size_of::<SurfacePoint>()
+            + self.changes.memory_bytes()
             + self.draw.memory_bytes()
     }
 

@@ -52,34 +52,36 @@ impl EdgeSpacing {
 /// Appends the raw positions of the vertices of the edge from `lo` to `hi` (raw units, lo < hi),
 /// both ends included, in increasing order. O(segments).
 pub fn edge_positions(lo: i64, hi: i64, spacing: EdgeSpacing, out: &mut Vec<i64>) {
-    let length = hi - lo;
     let n = spacing.segments();
+    out.extend((0..=n).map(|k| edge_position(lo, hi, spacing, n, k)));
+}
+
+/// The raw position of vertex `k` (0 ..= `n`, n = `spacing.segments()`) of the edge from `lo` to
+/// `hi`: the k-th value [`edge_positions`] gives, computed alone. O(1).
+#[inline]
+pub fn edge_position(lo: i64, hi: i64, spacing: EdgeSpacing, n: usize, k: usize) -> i64 {
+    let length = hi - lo;
     match spacing {
         EdgeSpacing::FractionalEven(f) => {
             let f = f.clamp(MIN_FACTOR, MAX_FACTOR);
             let half = n / 2;
             let len = length as f64;
-            for k in 0..=n {
-                let position = if k == 0 {
-                    lo
-                } else if k == n {
-                    hi
-                } else if k < half {
-                    lo + (len * k as f64 / f).round() as i64
-                } else if k == half {
-                    lo + (len * 0.5).round() as i64
-                } else {
-                    hi - (len * (n - k) as f64 / f).round() as i64
-                };
-                out.push(position);
+            if k == 0 {
+                lo
+            } else if k == n {
+                hi
+            } else if k < half {
+                lo + (len * k as f64 / f).round() as i64
+            } else if k == half {
+                lo + (len * 0.5).round() as i64
+            } else {
+                hi - (len * (n - k) as f64 / f).round() as i64
             }
         }
         EdgeSpacing::Equal(_) => {
-            let n = n as i64;
-            for k in 0..=n {
-                // Nearest, computed from the low end (exact for Method I's dyadic spacings).
-                out.push(lo + (2 * length * k + n) / (2 * n));
-            }
+            let (n, k) = (n as i64, k as i64);
+            // Nearest, computed from the low end (exact for Method I's dyadic spacings).
+            lo + (2 * length * k + n) / (2 * n)
         }
     }
 }
@@ -303,6 +305,13 @@ pub fn add_quad_patch(
     )
 }
 
+/// The vertices a quad patch's tessellation adds ([`add_quad_patch`]): (n − 1)² inside, then
+/// m_side + 1 on each side.
+pub fn quad_patch_vertices(inner: EdgeSpacing, outer: [EdgeSpacing; 4]) -> u64 {
+    let n = inner.segments() as u64;
+    (n - 1) * (n - 1) + outer.iter().map(|s| s.segments() as u64 + 1).sum::<u64>()
+}
+
 /// The triangles a quad patch's tessellation draws for inner spacing `inner` and outer spacings
 /// `outer`: 2(n − 2)² + Σ_sides (m_side + n − 2).
 pub fn quad_patch_triangles(inner: EdgeSpacing, outer: [EdgeSpacing; 4]) -> u64 {
@@ -392,7 +401,7 @@ mod tests {
             let mut list = TriangleList::new(&lattice, crate::sim::mesh::CrackPolicy::Stitched);
             let inner = EdgeSpacing::FractionalEven(inner);
             let outer = outer.map(EdgeSpacing::FractionalEven);
-            let (_, triangles) = add_quad_patch(
+            let (vertices, triangles) = add_quad_patch(
                 &mut list,
                 &field,
                 rect,
@@ -402,6 +411,7 @@ mod tests {
                 &mut Default::default(),
             );
             assert_eq!(triangles, quad_patch_triangles(inner, outer));
+            assert_eq!(vertices, quad_patch_vertices(inner, outer));
             let n = inner.segments() as u64;
             if outer.iter().all(|&o| o == inner) {
                 assert_eq!(triangles, 2 * n * n);

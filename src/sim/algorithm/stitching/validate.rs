@@ -119,20 +119,21 @@ pub(super) fn validate_mesh(alg: &Stitching) -> Result<(), StitchingError> {
             PBlockShape::TwoTriangles => 2,
             PBlockShape::Fan => 4,
         };
-    let found = alg.list.n_triangles();
+    let list = alg.mesh.list();
+    let found = list.n_triangles();
     if expected != found {
         return Err(StitchingError::TriangleCount { expected, found });
     }
 
     // 3. Strip vertices on M-block edges.
-    if alg.list.culled_regions().is_empty() {
-        let vertices = alg.list.vertices();
+    if list.culled_regions().is_empty() {
+        let vertices = list.vertices();
         let is_leaf_group = |group: u32| {
             let state = alg.state[group as usize];
             matches!(state, NodeState::Leaf(_))
         };
         let mut block_vertices: HashSet<(SubgridPoint, u32)> = HashSet::new();
-        for (corners, info) in alg.list.triangles().iter().zip(alg.list.info()) {
+        for (corners, info) in list.triangles().iter().zip(list.info()) {
             if info.role != TriangleRole::Stitch && is_leaf_group(info.group) {
                 for &c in corners {
                     let v = vertices[c as usize];
@@ -140,7 +141,7 @@ pub(super) fn validate_mesh(alg: &Stitching) -> Result<(), StitchingError> {
                 }
             }
         }
-        for (corners, info) in alg.list.triangles().iter().zip(alg.list.info()) {
+        for (corners, info) in list.triangles().iter().zip(list.info()) {
             if info.role == TriangleRole::Stitch {
                 for &c in corners {
                     let v = vertices[c as usize];
