@@ -9,9 +9,10 @@ mod common;
 use common::cli::{fails_with, frames_without_timing, roamsim};
 use common::experiment::save;
 use roamsim::edge::experiment::plan;
-use roamsim::edge::pyramid::{RawSource, prepare_from_raw};
+use roamsim::edge::pyramid::{PyramidFile, PyramidSamples, RawSource, prepare_from_raw};
 use roamsim::edge::session::{NoProgress, RunOptions, run_experiment};
 use roamsim::edge::terrain_readers::{RawLayout, RawSample};
+use roamsim::sim::terrain::paged::PagedSamples;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
@@ -198,6 +199,36 @@ fn a_pyramid_flies_exactly_as_the_same_terrain_in_memory() {
         stdout.contains("a chunk pyramid is read on demand"),
         "{stdout}"
     );
+}
+
+#[test]
+fn a_pyramid_read_on_demand_gives_every_sample_of_the_raw_file() {
+    let prepared = Prepared::new();
+    let side = (1usize << LEVEL) + 1;
+    let raw = std::fs::read(prepared.path("terrain.raw")).unwrap();
+    let expected = |i: usize, j: usize| {
+        let k = 2 * (j * side + i);
+        f32::from(i16::from_le_bytes([raw[k], raw[k + 1]]))
+    };
+    let samples = PyramidSamples::new(PyramidFile::open(&prepared.path("terrain.pyr")).unwrap());
+    // 48 leaves cached of 256: reading every row and then every column evicts as it goes.
+    assert_eq!(samples.cache_chunks(), 48);
+    let mut row = Vec::new();
+    for j in 0..side {
+        samples.row(j, &mut row);
+        let want: Vec<f32> = (0..side).map(|i| expected(i, j)).collect();
+        assert_eq!(row, want, "row {j}");
+    }
+    for i in (0..side).rev() {
+        for j in 0..side {
+            assert_eq!(samples.height(i, j), expected(i, j), "sample ({i}, {j})");
+        }
+    }
+    let lowest = (0..side * side)
+        .map(|k| expected(k % side, k / side))
+        .fold(f32::MAX, f32::min);
+    assert_eq!(samples.height_range().0, lowest);
+    assert_eq!(samples.failure(), None);
 }
 
 #[test]

@@ -13,6 +13,10 @@
 //! halves the memory of the largest terrains; every geometric computation promotes them to
 //! `f64`. The field also remembers which part of it is real data (the rest is padding), so the
 //! audit measures real samples only.
+//!
+//! A field is held in memory, or *paged* ([`Heightfield::paged`], `paged.rs`): its samples read
+//! on demand through a bounded cache, never held whole; `height`, `row`, `height_range` and
+//! `ground_height` answer either way, `heights` is empty for a paged field.
 
 use super::paged::PagedSamples;
 use crate::sim::view::Pose;
