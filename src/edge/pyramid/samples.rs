@@ -4,7 +4,7 @@
 //!
 //! **Memory.** The cache holds at most [`PyramidSamples::cache_chunks`] leaves: two rows of
 //! leaves plus 16 (a row read, the audit's, touches one row of leaves; the flight's point reads
-//! touch a few), so (2·2^D + 16)·(2^c + 1)²·4 bytes, plus 12 bytes per chunk of records: about
+//! touch a few), so (2·2^D + 16)·(2^c + 1)²·4 bytes, plus 16 bytes per chunk of records: about
 //! 17 MB of cache for a 32 769² pyramid of 65² chunks, whatever the samples. Not here: read-ahead,
 //! and the chunked entries' own resident chunks (their loading effect's cap bounds those).
 //!
