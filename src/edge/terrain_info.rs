@@ -73,6 +73,17 @@ pub fn describe_terrain(report: &TerrainReport) -> String {
 pub fn describe_preprocessing(field: impl Into<Arc<Heightfield>>) -> String {
     let field: Arc<Heightfield> = field.into();
     let mut out = String::new();
+    if field.paged_samples().is_some() {
+        line(
+            &mut out,
+            "preprocessing",
+            "none: a chunk pyramid is read on demand (Wu's node table, which this line would \
+             time, needs the whole terrain; chunked LOD builds its tree from the pyramid's \
+             records)"
+                .to_string(),
+        );
+        return out;
+    }
     let n_samples = field.n_samples();
     let start = Instant::now();
     let hierarchy = Hierarchy::new(field);

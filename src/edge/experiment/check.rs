@@ -296,6 +296,17 @@ pub(super) fn check_terrain(terrain: &TerrainEntry, problems: &mut Problems) {
             );
             check_mosaic_files(mosaic, problems);
         }
+        TerrainEntry::Pyramid(pyramid) => {
+            if pyramid.file.is_empty() {
+                problems.add(
+                    "terrain.pyramid.file",
+                    "empty: expected a pyramid file that `roamsim prepare` wrote",
+                );
+            }
+            if let Some(origin) = pyramid.origin_m {
+                problems.finite("terrain.pyramid.origin_m", &origin);
+            }
+        }
         TerrainEntry::Synthetic(synthetic) => {
             if !(1..=14).contains(&synthetic.level) {
                 problems.add(

@@ -51,6 +51,19 @@ pub enum TerrainEntry {
     File(TerrainFileEntry),
     Mosaic(TerrainMosaicEntry),
     Synthetic(SyntheticEntry),
+    Pyramid(TerrainPyramidEntry),
+}
+
+/// A chunk pyramid that `roamsim prepare` wrote, flown without ever holding the whole terrain:
+/// side, spacing and sample type come from its header (`terrain_pyramid.rs`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainPyramidEntry {
+    /// Relative to the experiment file's folder.
+    pub file: String,
+    /// World position of sample (0, 0) at height 0 (default: the world origin).
+    #[serde(default)]
+    pub origin_m: Option<[f64; 3]>,
 }
 
 #[derive(Debug, Deserialize)]

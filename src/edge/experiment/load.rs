@@ -193,6 +193,9 @@ pub(super) fn load_terrain_assuming(
 ) -> Result<(Heightfield, TerrainReport), ExperimentError> {
     match entry {
         TerrainEntry::Synthetic(s) => generate_terrain(experiment, s),
+        TerrainEntry::Pyramid(pyramid) => {
+            super::terrain_pyramid::read_terrain_pyramid(experiment, folder, pyramid)
+        }
         TerrainEntry::File(file) => read_terrain_file(experiment, folder, file, assumed),
         TerrainEntry::Mosaic(mosaic) => {
             let laid_out;

@@ -32,6 +32,7 @@ mod plan;
 mod problems;
 mod sweep;
 mod terrain_alone;
+mod terrain_pyramid;
 mod terrain_size;
 mod tune;
 

@@ -21,6 +21,7 @@ use super::format::{ExperimentFile, TerrainEntry};
 use super::load::{Experiment, build_flight, lay_out_terrain_mosaic, load_terrain};
 use super::problems::{ExperimentError, FieldProblem};
 use super::sweep::{ExperimentPoint, SweepChoice, choice_label, expand_experiment};
+use super::terrain_pyramid::check_pyramid_run;
 use super::terrain_size::check_terrain_size;
 use crate::edge::terrain_readers::MosaicLayout;
 use crate::sim::flight::speed_violations;
@@ -72,6 +73,7 @@ pub fn plan(path: &Path) -> Result<Plan, ExperimentError> {
     })?;
     let mut plan = plan_bytes(path, &bytes)?;
     lay_out_mosaics(&mut plan)?;
+    check_pyramids(&plan)?;
     check_sizes(&plan)?;
     Ok(plan)
 }
@@ -91,6 +93,23 @@ fn check_sizes(plan: &Plan) -> Result<(), ExperimentError> {
             &point.checked.algorithms,
         );
         if let Err(error) = sized {
+            problems.extend(prefixed(point.choice.as_ref(), error));
+        }
+    }
+    none_or_all(&plan.file, problems)
+}
+
+/// Every point's pyramid opened (header and records checked) and every entry checked able to
+/// fly it (`terrain_pyramid.rs`), before any height is read; every point's problems at once.
+fn check_pyramids(plan: &Plan) -> Result<(), ExperimentError> {
+    let folder = plan.file.parent().unwrap_or(Path::new("."));
+    let mut problems = Vec::new();
+    for point in &plan.points {
+        let TerrainEntry::Pyramid(pyramid) = &point.parsed.terrain else {
+            continue;
+        };
+        let checked = check_pyramid_run(&plan.file, folder, pyramid, &point.checked.algorithms);
+        if let Err(error) = checked {
             problems.extend(prefixed(point.choice.as_ref(), error));
         }
     }

@@ -66,6 +66,8 @@ impl RunToSize<'_> {
             entries,
         } = *self;
         let (need, field, what) = match terrain {
+            // A pyramid is read on demand: its checks are `terrain_pyramid.rs`'s.
+            TerrainEntry::Pyramid(_) => return Ok(()),
             TerrainEntry::Synthetic(s) => {
                 let side = (1usize << s.level) + 1;
                 let samples = (side * side) as f64;
@@ -100,7 +102,9 @@ impl RunToSize<'_> {
                         let name = format!("the mosaic of {} files", layout.n_files());
                         (PathBuf::from(name), source, entry.fit, "terrain.mosaic")
                     }
-                    TerrainEntry::Synthetic(_) => unreachable!("matched above"),
+                    TerrainEntry::Synthetic(_) | TerrainEntry::Pyramid(_) => {
+                        unreachable!("matched above")
+                    }
                 };
                 let fit = match fit {
                     FitEntry::Pad => Fit::Pad,
@@ -165,7 +169,7 @@ const GENERATING_BYTES_PER_SAMPLE: f64 = 6.0;
 
 /// The least a run holds while flying a terrain of `side`²: heights, Wu's node table when an
 /// entry reads it, and the largest entry's own state.
-fn flying_bytes(side: usize, entries: &[AlgorithmSpec]) -> f64 {
+pub(super) fn flying_bytes(side: usize, entries: &[AlgorithmSpec]) -> f64 {
     let node_table = if entries.iter().any(|e| e.config.reads_node_table()) {
         1.0
     } else {

@@ -149,6 +149,17 @@ pub fn report_markdown(inputs: &ReportInputs) -> String {
             ""
         },
     );
+    if let Some(paged) = experiment.field.paged_samples() {
+        let _ = writeln!(
+            out,
+            "The terrain was read on demand from its chunk pyramid ({}), never held whole: the \
+             chunked entries' loaded chunks by a loader thread, the flight's terrain following, \
+             the audit's true heights and the map through a cache of full-resolution chunks; \
+             cache at its bound and chunk records {:.1} MB.\n",
+            terrain.format,
+            paged.memory_bytes() as f64 / 1e6
+        );
+    }
     if experiment.rotation_bound == BoundOrigin::Derived {
         let _ = writeln!(
             out,

@@ -235,6 +235,10 @@ pub fn summary_json(
             "height_range_m": [terrain.height_min_m, terrain.height_max_m],
             "preprocessing_seconds": preprocessing.seconds,
             "bytes_per_sample": preprocessing.bytes_per_sample,
+            "read_on_demand_bytes": experiment
+                .field
+                .paged_samples()
+                .map(|paged| paged.memory_bytes()),
         },
         "view": {
             "width_px": experiment.view.width_px,

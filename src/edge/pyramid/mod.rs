@@ -25,11 +25,13 @@ mod command;
 mod loader;
 mod open;
 mod prepare;
+mod samples;
 
 pub use command::prepare_command;
 pub use loader::PyramidLoader;
 pub use open::PyramidFile;
 pub use prepare::{PrepareSummary, RawSource, prepare_from_raw};
+pub use samples::PyramidSamples;
 
 use crate::sim::algorithm::chunked::ChunkId;
 use std::path::{Path, PathBuf};

@@ -21,7 +21,7 @@ use super::progress_sink::{FrameProgress, ProgressSink, large_work_notice};
 use super::run::RunFailure;
 use super::timing::{Timing, TimingPasses};
 use super::tune::tune_entry;
-use crate::edge::experiment::{AlgorithmSpec, Experiment};
+use crate::edge::experiment::{AlgorithmSpec, Experiment, ExperimentError};
 use crate::edge::output::mesh_ply::{PlyHeader, mesh_ply};
 use crate::edge::output::summary_json::{Preprocessing, resident_bytes};
 use crate::edge::output::tuning::{TuningRecord, mean_of_target};
@@ -96,6 +96,19 @@ pub(super) fn run_point<'a>(
     let results: Vec<Result<(AlgorithmResult, Option<u64>), RunError>> =
         pool.install(|| entries.par_iter().map(|&k| point.run_entry(k)).collect());
     progress.finish();
+    // A terrain read on demand whose file failed a read during the frames: the figures are
+    // not the terrain's.
+    if let Some(failure) = experiment
+        .field
+        .paged_samples()
+        .and_then(|paged| paged.failure())
+    {
+        return Err(RunFailure::Experiment(ExperimentError::single(
+            &experiment.file,
+            "terrain.pyramid.file",
+            format!("a read failed during the run: {failure}"),
+        )));
+    }
     let (results, resident): (Vec<_>, Vec<_>) = results
         .into_iter()
         .collect::<Result<Vec<_>, _>>()?

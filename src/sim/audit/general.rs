@@ -42,6 +42,7 @@ use crate::sim::stats::SurfaceCoverage;
 use crate::sim::terrain::{Heightfield, Spacing};
 use crate::sim::view::Camera;
 use glam::DVec3;
+use std::borrow::Cow;
 
 /// The lowest and highest height any surface triangle draws at each audited sample, and the
 /// vertical spans skirts cover at the samples where those differ.
@@ -181,8 +182,7 @@ impl Auditor {
             crack: self.crack.as_ref(),
             previous: self.previous_height.as_deref(),
             truth,
-            heights: field.heights(),
-            field_side: field.side(),
+            field,
             spacing: field.spacing(),
             fine: 1.0 / f64::from(1u32 << self.refine),
             stride: self.stride,
@@ -199,6 +199,9 @@ impl Auditor {
         let (tiles_x, lattice_side) = (self.tiles_x, self.lattice_side);
         for lj in 0..self.lattice_rows {
             let tile_row = &self.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
+            if !tile_row.contains(&true) {
+                continue; // No sample in view: its heights are not read (a paged field's).
+            }
             let row = samples.row(lj, &self.mesh_height[lj * lattice_side..][..lattice_side]);
             for columns in columns_in_view(tile_row, self.lattice_columns) {
                 for li in columns {
@@ -226,11 +229,10 @@ struct GeneralSamples<'a> {
     crack: Option<&'a CrackHeights>,
     /// The previous frame's drawn heights, with popping measured.
     previous: Option<&'a [f32]>,
-    /// The synthesised surface (`None`: the source's samples, `field_side` per row in
-    /// `heights`).
+    /// The synthesised surface (`None`: the source's samples, read a row at a time from
+    /// `field`).
     truth: Option<&'a DetailField>,
-    heights: &'a [f32],
-    field_side: usize,
+    field: &'a Heightfield,
     spacing: Spacing,
     /// A refined sample's spacing in source cells, 1/2^refine.
     fine: f64,
@@ -248,8 +250,9 @@ struct GeneralRow<'a> {
     right_y: f64,
     up_y: f64,
     forward_y: f64,
-    /// The source's heights of the row (unused against synthesised detail).
-    heights: &'a [f32],
+    /// The source's heights of the row (empty against synthesised detail): borrowed, or read
+    /// for a paged field.
+    heights: Cow<'a, [f32]>,
     /// The drawn heights of its audited samples.
     drawn: &'a [f32],
 }
@@ -268,10 +271,9 @@ impl GeneralSamples<'_> {
         };
         let dy = y - eye.y;
         let (right_y, up_y, forward_y) = (dy * right.y, dy * up.y, dy * forward.y);
-        let first = if self.truth.is_none() {
-            j * self.field_side
-        } else {
-            0
+        let heights = match self.truth {
+            None => self.field.row(j),
+            Some(_) => Cow::Borrowed(&[][..]),
         };
         GeneralRow {
             lj,
@@ -281,7 +283,7 @@ impl GeneralSamples<'_> {
             right_y,
             up_y,
             forward_y,
-            heights: &self.heights[first..],
+            heights,
             drawn,
         }
     }

@@ -76,8 +76,7 @@ impl Auditor {
             lattice_side: self.lattice_side,
             drawn: &self.mesh_height,
             previous: self.previous_height.as_deref(),
-            heights: field.heights(),
-            field_side: field.side(),
+            field,
             stride: self.stride,
             spacing_y: field.spacing().dy,
             column_x: &self.column_x,
@@ -104,9 +103,8 @@ struct LatticeRows<'a> {
     /// The drawn height at every audited sample, and the previous frame's (with popping).
     drawn: &'a [f32],
     previous: Option<&'a [f32]>,
-    /// The source's heights, `field_side` per row.
-    heights: &'a [f32],
-    field_side: usize,
+    /// The source's heights, read a row at a time (borrowed, or read for a paged field).
+    field: &'a Heightfield,
     stride: usize,
     spacing_y: f64,
     /// Per audited column: its x, as `Heightfield::position` has it.
@@ -164,9 +162,13 @@ impl MeasureLattice<'_, '_> {
         for lj in 0..lattice.lattice_rows {
             let j = lj * lattice.stride;
             let tile_row = &lattice.tile_in_view[(lj / TILE) * tiles_x..][..tiles_x];
+            if !tile_row.contains(&true) {
+                continue; // No sample in view: its heights are not read (a paged field's).
+            }
             let dy = j as f64 * lattice.spacing_y - eye.y;
+            let heights = lattice.field.row(j);
             let row = Row {
-                heights: &lattice.heights[j * lattice.field_side..][..lattice.field_side],
+                heights: &heights,
                 drawn: &lattice.drawn[lj * lattice_side..][..lattice_side],
                 stride: lattice.stride,
                 x: lattice.column_x,

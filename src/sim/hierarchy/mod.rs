@@ -160,9 +160,13 @@ impl Hierarchy {
         (node.error, node.z_min, node.z_max)
     }
 
-    /// Bytes per sample of the heights and Wu's node data if built (the heap capacity held).
+    /// Bytes per sample of the heights (a paged field's cache at its bound and records) and
+    /// Wu's node data if built (the heap capacity held).
     pub fn bytes_per_sample(&self) -> f64 {
-        let heights = std::mem::size_of_val(self.field.heights());
+        let heights = self.field.paged_samples().map_or_else(
+            || std::mem::size_of_val(self.field.heights()),
+            |paged| paged.memory_bytes(),
+        );
         let nodes = self.nodes.get().map_or(0, |nodes| {
             nodes.capacity() * std::mem::size_of::<NodeData>()
         });

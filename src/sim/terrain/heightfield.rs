@@ -13,9 +13,16 @@
 //! halves the memory of the largest terrains; every geometric computation promotes them to
 //! `f64`. The field also remembers which part of it is real data (the rest is padding), so the
 //! audit measures real samples only.
+//!
+//! A field is held in memory, or *paged* ([`Heightfield::paged`], `paged.rs`): its samples read
+//! on demand through a bounded cache, never held whole; `height`, `row`, `height_range` and
+//! `ground_height` answer either way, `heights` is empty for a paged field.
 
+use super::paged::PagedSamples;
 use crate::sim::view::Pose;
 use glam::{DVec2, DVec3};
+use std::borrow::Cow;
+use std::sync::Arc;
 
 /// The largest level n of a height field (side 2^n + 1 = 32 769): the 4-8 hierarchy numbers its
 /// vertices with 32-bit ids, and 65 537² is above 2^32. A larger terrain is refused by the
@@ -37,7 +44,10 @@ pub struct Spacing {
 pub struct Heightfield {
     level: u32,
     side: usize,
+    /// The samples, row by row; empty for a paged field.
     heights: Vec<f32>,
+    /// The samples read on demand instead (`paged.rs`); `None` for a field held in memory.
+    paged: Option<Arc<dyn PagedSamples>>,
     spacing: Spacing,
     data_columns: usize,
     data_rows: usize,
@@ -132,11 +142,50 @@ impl Heightfield {
             level,
             side,
             heights,
+            paged: None,
             spacing,
             data_columns,
             data_rows,
             origin: DVec3::ZERO,
         })
+    }
+
+    /// A field of side 2^`level` + 1 whose samples are read on demand from `samples` (every
+    /// sample real data); none is read here. Same limits as [`Heightfield::new`].
+    pub fn paged(
+        level: u32,
+        samples: Arc<dyn PagedSamples>,
+        spacing: Spacing,
+    ) -> Result<Heightfield, HeightfieldError> {
+        let side = (1usize << level.min(usize::BITS - 2)) + 1;
+        if level == 0 {
+            return Err(HeightfieldError::SideNotPowerOfTwoPlusOne { side });
+        }
+        if level > MAX_LEVEL {
+            return Err(HeightfieldError::TooLarge { side });
+        }
+        let spacing_ok = |d: f64| d.is_finite() && d > 0.0;
+        if !spacing_ok(spacing.dx) || !spacing_ok(spacing.dy) {
+            return Err(HeightfieldError::BadSpacing {
+                dx: spacing.dx,
+                dy: spacing.dy,
+            });
+        }
+        Ok(Heightfield {
+            level,
+            side,
+            heights: Vec::new(),
+            paged: Some(samples),
+            spacing,
+            data_columns: side,
+            data_rows: side,
+            origin: DVec3::ZERO,
+        })
+    }
+
+    /// The samples read on demand, for a paged field; `None` for one held in memory.
+    pub fn paged_samples(&self) -> Option<&Arc<dyn PagedSamples>> {
+        self.paged.as_ref()
     }
 
     /// The same field placed with its sample (0, 0) at height 0 at world point `origin`.
@@ -168,20 +217,38 @@ impl Heightfield {
     }
 
     pub fn n_samples(&self) -> usize {
-        self.heights.len()
+        self.side * self.side
     }
 
     pub fn spacing(&self) -> Spacing {
         self.spacing
     }
 
-    /// Row-major heights from the south-west corner.
+    /// Row-major heights from the south-west corner; empty for a paged field (read it with
+    /// [`Heightfield::height`] or [`Heightfield::row`]).
     pub fn heights(&self) -> &[f32] {
         &self.heights
     }
 
+    #[inline]
     pub fn height(&self, i: usize, j: usize) -> f32 {
-        self.heights[j * self.side + i]
+        match &self.paged {
+            None => self.heights[j * self.side + i],
+            Some(paged) => paged.height(i, j),
+        }
+    }
+
+    /// Row `j`'s heights, west to east: borrowed from memory, or read into a new buffer for a
+    /// paged field.
+    pub fn row(&self, j: usize) -> Cow<'_, [f32]> {
+        match &self.paged {
+            None => Cow::Borrowed(&self.heights[j * self.side..][..self.side]),
+            Some(paged) => {
+                let mut row = Vec::with_capacity(self.side);
+                paged.row(j, &mut row);
+                Cow::Owned(row)
+            }
+        }
     }
 
     /// Local position of sample (i, j).
@@ -205,6 +272,9 @@ impl Heightfield {
 
     /// Lowest and highest height.
     pub fn height_range(&self) -> (f32, f32) {
+        if let Some(paged) = &self.paged {
+            return paged.height_range();
+        }
         self.heights
             .iter()
             .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &z| {

@@ -11,6 +11,7 @@
 pub mod embed;
 pub mod fill;
 mod heightfield;
+pub mod paged;
 mod sample_grid;
 pub mod synthetic;
 

@@ -90,9 +90,10 @@
 //!   edge's loader thread over a pyramid that `roamsim prepare` writes, `src/edge/pyramid`)
 //!   rather than the shared field; the loading model still decides when a chunk is available
 //!   and a frame waits for a read not done by then, so the meshes are the in-memory ones
-//!   (`tests/pyramid_format.rs`). Not yet: a run without the in-memory `Hierarchy` (the tree's
-//!   records, the lattice, the flight, the audit and the draw still read it), so an experiment
-//!   cannot name a pyramid as its terrain, and the run still holds the whole source.
+//!   (`tests/pyramid_format.rs`). An experiment whose terrain is a pyramid runs over a paged
+//!   height field (`sim::terrain::paged`): the tree comes from the pyramid's records
+//!   (`tree/from_records.rs`) and the heights from the loader, so no sample is held but the
+//!   resident chunks and the field's bounded cache (`tests/pyramid_run.rs`).
 //!
 //! # What the GPU keeps (issue #31), `buffers.rs`
 //!
@@ -275,7 +276,9 @@ pub struct Chunked<'h> {
 
 impl<'h> Chunked<'h> {
     /// Builds the chunk tree (O(samples)). The goal's τ must be finite and ≥ 0 (the experiment
-    /// validation guarantees it).
+    /// validation guarantees it). Over a terrain read on demand (`terrain::paged`) whose chunk
+    /// level is the entry's, without detail: the tree from the source's records (O(chunks), no
+    /// height read) and, with `loading` on, the chunks' heights from its reader.
     pub fn new(
         hierarchy: &'h Hierarchy,
         config: ChunkedConfig,
@@ -299,13 +302,38 @@ impl<'h> Chunked<'h> {
         let leaf_error = detail_config.map_or(0.0, |detail| {
             geometry.estimate_leaf_error(hierarchy, &detail)
         });
-        let tree = ChunkTree::new(
-            hierarchy,
-            config.chunk_level,
-            config.skirts,
-            config.morph,
-            leaf_error,
-        );
+        // A terrain read on demand gives the tree's records and the chunks' heights itself.
+        let paged = hierarchy.field().paged_samples().filter(|paged| {
+            detail_config.is_none() && paged.chunk_level() == terrain_level - leaf_level
+        });
+        let from_records = paged.and_then(|paged| {
+            let records = paged.chunk_records();
+            ChunkTree::from_records(
+                hierarchy,
+                paged.chunk_level(),
+                config.skirts,
+                config.morph,
+                records,
+            )
+            .ok()
+        });
+        let tree = from_records.unwrap_or_else(|| {
+            ChunkTree::new(
+                hierarchy,
+                config.chunk_level,
+                config.skirts,
+                config.morph,
+                leaf_error,
+            )
+        });
+        let mut loading = config
+            .loading
+            .map(|loading| Box::new(Loading::new(loading, cells)));
+        if let (Some(loading), Some(paged)) = (loading.as_mut(), paged) {
+            // Without a reader the heights come through the field (the same file, the same
+            // values); a file that cannot be read says so through the field's failure.
+            loading.disk = paged.chunk_reader().and_then(DiskHeights::new).ok();
+        }
         Chunked {
             draw: ChunkBuffers::new(cells, config.morph),
             frame: 0,
@@ -321,9 +349,7 @@ impl<'h> Chunked<'h> {
                 ))
             }),
             previous_eye: None,
-            loading: config
-                .loading
-                .map(|loading| Box::new(Loading::new(loading, cells))),
+            loading,
             tree,
             list: TriangleList::new(hierarchy.lattice(), CrackPolicy::Skirted),
             selection: Selection::default(),

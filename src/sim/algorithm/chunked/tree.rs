@@ -32,6 +32,8 @@ use crate::sim::hierarchy::{GridPoint, Hierarchy};
 use crate::sim::mesh::{SUBGRID_UNITS_PER_CELL, SubgridPoint};
 use glam::DVec3;
 
+mod from_records;
+
 /// A chunk's place in the quadtree: level 0 is the root; at level L the terrain is 2^L × 2^L
 /// chunks, x to the east and y to the north.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -273,23 +275,8 @@ impl<'h> ChunkTree<'h> {
         morph: bool,
         leaf_error: f32,
     ) -> ChunkTree<'h> {
-        let terrain_level = hierarchy.lattice().level();
-        let chunk_level = chunk_level.clamp(1, terrain_level);
-        let spacing = hierarchy.field().spacing();
-        let geometry = ChunkGeometry {
-            cells: 1 << chunk_level,
-            terrain_level,
-            dx: spacing.dx,
-            dy: spacing.dy,
-        };
-        let leaf_level = terrain_level - chunk_level;
-        let mut tree = ChunkTree {
-            hierarchy,
-            geometry,
-            leaf_level,
-            leaf_error,
-            levels: Vec::new(),
-        };
+        let mut tree = ChunkTree::new_empty(hierarchy, chunk_level, leaf_error);
+        let leaf_level = tree.leaf_level;
         // Bottom-up: errors and height ranges, finest level first.
         let mut levels: Vec<Vec<ChunkRecord>> = Vec::with_capacity(leaf_level as usize + 1);
         for level in (0..=leaf_level).rev() {
@@ -312,6 +299,26 @@ impl<'h> ChunkTree<'h> {
         tree.levels = levels;
         tree.set_skirt_depths(skirts, morph);
         tree
+    }
+
+    /// The tree's geometry with no chunk yet (the chunk level clamped to the terrain's).
+    fn new_empty(hierarchy: &'h Hierarchy, chunk_level: u32, leaf_error: f32) -> ChunkTree<'h> {
+        let terrain_level = hierarchy.lattice().level();
+        let chunk_level = chunk_level.clamp(1, terrain_level);
+        let spacing = hierarchy.field().spacing();
+        let geometry = ChunkGeometry {
+            cells: 1 << chunk_level,
+            terrain_level,
+            dx: spacing.dx,
+            dy: spacing.dy,
+        };
+        ChunkTree {
+            hierarchy,
+            geometry,
+            leaf_level: terrain_level - chunk_level,
+            leaf_error,
+            levels: Vec::new(),
+        }
     }
 
     pub(super) fn geometry(&self) -> &ChunkGeometry {
