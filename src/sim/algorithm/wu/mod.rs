@@ -86,13 +86,14 @@
 //!
 //! Per frame: O(nodes whose key ran out + operations · their neighbourhood). Memory, on top of
 //! the shared hierarchy (heights and the node data above the finest level, 5 bytes per sample):
-//! a 4-byte queue handle per node (1.33 bytes per sample); a 16-byte link entry per queued node
+//! a 4-byte queue handle per node (1.33 bytes per sample); a 12-byte link entry per queued node
 //! (the frontier, and with view tracking every active node, the view queue holding the
 //! non-mergeable ones: O(mesh size)) in a slab that keeps its peak size rounded up to a power of
-//! two (`wheel.rs`); one bit per vertex for the mesh (0.125 bytes per sample); with view
-//! tracking, one in-view bit per node (0.04 bytes per sample); the work lists; and with the
+//! two, with at most as many removed entries awaiting their link's walk (`wheel.rs`); one bit
+//! per vertex for the mesh (0.125 bytes per sample); with view tracking, one in-view bit per node
+//! (0.04 bytes per sample); the work lists; and with the
 //! `max_plus_own` nesting, the centres' nested errors (4 bytes per sample, `zone.rs`). A mesh
-//! near full resolution (τ → 0) queues most nodes, and the slab then grows towards 16 bytes per
+//! near full resolution (τ → 0) queues most nodes, and the slab then grows towards 12 bytes per
 //! node. The measured totals are in `docs/performance.md`.
 
 mod budget;
@@ -935,6 +936,9 @@ impl LodAlgorithm for Wu<'_> {
         stats.vertices_deleted = c.deleted;
         stats.metric_evaluations = c.lives;
         stats.extra.clear();
+        // One allocation for a fresh `stats` (the runner hands one per frame), not a regrowth
+        // per column.
+        stats.extra.reserve_exact(self.extra_columns().len());
         stats.extra.extend([
             self.base as f64,
             f64::from(u8::from(shift.clamped)),

@@ -1,5 +1,5 @@
-//! Wu's split, merge and view queues: timing wheels of doubly linked links (Wu et al. 2001 §6,
-//! "the data structure of split and merge queue are all defined as arrays" of links; SPEC §5, a
+//! Wu's split, merge and view queues: timing wheels of linked links (Wu et al. 2001 §6, "the
+//! data structure of split and merge queue are all defined as arrays" of links; SPEC §5, a
 //! timing wheel with a rotating head, not a heap). The wheels only hold nodes; keys and what to
 //! do when a link comes due are the frame loop's (`mod.rs`).
 //!
@@ -13,12 +13,24 @@
 //! link of one queue.
 //!
 //! **Memory.** Only queued nodes (the frontier: splittable and mergeable nodes, O(mesh size)) hold
-//! a link entry (node, prev, next, slot: 16 bytes) in a slab whose freed entries are reused; every
-//! node holds a 4-byte handle to its entry. That is 4 bytes per node (a node per 3 samples) plus
-//! 16 bytes per queued node at the peak, instead of 12 bytes of intrusive links per node.
-//! Insertion and removal are O(1); taking a link empties it in O(its length). Only the slab grows
-//! (by doubling, amortised O(1)), to the largest number of nodes queued at once rounded up to a
-//! power of two.
+//! a link entry (node, next, slot: 12 bytes) in a slab whose freed entries are reused; every node
+//! holds a 4-byte handle to its entry. That is 4 bytes per node (a node per 3 samples) plus 12
+//! bytes per queued node at the peak, instead of 12 bytes of intrusive links per node.
+//!
+//! **Singly linked, removal by tombstone.** A link is a singly linked list, new nodes at its
+//! front. Removing a node marks its entry dead and drops its handle; the entry stays in its link
+//! until the link is taken, deferred or compacted, which frees it. So an insertion writes its own
+//! entry and the link's head, and a removal its own entry and handle: neither touches a
+//! neighbouring entry (a doubly linked list wrote the old front's `prev` on every insertion and
+//! both neighbours on every removal, three scattered cache lines over the slab; issue #31 item 6,
+//! `docs/performance.md`). Every walk skips dead entries, so what a link hands out, and in which
+//! order, is what a doubly linked list would hand out. A link whose dead entries outnumber its
+//! live ones is compacted at once (O(its length), paid for by the removals that made them), so
+//! the slab holds at most two entries per queued node, plus the free ones.
+//!
+//! Insertion and removal are O(1) (amortised, with compaction); taking a link empties it in O(its
+//! length). Only the slab grows (by doubling, amortised O(1)), to the largest number of entries
+//! held at once rounded up to a power of two.
 
 use super::nodes::NO_NODE;
 
@@ -62,15 +74,21 @@ const QUEUE_SHIFT: u32 = 30;
 const MARK_BIT: u32 = 1 << 29;
 const LINK_MASK: u32 = MARK_BIT - 1;
 
-/// One queued node's place in its link. `prev` and `next` are entry indices.
+/// One queued node's place in its link. `next` is an entry index. A dead entry (its node
+/// removed, the entry not yet unlinked) has `node` [`NO_NODE`].
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     node: u32,
-    prev: u32,
     next: u32,
     /// The link, with the queue's index above [`QUEUE_SHIFT`] and the caller's mark in
     /// [`MARK_BIT`]. For a free entry, unused.
     slot: u32,
+}
+
+impl Entry {
+    fn is_dead(&self) -> bool {
+        self.node == NO_NODE
+    }
 }
 
 /// The three queues over the same nodes.
@@ -79,12 +97,16 @@ pub(super) struct Wheels {
     /// First entry of each link: split links, then merge links, then view links; each queue has
     /// `n_links` wheel links, then overflow, then parked.
     heads: Vec<u32>,
+    /// Live nodes in each link.
     counts: Vec<u32>,
+    /// Dead entries still in each link (at most its live count, see [`Wheels::remove`]).
+    dead: Vec<u32>,
     /// Nodes in each queue.
     totals: [u64; 3],
     /// Per node, its entry, or [`NO_ENTRY`] when it is not queued.
     entry_of: Vec<u32>,
-    /// The entries of queued nodes, and free ones chained through `next` from `free`.
+    /// The entries of queued nodes, dead entries not yet unlinked, and free ones chained through
+    /// `next` from `free`.
     entries: Vec<Entry>,
     free: u32,
 }
@@ -101,6 +123,7 @@ impl Wheels {
             n_links,
             heads: vec![NO_ENTRY; 3 * per_queue],
             counts: vec![0; 3 * per_queue],
+            dead: vec![0; 3 * per_queue],
             totals: [0; 3],
             entry_of: vec![NO_ENTRY; n_nodes],
             entries: Vec::new(),
@@ -110,7 +133,10 @@ impl Wheels {
 
     /// Heap bytes held (capacities, not lengths).
     pub fn memory_bytes(&self) -> usize {
-        (self.heads.capacity() + self.counts.capacity() + self.entry_of.capacity())
+        (self.heads.capacity()
+            + self.counts.capacity()
+            + self.dead.capacity()
+            + self.entry_of.capacity())
             * std::mem::size_of::<u32>()
             + self.entries.capacity() * std::mem::size_of::<Entry>()
     }
@@ -163,47 +189,41 @@ impl Wheels {
             "node {node} queued twice"
         );
         let h = self.head_index(queue, link);
-        let first = self.heads[h];
         let entry = Entry {
             node,
-            prev: NO_ENTRY,
-            next: first,
+            next: self.heads[h],
             slot: link | (queue.index() << QUEUE_SHIFT) | if marked { MARK_BIT } else { 0 },
         };
-        if self.free == NO_ENTRY {
-            self.grow();
-        }
-        let e = self.free;
-        let free_entry = &mut self.entries[e as usize];
-        self.free = free_entry.next;
-        *free_entry = entry;
-        if first != NO_ENTRY {
-            self.entries[first as usize].prev = e;
-        }
+        let e = self.allocate(entry);
         self.heads[h] = e;
         self.counts[h] += 1;
         self.totals[queue.index() as usize] += 1;
         self.entry_of[node as usize] = e;
     }
 
-    /// Takes `node` out of whatever link holds it; returns where it was.
+    /// Takes `node` out of whatever link holds it; returns where it was. Its entry stays in the
+    /// link, dead, until the link is walked; a link whose dead entries now outnumber its live
+    /// ones is compacted.
     pub fn remove(&mut self, node: u32) -> Option<Slot> {
-        let slot = self.slot(node)?;
         let e = self.entry_of[node as usize];
-        let Entry { prev, next, .. } = self.entries[e as usize];
+        if e == NO_ENTRY {
+            return None;
+        }
+        let entry = &mut self.entries[e as usize];
+        let raw = entry.slot;
+        entry.node = NO_NODE;
+        let slot = Slot {
+            queue: Queue::from_index(raw >> QUEUE_SHIFT),
+            link: raw & LINK_MASK,
+        };
         let h = self.head_index(slot.queue, slot.link);
-        if prev == NO_ENTRY {
-            self.heads[h] = next;
-        } else {
-            self.entries[prev as usize].next = next;
-        }
-        if next != NO_ENTRY {
-            self.entries[next as usize].prev = prev;
-        }
         self.counts[h] -= 1;
+        self.dead[h] += 1;
         self.totals[slot.queue.index() as usize] -= 1;
         self.entry_of[node as usize] = NO_ENTRY;
-        self.release(e);
+        if self.dead[h] > self.counts[h] {
+            self.compact(h);
+        }
         Some(slot)
     }
 
@@ -213,6 +233,41 @@ impl Wheels {
         if let Some(slot) = self.remove(node) {
             self.insert(node, queue, slot.link);
         }
+    }
+
+    /// Unlinks and frees the dead entries of a link, keeping its live ones in order.
+    fn compact(&mut self, h: usize) {
+        let mut last_live = NO_ENTRY;
+        let mut e = self.heads[h];
+        self.heads[h] = NO_ENTRY;
+        while e != NO_ENTRY {
+            let Entry { next, .. } = self.entries[e as usize];
+            if self.entries[e as usize].is_dead() {
+                self.release(e);
+            } else {
+                self.entries[e as usize].next = NO_ENTRY;
+                if last_live == NO_ENTRY {
+                    self.heads[h] = e;
+                } else {
+                    self.entries[last_live as usize].next = e;
+                }
+                last_live = e;
+            }
+            e = next;
+        }
+        self.dead[h] = 0;
+    }
+
+    /// An entry from the free list (growing the slab when it is empty), holding `entry`.
+    fn allocate(&mut self, entry: Entry) -> u32 {
+        if self.free == NO_ENTRY {
+            self.grow();
+        }
+        let e = self.free;
+        let free_entry = &mut self.entries[e as usize];
+        self.free = free_entry.next;
+        *free_entry = entry;
+        e
     }
 
     /// Doubles the slab (at least 64 entries) and chains the new entries into the free list.
@@ -231,7 +286,6 @@ impl Wheels {
             let next = if e == new_len { NO_ENTRY } else { e as u32 };
             self.entries.push(Entry {
                 node: NO_NODE,
-                prev: NO_ENTRY,
                 next,
                 slot: 0,
             });
@@ -243,7 +297,6 @@ impl Wheels {
     fn release(&mut self, e: u32) {
         self.entries[e as usize] = Entry {
             node: NO_NODE,
-            prev: NO_ENTRY,
             next: self.free,
             slot: 0,
         };
@@ -258,8 +311,8 @@ impl Wheels {
     /// Moves every node of link `from` to the front of link `to` of the same queue, marked when
     /// `mark`, and hands the nodes that were marked to `marked` (front to back): the same links
     /// as taking `from` and inserting its nodes one by one, front to back, at the front of `to`
-    /// (so `from`'s nodes end up reversed before `to`'s), in one walk that frees and allocates
-    /// no entry. O(the link's length), a few instructions a node.
+    /// (so `from`'s nodes end up reversed before `to`'s), in one walk that allocates no entry
+    /// (it frees `from`'s dead ones). O(the link's length), a few instructions a node.
     pub fn defer(&mut self, queue: Queue, from: u32, to: u32, mark: bool, marked: &mut Vec<u32>) {
         let (h_from, h_to) = (self.head_index(queue, from), self.head_index(queue, to));
         let slot = to | (queue.index() << QUEUE_SHIFT) | if mark { MARK_BIT } else { 0 };
@@ -268,15 +321,16 @@ impl Wheels {
         while e != NO_ENTRY {
             let entry = &mut self.entries[e as usize];
             let next = entry.next;
+            if entry.is_dead() {
+                self.release(e);
+                e = next;
+                continue;
+            }
             if entry.slot & MARK_BIT != 0 {
                 marked.push(entry.node);
             }
             entry.slot = slot;
-            entry.prev = NO_ENTRY;
             entry.next = front;
-            if front != NO_ENTRY {
-                self.entries[front as usize].prev = e;
-            }
             front = e;
             e = next;
         }
@@ -284,22 +338,26 @@ impl Wheels {
         self.counts[h_to] += self.counts[h_from];
         self.heads[h_from] = NO_ENTRY;
         self.counts[h_from] = 0;
+        self.dead[h_from] = 0;
     }
 
-    /// Empties a link, front to back, handing each node to `each`.
+    /// Empties a link, front to back, handing each live node to `each` and freeing every entry.
     fn drain_link(&mut self, queue: Queue, link: u32, mut each: impl FnMut(u32)) {
         let h = self.head_index(queue, link);
         let mut e = self.heads[h];
         while e != NO_ENTRY {
             let Entry { node, next, .. } = self.entries[e as usize];
-            each(node);
-            self.entry_of[node as usize] = NO_ENTRY;
+            if node != NO_NODE {
+                each(node);
+                self.entry_of[node as usize] = NO_ENTRY;
+            }
             self.release(e);
             e = next;
         }
         self.totals[queue.index() as usize] -= u64::from(self.counts[h]);
         self.heads[h] = NO_ENTRY;
         self.counts[h] = 0;
+        self.dead[h] = 0;
     }
 
     /// Nodes in a queue (all links). O(1).
@@ -311,9 +369,9 @@ impl Wheels {
         self.counts[self.head_index(queue, link)]
     }
 
-    /// Checks the link structure itself: prev/next symmetry, handles and slots agree with
-    /// membership, counts agree with a recount, every entry is linked or free. Returns the first
-    /// inconsistency.
+    /// Checks the link structure itself: handles and slots agree with membership, live and dead
+    /// counts agree with a recount and dead entries never outnumber live ones in a link, every
+    /// entry is linked or free. Returns the first inconsistency.
     pub fn check_structure(&self) -> Result<(), String> {
         let mut seen = vec![false; self.entry_of.len()];
         let mut linked_entries = 0usize;
@@ -321,20 +379,29 @@ impl Wheels {
             let mut n_in_queue = 0u64;
             for link in 0..self.n_links + 2 {
                 let h = self.head_index(queue, link);
-                let mut previous = NO_ENTRY;
                 let mut e = self.heads[h];
-                let mut n_linked = 0u32;
+                let (mut n_linked, mut n_dead) = (0u32, 0u32);
                 while e != NO_ENTRY {
                     let Some(entry) = self.entries.get(e as usize) else {
                         return Err(format!("{queue:?} link {link}: entry {e} out of range"));
                     };
+                    if n_linked as usize + n_dead as usize > self.entries.len() {
+                        return Err(format!("{queue:?} link {link}: a cycle"));
+                    }
+                    e = entry.next;
+                    if entry.is_dead() {
+                        n_dead += 1;
+                        continue;
+                    }
                     let node = entry.node;
                     if seen.get(node as usize).copied().unwrap_or(true) {
                         return Err(format!("node {node} is linked twice or out of range"));
                     }
                     seen[node as usize] = true;
-                    if self.entry_of[node as usize] != e {
-                        return Err(format!("node {node}: handle does not name its entry {e}"));
+                    if self.entry_of[node as usize] == NO_ENTRY
+                        || self.entries[self.entry_of[node as usize] as usize].node != node
+                    {
+                        return Err(format!("node {node}: handle does not name its entry"));
                     }
                     if self.head_index_of_slot(entry.slot) != h {
                         return Err(format!(
@@ -342,12 +409,7 @@ impl Wheels {
                             self.slot(node)
                         ));
                     }
-                    if entry.prev != previous {
-                        return Err(format!("node {node}: prev link broken"));
-                    }
-                    previous = e;
                     n_linked += 1;
-                    e = entry.next;
                 }
                 if n_linked != self.link_len(queue, link) {
                     return Err(format!(
@@ -355,7 +417,14 @@ impl Wheels {
                         self.link_len(queue, link),
                     ));
                 }
-                linked_entries += n_linked as usize;
+                if n_dead != self.dead[h] || n_dead > n_linked {
+                    return Err(format!(
+                        "{queue:?} link {link}: {n_dead} dead entries (recorded {}) for \
+                         {n_linked} live ones",
+                        self.dead[h]
+                    ));
+                }
+                linked_entries += n_linked as usize + n_dead as usize;
                 n_in_queue += u64::from(n_linked);
             }
             if n_in_queue != self.len(queue) {
@@ -436,7 +505,7 @@ mod tests {
         let mut e = by_hand.heads[h];
         while e != NO_ENTRY {
             let entry = by_hand.entries[e as usize];
-            if entry.slot & MARK_BIT != 0 {
+            if !entry.is_dead() && entry.slot & MARK_BIT != 0 {
                 marked_by_hand.push(entry.node);
             }
             e = entry.next;
@@ -473,12 +542,49 @@ mod tests {
             let mut e = self.heads[h];
             while e != NO_ENTRY {
                 let entry = self.entries[e as usize];
-                out.push((entry.node, entry.slot & MARK_BIT != 0));
+                if !entry.is_dead() {
+                    out.push((entry.node, entry.slot & MARK_BIT != 0));
+                }
                 e = entry.next;
             }
             let mut nodes = Vec::new();
             self.take_link(queue, link, &mut nodes);
         }
+    }
+
+    #[test]
+    fn removed_nodes_leave_the_links_in_the_order_a_doubly_linked_list_keeps() {
+        // Link 0 of the split queue front to back: 9 8 7 6 5 4 3 2 1 0. Removing 8, 5 and 0
+        // leaves their entries dead in the link; removing four more makes the dead outnumber the
+        // live ones on the way, which compacts it. Deferring and taking hand out the live nodes in order.
+        let mut wheels = Wheels::new(16, 4);
+        for node in 0..10 {
+            wheels.insert(node, Queue::Split, 0);
+        }
+        for node in [8, 5, 0] {
+            wheels.remove(node);
+        }
+        wheels.check_structure().unwrap();
+        assert_eq!(wheels.dead[wheels.head_index(Queue::Split, 0)], 3);
+        assert_eq!(wheels.link_len(Queue::Split, 0), 7);
+        for node in [9, 2, 4, 6] {
+            wheels.remove(node);
+        }
+        wheels.check_structure().unwrap();
+        assert_eq!(wheels.link_len(Queue::Split, 0), 3);
+        assert!(wheels.dead[wheels.head_index(Queue::Split, 0)] <= 3);
+        wheels.insert(11, Queue::Split, 1);
+        wheels.insert(12, Queue::Split, 1);
+        wheels.remove(11);
+        let mut marked = Vec::new();
+        wheels.defer(Queue::Split, 0, 1, false, &mut marked);
+        wheels.check_structure().unwrap();
+        let mut taken = Vec::new();
+        wheels.take_link(Queue::Split, 1, &mut taken);
+        // 0's live nodes 7 3 1 reversed before 1's live node 12.
+        assert_eq!(taken, vec![1, 3, 7, 12]);
+        assert_eq!(wheels.len(Queue::Split), 0);
+        wheels.check_structure().unwrap();
     }
 
     #[test]
