@@ -4,7 +4,8 @@
 //! any chunk level (a real SRTM tile cropped to 1025² included); a truncated, foreign or
 //! corrupted file is refused with the file and the field named; and a chunked entry whose
 //! heights are read from the pyramid on a loader thread draws, every frame, exactly the meshes
-//! of the same entry reading the heights in memory.
+//! of the same entry reading the heights in memory, reporting its reads (count, latency, wait)
+//! per frame and the run's latency percentiles.
 
 mod common;
 
@@ -16,10 +17,15 @@ use roamsim::edge::pyramid::{
     PyramidFile, PyramidLoader, RawSource, StoredSample, chunk_ids, prepare_from_raw,
 };
 use roamsim::edge::terrain_readers::{RawLayout, RawSample};
-use roamsim::sim::algorithm::chunked::{ChunkId, LoadingConfig};
+use roamsim::sim::algorithm::chunked::{ChunkHeightSource, ChunkId, ChunkRead, LoadingConfig};
+use roamsim::sim::algorithm::columns::chunked::{
+    CHUNKS_READ, READ_LATENCY_MAX_US, READ_LATENCY_MEAN_US, READ_WAIT_US,
+};
+use roamsim::sim::algorithm::columns::extra_value;
 use roamsim::sim::algorithm::{Chunked, ChunkedConfig, LodAlgorithm};
 use roamsim::sim::hierarchy::GridPoint;
 use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::stats::{FrameStats, nearest_rank};
 use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose};
 use std::path::{Path, PathBuf};
@@ -426,6 +432,83 @@ fn the_heights_drawn_are_the_ones_read_from_the_file() {
             assert_eq!(zd - zm, 1.0, "{m:?} vs {d:?}");
         }
     }
+}
+
+/// The loader over a pyramid with each read's latency stamped from its chunk (1 ms a level,
+/// plus 1 ms), so the reported latencies are known; the chunks taken, in order.
+struct StampedReads {
+    loader: PyramidLoader,
+    taken: std::sync::Arc<std::sync::Mutex<Vec<ChunkId>>>,
+}
+
+fn stamped_latency_ns(id: ChunkId) -> u64 {
+    1_000_000 * u64::from(id.level + 1)
+}
+
+impl ChunkHeightSource for StampedReads {
+    fn request(&mut self, id: ChunkId) {
+        self.loader.request(id);
+    }
+
+    fn take(&mut self, id: ChunkId) -> Result<ChunkRead, String> {
+        self.taken.lock().unwrap().push(id);
+        let read = self.loader.take(id)?;
+        Ok(ChunkRead {
+            latency_ns: stamped_latency_ns(id),
+            ..read
+        })
+    }
+}
+
+#[test]
+fn a_flight_reading_from_disk_reports_each_frames_reads_and_the_runs_latency_percentiles() {
+    let terrain = Terrain::integer(8);
+    let hierarchy = terrain.hierarchy();
+    let cameras = low_flight(&hierarchy, 60);
+    let (_folder, path) = prepare(&terrain, RawSample::I16Le, true, 4);
+    let config = with_loading(chunked(0.5, 4));
+    let in_memory = Chunked::new(&hierarchy, config, &view_600());
+    assert!(!in_memory.extra_columns().contains(&CHUNKS_READ));
+    let taken = std::sync::Arc::default();
+    let source = StampedReads {
+        loader: PyramidLoader::start(PyramidFile::open(&path).unwrap()),
+        taken: std::sync::Arc::clone(&taken),
+    };
+    let mut algorithm = in_memory.with_disk_heights(Box::new(source)).unwrap();
+    let declared = algorithm.extra_columns();
+    let column = |stats: &FrameStats, name| extra_value(declared, stats, name).unwrap();
+    taken.lock().unwrap().clear(); // The root, read before the flight.
+    let mut all_us = Vec::new();
+    for (frame, camera) in cameras.iter().enumerate() {
+        let stats = step(&mut algorithm, frame as u64, camera, false);
+        let this_frame: Vec<f64> = taken
+            .lock()
+            .unwrap()
+            .drain(..)
+            .map(|id| stamped_latency_ns(id) as f64 * 1e-3)
+            .collect();
+        let n = this_frame.len() as f64;
+        let max = this_frame.iter().copied().fold(0.0, f64::max);
+        let mean = if n > 0.0 {
+            this_frame.iter().sum::<f64>() / n
+        } else {
+            0.0
+        };
+        assert_eq!(column(&stats, CHUNKS_READ), n, "frame {frame}: reads");
+        assert_eq!(column(&stats, READ_LATENCY_MAX_US), max, "frame {frame}");
+        assert_eq!(column(&stats, READ_LATENCY_MEAN_US), mean, "frame {frame}");
+        assert!(column(&stats, READ_WAIT_US) >= 0.0);
+        all_us.extend(this_frame);
+    }
+    assert!(all_us.len() > 20, "only {} chunks read", all_us.len());
+    all_us.sort_by(f64::total_cmp);
+    let facts = algorithm.run_facts();
+    let fact = |name| facts.iter().find(|(k, _)| *k == name).unwrap().1;
+    assert_eq!(fact("chunks_read"), all_us.len() as f64);
+    assert_eq!(fact("read_latency_p50_us"), nearest_rank(&all_us, 0.5));
+    assert_eq!(fact("read_latency_p95_us"), nearest_rank(&all_us, 0.95));
+    assert_eq!(fact("read_latency_max_us"), *all_us.last().unwrap());
+    assert!(fact("read_latency_p50_us") < fact("read_latency_max_us"));
 }
 
 #[test]
