@@ -567,3 +567,127 @@ fn the_prepare_command_writes_the_pyramid_and_reports_progress() {
         &["t.raw", "2^n + 1 samples a side"],
     );
 }
+
+/// The shipped SRTM tile, by its absolute path.
+fn shipped_tile() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/data/N48E009.hgt")
+}
+
+#[test]
+fn prepare_from_the_shipped_hgt_equals_prepare_from_the_same_heights_as_raw_bit_for_bit() {
+    let folder = tempfile::tempdir().unwrap();
+    let cwd = folder.path();
+    let tile = shipped_tile();
+    let tile_path = tile.to_str().unwrap();
+    common::cli::succeeds(
+        &[
+            "prepare",
+            tile_path,
+            "--fit",
+            "crop",
+            "--chunk-level",
+            "5",
+            "--out",
+            "hgt.pyr",
+        ],
+        cwd,
+    );
+    // The heights a run reads: the centred 1025² crop (columns and rows 88..=1112 of the tile,
+    // north row first), its 21 voids filled with their nearest sample's height.
+    let file = serde_json::json!({"path": tile_path, "fit": "crop"});
+    let (field, _) = roamsim::edge::experiment::load_terrain_file(&tile, &file).unwrap();
+    assert_eq!(field.side(), 1025);
+    let bytes = std::fs::read(&tile).unwrap();
+    let mut raw = Vec::with_capacity(1025 * 1025 * 2);
+    let mut from_tile = 0;
+    for row_from_north in 0..1025 {
+        for column in 0..1025 {
+            let z = field.height(column, 1024 - row_from_north);
+            let k = 2 * ((88 + row_from_north) * 1201 + 88 + column);
+            let stored = i16::from_be_bytes([bytes[k], bytes[k + 1]]);
+            if stored != -32768 {
+                assert_eq!(
+                    z,
+                    f32::from(stored),
+                    "column {column}, row {row_from_north}"
+                );
+                from_tile += 1;
+            }
+            raw.extend_from_slice(&(z as i16).to_le_bytes());
+        }
+    }
+    assert!(from_tile > 1025 * 1025 - 22);
+    std::fs::write(cwd.join("same.raw"), raw).unwrap();
+    let spacing = field.spacing();
+    let spacing = format!("{:?},{:?}", spacing.dx, spacing.dy);
+    let raw_args = [
+        "prepare",
+        "same.raw",
+        "--raw-side",
+        "1025",
+        "--raw-sample",
+        "i16le",
+        "--spacing-m",
+        &spacing,
+        "--chunk-level",
+        "5",
+        "--out",
+        "raw.pyr",
+    ];
+    common::cli::succeeds(&raw_args, cwd);
+    let from_hgt = std::fs::read(cwd.join("hgt.pyr")).unwrap();
+    let from_raw = std::fs::read(cwd.join("raw.pyr")).unwrap();
+    assert_eq!(from_hgt.len(), from_raw.len());
+    let first_difference = (0..from_hgt.len()).find(|&k| from_hgt[k] != from_raw[k]);
+    assert_eq!(first_difference, None, "the pyramids differ");
+    let header = *PyramidFile::open(&cwd.join("hgt.pyr")).unwrap().header();
+    assert_eq!(header.sample, StoredSample::I16);
+}
+
+#[test]
+fn prepare_refuses_an_unknown_or_unreadable_terrain_naming_the_file() {
+    let folder = tempfile::tempdir().unwrap();
+    let cwd = folder.path();
+    std::fs::write(cwd.join("notes.txt"), "not a terrain").unwrap();
+    common::cli::fails_with(
+        &["prepare", "notes.txt", "--out", "t.pyr"],
+        cwd,
+        &["notes.txt", "unknown terrain format"],
+    );
+    std::fs::write(cwd.join("short.hgt"), [0u8; 100]).unwrap();
+    common::cli::fails_with(
+        &["prepare", "short.hgt", "--out", "t.pyr"],
+        cwd,
+        &["short.hgt"],
+    );
+    common::cli::fails_with(
+        &["prepare", "absent.tif", "--out", "t.pyr"],
+        cwd,
+        &["absent.tif"],
+    );
+    assert!(!cwd.join("t.pyr").exists());
+}
+
+#[test]
+fn prepare_refuses_a_terrain_too_large_to_read_whole_before_reading_it() {
+    // A header that declares 300 000² samples: 360 GB as f32, more than any machine here.
+    let folder = tempfile::tempdir().unwrap();
+    let cwd = folder.path();
+    std::fs::write(
+        cwd.join("huge.asc"),
+        "ncols 300000\nnrows 300000\nxllcorner 0\nyllcorner 0\ncellsize 30\n1 2 3\n",
+    )
+    .unwrap();
+    common::cli::fails_with(
+        &["prepare", "huge.asc", "--fit", "crop", "--out", "t.pyr"],
+        cwd,
+        &[
+            "huge.asc",
+            "300000×300000 samples",
+            "of memory",
+            "raw file",
+            "--raw-side",
+        ],
+    );
+    assert!(!cwd.join("t.pyr").exists());
+}
