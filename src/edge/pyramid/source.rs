@@ -188,7 +188,11 @@ fn available_memory() -> Option<u64> {
     Some(kib * 1024)
 }
 
-/// Bytes as gigabytes, for the user.
+/// Bytes as gigabytes (megabytes below 1 GB), for the user.
 fn gigabytes(bytes: u64) -> String {
-    format!("{:.1} GB", bytes as f64 / 1e9)
+    if bytes < 1_000_000_000 {
+        format!("{:.0} MB", bytes as f64 / 1e6)
+    } else {
+        format!("{:.1} GB", bytes as f64 / 1e9)
+    }
 }
