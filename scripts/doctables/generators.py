@@ -246,6 +246,8 @@ GENERATORS = {
                                    "gap (%) between a tuned entry's run and probe means, inline"),
     "preprocessing": (study.preprocessing, "preprocessing DIGITS ALGORITHM EXPERIMENT …: its "
                                            "own preprocessing per sample (µs), inline"),
+    "quotient": (study.quotient, "quotient DIGITS COLUMN COLUMN ENTRY[|ENTRY…] EXPERIMENT …: "
+                                 "one column over another for the same entry, inline"),
     "growth": (study.growth, "growth COLUMN DIGITS FROM TO ENTRY[|ENTRY…]: an entry's figure "
                              "in TO over FROM (sweep points: NAME@VALUE), inline"),
     # docs/reproductions/*.md: their own module.

@@ -180,9 +180,13 @@ def span_text(values, digits):
 
 
 def rounded(value, digits):
-    """`value` with `digits` decimals, halves rounded up as roamsim prints them (156.5 → 157)."""
+    """`value` with `digits` decimals, halves rounded up as roamsim prints them (156.5 → 157);
+    negative `digits` round to tens, hundreds… (8415.1 with -2 → 8400)."""
     step = decimal.Decimal(1).scaleb(-int(digits))
-    return str(decimal.Decimal(repr(value)).quantize(step, rounding=decimal.ROUND_HALF_UP))
+    exact = decimal.Decimal(repr(value))
+    if int(digits) >= 0:
+        return str(exact.quantize(step, rounding=decimal.ROUND_HALF_UP))
+    return str(int((exact / step).quantize(1, rounding=decimal.ROUND_HALF_UP) * step))
 
 
 def inline(function):
@@ -202,19 +206,42 @@ def figures(column, digits, entries, *experiments):
     """figure COLUMN DIGITS ENTRY[|ENTRY…] EXPERIMENT …: an entry's figure (`time`, `update` or
     a comparison-table column, see `figure`), or the range of it over the entries and
     experiments (`flights`, `NAME@*`: see `expanded`), with DIGITS decimals."""
-    return span_text([figure(spec, label, column) for spec in expanded(experiments)
-                      for label in entries.split("|")], digits)
+    return span_text(over_entries(lambda spec, label: figure(spec, label, column), entries,
+                                  experiments), digits)
 
 
 def ratios(column, numerators, denominator, experiments):
-    return [figure(spec, numerator, column) / figure(spec, denominator, column)
-            for spec in expanded(experiments) for numerator in numerators.split("|")]
+    """Each numerator's figure over the denominator's, in each experiment. A numerator with one
+    `*` stands for every entry it matches, each over the denominator whose `*` is replaced by
+    the same text (`"roam deferral=true, *"` over `"roam deferral=false, *"`)."""
+    found = []
+    for spec in expanded(experiments):
+        for numerator in numerators.split("|"):
+            for label, matched in matching(spec, numerator):
+                found.append(figure(spec, label, column)
+                             / figure(spec, denominator.replace("*", matched), column))
+    return found
+
+
+def matching(spec, pattern):
+    """[(label, the text `*` matched)] of the entries `pattern` names in `spec`."""
+    if "*" not in pattern:
+        return [(pattern, "")]
+    head, tail = pattern.split("*", 1)
+    regex = re.compile(re.escape(head) + "(.*)" + re.escape(tail) + "$")
+    found = [(label, m.group(1)) for label in main_table(experiment_folder(spec))
+             if (m := regex.match(label))]
+    if not found:
+        raise OutputMissing(f"plots/{experiment_folder(spec)}/report.md: no entry matches "
+                            f"{pattern!r}")
+    return found
 
 
 @inline
 def ratio(column, digits, numerators, denominator, *experiments):
     """ratio COLUMN DIGITS NUMERATOR[|NUMERATOR…] DENOMINATOR EXPERIMENT …: NUMERATOR's figure
-    divided by DENOMINATOR's in each experiment; one ratio, or their range."""
+    divided by DENOMINATOR's in each experiment; one ratio, or their range (`*`: see
+    `ratios`)."""
     return span_text(ratios(column, numerators, denominator, experiments), digits)
 
 
@@ -232,6 +259,31 @@ def less(column, digits, entries, other, *experiments):
     below OTHER's in each experiment (negative: above); one figure, or their range."""
     return span_text([(1 - r) * 100 for r in ratios(column, entries, other, experiments)],
                      digits)
+
+
+@inline
+def quotient(digits, numerator, denominator, entries, *experiments):
+    """quotient DIGITS COLUMN COLUMN ENTRY[|ENTRY…] EXPERIMENT …: an entry's figure in one column
+    over its figure in another (`triangles` over `rendered`); one figure, or their range."""
+    return span_text(over_entries(lambda spec, label: figure(spec, label, numerator)
+                                  / figure(spec, label, denominator), entries, experiments),
+                     digits)
+
+
+def over_entries(value, entries, experiments):
+    """`value(experiment, entry)` for each of the entries in each experiment; an entry the
+    outputs predate (`PRE_FRAME_NS_ABSENT`) is left out of a range that has others."""
+    found = []
+    for spec in expanded(experiments):
+        for label in entries.split("|"):
+            try:
+                found.append(value(spec, label))
+            except NotYetRun:
+                if "|" not in entries:
+                    raise
+    if not found:
+        raise NotYetRun(entries)
+    return found
 
 
 @inline
