@@ -160,7 +160,8 @@ def sweep_points_column(name, column):
     labels = []
     for rows in per_point:
         labels += [label for label in rows if label not in labels]
-    print(f"From each point's `plots/{name}/…/report.md`, {column} (the mean per frame):\n")
+    print(f"From each point's `plots/{name}/…/report.md`, {column} (means over each point's "
+          "frames):\n")
     print("| entry | " + " | ".join(short_point(point) for point, _folder in points) + " |")
     print("|---|" + "---|" * len(points))
     for label in labels:

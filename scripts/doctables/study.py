@@ -9,7 +9,8 @@ reference whole-terrain entry labelled `reference` and no in-view reference: the
 "Before issue #31's regeneration" below reads them as the docs print them today, and is deleted,
 with its calls, once `bash scripts/regenerate-plots.sh study` has rewritten the outputs.
 
-This module selects and divides figures report.md prints; it computes nothing else.
+This module selects figures report.md and summary.json hold and divides them (ratios, percent
+differences, growths); it computes nothing else.
 """
 
 import decimal
@@ -54,7 +55,9 @@ def report(name):
 # --- Before issue #31's regeneration -------------------------------------------------------
 # The committed outputs predate `frame_ns`. Each fallback here prints what the docs print from
 # them today, so that `scripts/doc-tables --check` passes until the lead regenerates the study;
-# then this block goes, and with it the call in each function above that names it.
+# then this block goes, with every use of its `pre_frame_ns_*` / `PRE_FRAME_NS_*` names and of
+# `NotYetRun` (time_columns, time_section, row_of, sweep_time_figure, inline, over_entries,
+# generators.sweep_points_column).
 
 
 def pre_frame_ns_time_columns(row):
@@ -72,7 +75,6 @@ PRE_FRAME_NS_LABELS = {"reference whole terrain": "reference"}
 # one prints this instead.
 PRE_FRAME_NS_ABSENT = {"reference in view"}
 PRE_FRAME_NS_ABSENT_TEXT = "not yet measured (the committed outputs predate that entry)"
-
 
 
 def pre_frame_ns_lacks(row, column):
@@ -263,8 +265,8 @@ def less(column, digits, entries, other, *experiments):
 
 @inline
 def quotient(digits, numerator, denominator, entries, *experiments):
-    """quotient DIGITS COLUMN COLUMN ENTRY[|ENTRY…] EXPERIMENT …: an entry's figure in one column
-    over its figure in another (`triangles` over `rendered`); one figure, or their range."""
+    """quotient DIGITS COLUMN COLUMN ENTRY[|ENTRY…] EXPERIMENT …: an entry's figure in one
+    column over its figure in another (`triangles` over `rendered`); one figure, or their range."""
     return span_text(over_entries(lambda spec, label: figure(spec, label, numerator)
                                   / figure(spec, label, denominator), entries, experiments),
                      digits)
