@@ -14,8 +14,15 @@ Everything printed is read from a run's own outputs under plots/ (report.md tabl
 summary.json records): the scripts select, join and order figures, and compute a figure only
 where the doc says how (a ratio of two printed figures). Python 3 standard library only.
 
+`ROAMSIM_PLOTS=DIR` reads the outputs from DIR instead of plots/ (laid out the same way, one
+folder per experiment), to see what a generator prints from a fresh run before it is committed:
+
+    roamsim run experiments/study-turning.json --out /tmp/runs/study-turning --threads 1
+    ROAMSIM_PLOTS=/tmp/runs scripts/doc-tables --print study-turning
+
 Modules: `outputs` reads the committed outputs' report.md tables; `runs` reads one run's
 summary.json statistics and facts and frames.csv rows; `markers` finds and fills the marked
-text; `generators` holds every generator by name, the reproduction pages' in `reproductions`;
-`cli` is the command line.
+text; `generators` holds every generator by name, the reproduction pages' in `reproductions`,
+the study's time axis and inline figures (figure, ratio, more, less, growth) in `study`; `cli`
+is the command line.
 """

@@ -5,10 +5,13 @@ check says which output a figure needs rather than a Python traceback.
 """
 
 import json
+import os
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent.parent
-PLOTS = ROOT / "plots"
+# The committed outputs, or another run's folder of them (`ROAMSIM_PLOTS=/tmp/runs`, laid out as
+# plots/ is: one folder per experiment) to see what the generators print from a fresh run.
+PLOTS = Path(os.environ.get("ROAMSIM_PLOTS") or ROOT / "plots").resolve()
 
 
 class OutputMissing(Exception):
@@ -19,11 +22,19 @@ def cells(line):
     return [c.strip() for c in line.strip().strip("|").split("|")]
 
 
+def shown(path):
+    """`path` as a message names it: relative to the repository when it lies in it."""
+    try:
+        return str(path.relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
 def tables(report):
     """Every table of a report.md, in order, as (section heading, header cells, rows), each row
     a dict keyed by header cell."""
     if not report.exists():
-        raise OutputMissing(f"{report.relative_to(ROOT)}: missing (run "
+        raise OutputMissing(f"{shown(report)}: missing (run "
                             f"`bash scripts/regenerate-plots.sh {report.parent.name}`)")
     found = []
     section = ""
