@@ -14,7 +14,9 @@ WU_PAPER_ERROR = {3000: 3.2, 5000: 2.5, 6000: 2.3, 8000: 2.0, 12000: 1.6}
 
 
 def _wu(name, label, which="mean"):
-    values = column(WU, label, name, 1)
+    """A statistic of a frames.csv column over frames 1 on; `a+b` sums two columns per frame."""
+    parts = [column(WU, label, part, 1) for part in name.split("+")]
+    values = [sum(frame) for frame in zip(*parts)]
     return {"mean": mean, "min": min, "max": max}[which](values)
 
 
@@ -140,7 +142,8 @@ def wu_ratio(label_a, name_a, label_b, name_b, digits="2"):
 def wu_against_paper(label, name, paper):
     """wu-vs-paper ENTRY COLUMN PAPER: how far the mean over frames 1 on is from the paper's
     figure, a signed whole percentage (−36 %), inline."""
-    print(f"{signed(100 * (_wu(name, label) / float(paper) - 1))} %", end="")
+    percent = 100 * (_wu(name, label) / float(paper) - 1)
+    print(f"{'+' if round(percent) > 0 else ''}{signed(percent)} %", end="")
 
 
 def wu_budget_held(mode=""):
@@ -157,6 +160,13 @@ def wu_fact(label, name, digits="2"):
     print(f"{float(fact(WU, label, name)):.{int(digits)}f}", end="")
 
 
+def wu_handovers(label):
+    """wu-handovers ENTRY: the frames whose τ differs from the previous frame's (the hand-overs
+    of re-centring), inline."""
+    tau = column(WU, label, "tau_px")
+    print(sum(1 for before, after in zip(tau, tau[1:]) if after != before), end="")
+
+
 GENERATORS = {
     "wu-table1": (wu_table1_fixed, "Wu'01 Table 1 at the paper's τ "
                                    "(docs/reproductions/wu-table1.md)"),
@@ -171,4 +181,5 @@ GENERATORS = {
     "wu-budget-held": (wu_budget_held, "wu-budget-held [recentred]: the in-view count's largest "
                                        "distance from its budget, in %, inline"),
     "wu-fact": (wu_fact, "wu-fact ENTRY FACT [DIGITS]: an entry's fact, inline"),
+    "wu-handovers": (wu_handovers, "wu-handovers ENTRY: frames whose τ changed, inline"),
 }
