@@ -16,6 +16,7 @@ where the doc says how (a ratio of two printed figures). Python 3 standard libra
 
 Modules: `outputs` reads the committed outputs' report.md tables; `runs` reads one run's
 summary.json statistics and facts and frames.csv rows; `markers` finds and fills the marked
-text; `generators` holds every generator by name, the reproduction pages' in `reproductions`;
-`cli` is the command line.
+text; `generators` holds every generator by name, the reproduction pages' in `reproductions`,
+which gathers `repro_common`'s shared readers and the pages' own modules (`repro_rottger`,
+`repro_lauritsen`, `repro_wu`, `repro_vanek`); `cli` is the command line.
 """

@@ -88,12 +88,20 @@ def _cost(label, against, audit, name):
                                   column(LAURITSEN, against, f"{audit}_{name}_px"))]
 
 
-def worst_frame(label, against, audit):
-    """lauritsen-worst-frame ENTRY AGAINST AUDIT: the last frame whose largest error (AUDIT:
-    audit_projected or audit_detail_projected) costs more than 1 px against AGAINST, inline."""
+def worst_frame(label, against, audit, threshold="1"):
+    """lauritsen-worst-frame ENTRY AGAINST AUDIT [THRESHOLD]: the last frame whose largest error
+    (AUDIT: audit_projected or audit_detail_projected) costs more than THRESHOLD px against
+    AGAINST, inline."""
     costs = _cost(label, against, audit, "max")
-    frames = [frame for frame, cost in enumerate(costs) if cost > 1]
+    frames = [frame for frame, cost in enumerate(costs) if cost > float(threshold)]
     print(frames[-1] if frames else "none", end="")
+
+
+def cost_after(label, against, audit, first):
+    """lauritsen-cost-after ENTRY AGAINST AUDIT FIRST: the largest cost on a frame's largest
+    error from frame FIRST on (px, two digits), inline."""
+    costs = _cost(label, against, audit, "max")[int(first):]
+    print(f"{max(costs):.2f}".replace("-", "−"), end="")
 
 
 def cost_figure(label, against, audit, name, which, digits="3"):
@@ -127,8 +135,10 @@ GENERATORS = {
     "lauritsen-creation": (lauritsen_creation, "Lauritsen–Nielsen: node creation with and "
                                                "without the limit"),
     "lauritsen-latency": (lauritsen_latency, "Lauritsen–Nielsen: the error cost of load latency"),
-    "lauritsen-worst-frame": (worst_frame, "lauritsen-worst-frame ENTRY AGAINST AUDIT: the last "
-                                           "frame whose max error costs > 1 px, inline"),
+    "lauritsen-worst-frame": (worst_frame, "lauritsen-worst-frame ENTRY AGAINST AUDIT [THRESHOLD]: "
+                                           "the last frame whose max error costs more, inline"),
+    "lauritsen-cost-after": (cost_after, "lauritsen-cost-after ENTRY AGAINST AUDIT FIRST: the "
+                                         "largest cost on a frame's max from FIRST on, inline"),
     "lauritsen-cost": (cost_figure, "lauritsen-cost ENTRY AGAINST AUDIT STAT mean|max [DIGITS]: "
                                     "the error cost of loading, inline"),
     "lauritsen-chunk-bytes": (chunk_bytes, "lauritsen-chunk-bytes EXPERIMENT ENTRY source|detail "
