@@ -8,7 +8,7 @@
 #   bash scripts/regenerate-plots.sh quickstart compare-circle   # only these
 #   bash scripts/regenerate-plots.sh study      # the study's experiments (docs/study.md)
 #   bash scripts/regenerate-plots.sh reproductions   # every experiment docs/reproductions/
-#                                               # quotes (vanek-16k: about 9 GiB of memory)
+#                                               # quotes (vanek-16k: about 4 GB of memory)
 #   SHARDS=2 bash scripts/regenerate-plots.sh study   # each experiment as 2 parts run at once,
 #                                               # one thread each, then merged (docs/sharding.md)
 #

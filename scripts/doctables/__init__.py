@@ -23,6 +23,7 @@ folder per experiment), to see what a generator prints from a fresh run before i
 Modules: `outputs` reads the committed outputs' report.md tables; `runs` reads one run's
 summary.json statistics and facts and frames.csv rows; `markers` finds and fills the marked
 text; `generators` holds every generator by name, the reproduction pages' in `reproductions`,
-the study's time axis and inline figures (figure, ratio, more, less, growth) in `study`; `cli`
-is the command line.
+which gathers `repro_common`'s shared readers and the pages' own modules (`repro_rottger`,
+`repro_lauritsen`, `repro_wu`, `repro_vanek`), the study's time axis and inline figures (figure,
+ratio, more, less, growth) in `study`; `cli` is the command line.
 """
