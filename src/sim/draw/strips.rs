@@ -57,6 +57,9 @@ impl StripCounts {
     }
 }
 
+/// A triangle's neighbour across one of its edges, with that edge (`None`: none there).
+pub type Neighbour<K> = Option<(K, [GridPoint; 2])>;
+
 /// A mesh whose triangles can be stripped: where their corners, neighbours and links are.
 pub trait StripMesh {
     /// A triangle of the mesh.
@@ -65,7 +68,7 @@ pub trait StripMesh {
     fn corners(&self, key: Self::Key) -> [GridPoint; 3];
     /// The neighbour across the triangle's `side`-th edge (0 to 2, the order glued in), with that
     /// edge; `None` at the mesh's boundary.
-    fn neighbour(&self, key: Self::Key, side: usize) -> Option<(Self::Key, [GridPoint; 2])>;
+    fn neighbour(&self, key: Self::Key, side: usize) -> Neighbour<Self::Key>;
     fn links(&self, key: Self::Key) -> Option<StripLinks<Self::Key>>;
     fn links_mut(&mut self, key: Self::Key) -> Option<&mut StripLinks<Self::Key>>;
     fn set_links(&mut self, key: Self::Key, links: Option<StripLinks<Self::Key>>);
@@ -152,8 +155,12 @@ pub fn attach<M: StripMesh>(mesh: &mut M, key: M::Key) {
     let counts = mesh.counts_mut();
     counts.triangles += 1;
     counts.strips += 1;
+    // Each side's neighbour, looked up once (linking changes no neighbour).
+    let mut neighbours: [Option<Neighbour<M::Key>>; 3] = [None; 3];
+    let mut neighbour =
+        |mesh: &M, side: usize| *neighbours[side].get_or_insert_with(|| mesh.neighbour(key, side));
     for side in 0..3 {
-        let Some((neighbour, edge)) = mesh.neighbour(key, side) else {
+        let Some((neighbour, edge)) = neighbour(mesh, side) else {
             continue;
         };
         if mesh.links(neighbour).is_none() {
@@ -171,7 +178,7 @@ pub fn attach<M: StripMesh>(mesh: &mut M, key: M::Key) {
         return; // still a singleton (nothing fitted) or in the middle: nothing more to do
     }
     for side in 0..3 {
-        let Some((neighbour, edge)) = mesh.neighbour(key, side) else {
+        let Some((neighbour, edge)) = neighbour(mesh, side) else {
             continue;
         };
         if mesh.links(neighbour).is_none() || same_strip(mesh, key, neighbour) {
