@@ -99,6 +99,8 @@ pub enum CheckError {
     TimingPassDiverged { measured: u64, timed: u64 },
     #[error("tuning: {0}")]
     Tuning(String),
+    #[error("the algorithm's own check failed: {0}")]
+    Own(String),
 }
 
 /// Runs `algorithm` over the whole flight; `progress` is called after every frame with the
@@ -222,6 +224,7 @@ impl<'a> FrameRunner<'a> {
         stats.update_ns = start.elapsed().as_nanos() as u64;
         let draw = algorithm.prepare_draw();
         stats.frame_ns = start.elapsed().as_nanos() as u64;
+        algorithm.draw_columns(&mut stats.extra);
         stats.upload_bytes = draw.upload_bytes;
         stats.draw_calls = draw.draw_calls;
         stats.triangles_submitted = draw.triangles_submitted;
@@ -288,6 +291,7 @@ fn check_frame(
 ) -> Result<(), CheckError> {
     checker.check(hierarchy, mesh, algorithm.triangle_count())?;
     check_buffers_draw_mesh(algorithm.buffers(), mesh, hierarchy)?;
+    algorithm.check_own().map_err(CheckError::Own)?;
     let declared = algorithm.extra_columns().len();
     if stats.extra.len() != declared {
         return Err(CheckError::ExtraColumns {

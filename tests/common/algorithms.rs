@@ -52,6 +52,7 @@ pub fn wu(tau_px: f64, zone: ZoneVariant) -> WuConfig {
         wheel_links: 64,
         refine: Refinement::Everywhere,
         morph_frames: None,
+        strips: false,
     }
 }
 

@@ -61,6 +61,7 @@ pub fn step_breaking(
         &mut stats,
     );
     let draw = algorithm.prepare_draw();
+    algorithm.draw_columns(&mut stats.extra);
     stats.upload_bytes = draw.upload_bytes;
     stats.draw_calls = draw.draw_calls;
     stats.triangles_submitted = draw.triangles_submitted;
@@ -106,6 +107,9 @@ pub fn checked_step_breaking(
         panic!("{context}, frame {frame}: {error}");
     }
     if let Err(error) = check_buffers_draw_mesh(algorithm.buffers(), algorithm.mesh(), hierarchy) {
+        panic!("{context}, frame {frame}: {error}");
+    }
+    if let Err(error) = algorithm.check_own() {
         panic!("{context}, frame {frame}: {error}");
     }
     assert_eq!(

@@ -369,6 +369,9 @@ pub struct WuParameters {
     /// Wu §7's geometry morphing: frames a vertex takes to rise or sink (≥ 1); absent: off.
     #[serde(default)]
     pub morph_frames: Option<u32>,
+    /// Wu §7's incremental triangle strips, counted (`triangles_per_strip`); default off.
+    #[serde(default)]
+    pub strips: Option<bool>,
 }
 
 /// Where Wu (and its reference) refine: only what the view cone needs, or everywhere.

@@ -308,6 +308,7 @@ fn check_wu(origin: &str, p: &WuParameters, problems: &mut Problems) -> Option<A
         refine: refinement(refine),
         wheel_links,
         morph_frames: p.morph_frames,
+        strips: p.strips.unwrap_or(false),
     }))
 }
 

@@ -22,6 +22,8 @@ pub mod wu {
     pub const CONE_TESTS: &str = "cone_tests";
     pub const TRIANGLES_IN_VIEW_BLOCKS: &str = "triangles_in_view_blocks";
     pub const TAU_PX: &str = "tau_px";
+    /// ROAM's column, meaning the same for Wu's strips (`wu/strips.rs`).
+    pub use super::roam::TRIANGLES_PER_STRIP;
 }
 
 /// `lindstrom` (Lindstrom et al. 1996).

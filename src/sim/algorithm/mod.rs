@@ -73,6 +73,15 @@ pub trait LodAlgorithm {
     /// its paper draws (its module doc says which); the buffers must draw exactly
     /// [`LodAlgorithm::mesh`] (`crate::sim::draw::check`).
     fn prepare_draw(&mut self) -> DrawCounts;
+    /// Appends to `extra` the algorithm-specific columns that describe what
+    /// [`LodAlgorithm::prepare_draw`] kept (declared last in [`LodAlgorithm::extra_columns`]);
+    /// the runner calls it after `prepare_draw`, outside the timing. Default: none.
+    fn draw_columns(&self, _extra: &mut Vec<f64>) {}
+    /// The algorithm's own check of what it keeps beyond the mesh and the buffers (such as
+    /// strips), run by `--check` and the tests after each frame; O(mesh). Default: nothing.
+    fn check_own(&self) -> Result<(), String> {
+        Ok(())
+    }
     /// The buffers as the GPU holds them after [`LodAlgorithm::prepare_draw`].
     fn buffers(&self) -> &GpuBuffers;
     /// The current mesh, in whichever form the algorithm draws (see [`MeshOutput`]).

@@ -32,6 +32,7 @@ mod decode;
 pub mod emit;
 pub mod incremental;
 pub mod patches;
+pub mod strips;
 
 use crate::sim::mesh::{SubgridPoint, SurfacePoint};
 use patches::Tessellator;

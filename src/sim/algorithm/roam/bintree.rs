@@ -18,6 +18,7 @@
 //! (about 200 bytes) per triangle, leaves and interior nodes alike.
 
 use super::cull::CullFlags;
+use crate::sim::draw::strips::{self, StripCounts};
 use crate::sim::hierarchy::{GridPoint, Lattice};
 use crate::sim::mesh::VertexSet;
 use crate::sim::mesh::triangles::{Triangle, base_triangles};
@@ -114,15 +115,9 @@ impl Geometry {
     }
 }
 
-/// A leaf's place in a triangle strip: its neighbours in the strip and the order of its corners
-/// in the strip's vertex sequence (see `strips.rs`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct StripLinks {
-    pub prev: Option<TriangleKey>,
-    pub next: Option<TriangleKey>,
-    /// The triangle's corners (0 apex, 1 left, 2 right) as v_k, v_k+1, v_k+2 of the strip.
-    pub order: [u8; 3],
-}
+/// A leaf's place in a triangle strip (`sim::draw::strips`): its neighbours in the strip and
+/// the order of its corners (0 apex, 1 left, 2 right) in the strip's vertex sequence.
+pub type StripLinks = strips::StripLinks<TriangleKey>;
 
 impl BinTriangle {
     pub fn is_leaf(&self) -> bool {
@@ -166,13 +161,6 @@ pub struct Bintree {
     pub(super) n_leaves: u64,
     /// Strips and the triangles in them (`strips.rs`).
     pub(super) strip_counts: StripCounts,
-}
-
-/// How many strips there are and how many triangles they hold.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct StripCounts {
-    pub strips: u64,
-    pub triangles: u64,
 }
 
 impl Bintree {

@@ -33,15 +33,29 @@
 //! refinement (§3.2) already leaves what is outside the cone coarse, so culling blocks on the
 //! CPU would buy little and cost a draw call per block and holes in the buffers; the GPU clips
 //! the rest. (The in-view count `triangles_in_view_blocks` is the budget's measure, not a
-//! culling of the buffers.) Wu §7 adopts incremental triangle stripping ("in average there are
-//! 3.7 triangles in a strip"): with restarts, a 3.7-triangle strip costs 5.7 + 1 indices against
-//! 11.1 for a list, 40 % fewer indices resident, but each split or merge must then re-strip its
-//! neighbourhood and compact a buffer of variable-length strips. The list is the default because
-//! its upkeep is the simplest to bound (fixed 12-byte slots, swap-remove) and is the
-//! best-known implementation of an incremental 4-8 mesh on today's GPUs, where the index bytes
-//! saved by strips matter less than in 2001; incremental stripping is an option not yet built.
+//! culling of the buffers.)
+//!
+//! **Strips: kept, counted, not drawn.** Wu §7 adopts incremental triangle stripping ("in
+//! average there are 3.7 triangles in a strip"); option `strips` keeps them (`strips.rs`: ROAM
+//! §7.2's non-generalised strips, updated here per vertex inserted or deleted, so `frame_ns`
+//! includes them) and reports `triangles_per_strip`, as ROAM's option does. The buffers still
+//! draw the list: with restarts, a 3.7-triangle strip costs 5.7 + 1 indices against 11.1 for a
+//! list (40 % fewer indices resident), but a 2001 renderer stripped to send fewer vertices a
+//! triangle every frame, which a resident indexed list already achieves (each vertex sent once,
+//! when it enters the mesh; nothing for a frame without change), while drawing strips from
+//! resident buffers means variable-length index ranges that every split or merge re-links,
+//! moves and compacts, its upload no longer a fixed 12 bytes a slot (ROAM's `mod.rs` decides the
+//! same for ROAM's strips). The option is off by default, against the paper's words, because it
+//! changes nothing drawn: on, every entry's `frame_ns` would pay for strips its buffers do not
+//! use, and the study compares the work of drawing. The meshes, counts, uploads and draw calls
+//! are the same either way (`tests/wu_strips.rs`). Measured on the first 1000 frames of the
+//! Table 1 circle at budget 6000 (`examples/wu_frames.rs` under callgrind, frames 200–499): 3.66
+//! triangles a strip (the paper's 3.7), and `prepare_draw` 5.0 times the instructions without
+//! strips (110 k against 21.8 k a frame), most of it finding each new leaf's neighbours.
 
+use super::strips::WuStrips;
 use crate::sim::draw::incremental::LeafBuffer;
+use crate::sim::draw::strips::StripCounts;
 use crate::sim::draw::{DrawCounts, DrawVertex, GpuBuffers, VERTEX_BYTES};
 use crate::sim::hierarchy::{GridPoint, Hierarchy, Lattice};
 use crate::sim::mesh::SubgridPoint;
@@ -50,11 +64,11 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 /// No slot.
-const NO_SLOT: u32 = u32::MAX;
+pub(super) const NO_SLOT: u32 = u32::MAX;
 
 /// A fast, fixed hash of vertex ids (a multiply and a fold: ids are dense integers).
 #[derive(Clone, Copy, Debug, Default)]
-struct IdHasher(u64);
+pub(super) struct IdHasher(u64);
 
 impl Hasher for IdHasher {
     fn finish(&self) -> u64 {
@@ -78,23 +92,26 @@ impl Hasher for IdHasher {
 
 /// An active vertex's slots.
 #[derive(Clone, Copy, Debug)]
-struct VertexSlots {
+pub(super) struct VertexSlots {
     vertex: u32,
     /// The slots of the leaf triangles with their right angle here, by [`Leaf::direction`].
-    triangles: [u32; 4],
+    pub(super) triangles: [u32; 4],
 }
+
+/// The active vertices' slots, by vertex id.
+pub(super) type Slots = HashMap<u32, VertexSlots, BuildHasherDefault<IdHasher>>;
 
 /// A leaf triangle as the buffers know it: its right-angle corner and hypotenuse ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Leaf {
-    apex: GridPoint,
-    ends: [GridPoint; 2],
+pub(super) struct Leaf {
+    pub(super) apex: GridPoint,
+    pub(super) ends: [GridPoint; 2],
 }
 
 impl Leaf {
     /// Which of the apex's four triangles this is: the direction from the apex to the
     /// hypotenuse's midpoint, an axis or a diagonal (a vertex has triangles of one kind only).
-    fn direction(&self) -> usize {
+    pub(super) fn direction(&self) -> usize {
         let d = |end: u32, apex: u32| i64::from(end) - i64::from(apex);
         let di = d(self.ends[0].i, self.apex.i) + d(self.ends[1].i, self.apex.i);
         let dj = d(self.ends[0].j, self.apex.j) + d(self.ends[1].j, self.apex.j);
@@ -144,7 +161,9 @@ type Change = (GridPoint, Edit);
 /// Wu's buffers (see the module docs).
 pub(super) struct WuBuffers {
     buffer: LeafBuffer<Leaf>,
-    slots: HashMap<u32, VertexSlots, BuildHasherDefault<IdHasher>>,
+    slots: Slots,
+    /// Wu §7's incremental strips over the leaves, when on (`strips.rs`).
+    strips: Option<WuStrips>,
     /// The mesh's changes since the last `prepare`, in order.
     pending: Vec<Change>,
     /// Where the vertex set's changes not yet handed to morphing start in `pending`.
@@ -154,10 +173,12 @@ pub(super) struct WuBuffers {
 impl WuBuffers {
     /// The buffers of the base mesh (the four corners, two triangles), counted as this first
     /// frame's upload.
-    pub fn new(lattice: &Lattice, hierarchy: &Hierarchy) -> WuBuffers {
+    /// With `strips`, the leaves are kept in strips too (`strips.rs`).
+    pub fn new(lattice: &Lattice, hierarchy: &Hierarchy, strips: bool) -> WuBuffers {
         let mut buffers = WuBuffers {
             buffer: LeafBuffer::new(VERTEX_BYTES),
             slots: HashMap::default(),
+            strips: strips.then(WuStrips::default),
             pending: Vec::new(),
             not_taken: 0,
         };
@@ -172,6 +193,7 @@ impl WuBuffers {
             let corners = buffers.corner_slots(lattice, leaf);
             let slot = buffers.buffer.push_leaf(leaf, corners);
             buffers.remember(lattice, slot, leaf);
+            buffers.attach(lattice, &[slot]);
         }
         buffers
     }
@@ -227,6 +249,40 @@ impl WuBuffers {
             + self.slots.capacity()
                 * (size_of::<u32>() + size_of::<VertexSlots>() + size_of::<u64>())
             + self.pending.capacity() * size_of::<Change>()
+            + self.strips.as_ref().map_or(0, WuStrips::memory_bytes)
+    }
+
+    /// The strips' counts, when the leaves are stripped.
+    pub fn strip_counts(&self) -> Option<StripCounts> {
+        self.strips.as_ref().map(WuStrips::counts)
+    }
+
+    /// Checks the strips against the leaves (`strips.rs`); `Ok` when there are none.
+    pub fn check_strips(&self, lattice: &Lattice) -> Result<(), String> {
+        match &self.strips {
+            Some(strips) => strips.check(&self.buffer, &self.slots, lattice),
+            None => Ok(()),
+        }
+    }
+
+    /// The strips, to break them in the validator's tests.
+    #[cfg(test)]
+    pub(super) fn strips_mut(&mut self) -> Option<&mut WuStrips> {
+        self.strips.as_mut()
+    }
+
+    /// Takes the leaves in `slots` out of their strips (before they change), when stripping.
+    fn detach(&mut self, lattice: &Lattice, slots: &[u32]) {
+        if let Some(strips) = &mut self.strips {
+            strips.detach(&self.buffer, &self.slots, lattice, slots);
+        }
+    }
+
+    /// Strips the leaves in `slots` (once the buffers hold them), when stripping.
+    fn attach(&mut self, lattice: &Lattice, slots: &[u32]) {
+        if let Some(strips) = &mut self.strips {
+            strips.attach(&self.buffer, &self.slots, lattice, slots);
+        }
     }
 
     /// Splits the diamond of `p` around it. `p`'s slots are kept in hand and entered once, and
@@ -247,7 +303,17 @@ impl WuBuffers {
             self.vertex_slot(lattice, ends[0]),
             self.vertex_slot(lattice, ends[1]),
         ];
-        for &a in lattice.parents(p).as_slice() {
+        let parents = lattice.parents(p);
+        if self.strips.is_some() {
+            let mut diamond = [NO_SLOT; 2];
+            for (k, &a) in parents.as_slice().iter().enumerate() {
+                let direction = Leaf { apex: a, ends }.direction();
+                diamond[k] = self.slots[&lattice.id(a)].triangles[direction];
+            }
+            self.detach(lattice, &diamond[..parents.as_slice().len()]);
+        }
+        let mut halves_written = [NO_SLOT; 4];
+        for (k, &a) in parents.as_slice().iter().enumerate() {
             let parent = Leaf { apex: a, ends };
             let apex = self.apex_slots(lattice, a);
             let slot = std::mem::replace(&mut apex.triangles[parent.direction()], NO_SLOT);
@@ -261,9 +327,12 @@ impl WuBuffers {
             let corners = second.ordered([vertex, a_slot, end_slots[1]]);
             let appended = self.buffer.push_leaf(second, corners);
             own.triangles[second.direction()] = appended;
+            halves_written[2 * k] = slot;
+            halves_written[2 * k + 1] = appended;
         }
         let previous = self.slots.insert(lattice.id(p), own);
         debug_assert!(previous.is_none(), "{p:?} inserted twice");
+        self.attach(lattice, &halves_written[..2 * parents.as_slice().len()]);
     }
 
     /// Merges the diamond of `p` back and frees its vertex slot. As in [`WuBuffers::insert`],
@@ -278,7 +347,15 @@ impl WuBuffers {
             self.vertex_slot(lattice, ends[0]),
             self.vertex_slot(lattice, ends[1]),
         ];
-        for &a in lattice.parents(p).as_slice() {
+        let parents = lattice.parents(p);
+        if self.strips.is_some() {
+            let mut halves_held = own.triangles;
+            halves_held.sort_unstable();
+            let held = halves_held.iter().take_while(|&&t| t != NO_SLOT).count();
+            self.detach(lattice, &halves_held[..held]);
+        }
+        let mut merged = [NO_SLOT; 2];
+        for (k, &a) in parents.as_slice().iter().enumerate() {
             let parent = Leaf { apex: a, ends };
             let [first, second] = halves(p, parent);
             let slot = std::mem::replace(&mut own.triangles[first.direction()], NO_SLOT);
@@ -287,8 +364,18 @@ impl WuBuffers {
             apex.triangles[parent.direction()] = slot;
             let corners = parent.ordered([apex.vertex, end_slots[0], end_slots[1]]);
             self.buffer.set_leaf(slot, parent, corners);
+            merged[k] = slot;
             let hole = std::mem::replace(&mut own.triangles[second.direction()], NO_SLOT);
             debug_assert_ne!(hole, NO_SLOT, "{second:?} is not a leaf of the buffers");
+            if let Some(strips) = &mut self.strips {
+                strips.remove(hole);
+                // A merged triangle in the last slot moves into the hole with it.
+                for m in &mut merged[..=k] {
+                    if *m as usize == self.buffer.leaves() - 1 {
+                        *m = hole;
+                    }
+                }
+            }
             if let Some(moved) = self.buffer.remove_leaf(hole) {
                 if moved.apex == p {
                     own.triangles[moved.direction()] = hole;
@@ -299,6 +386,7 @@ impl WuBuffers {
         }
         debug_assert!(own.triangles.iter().all(|&t| t == NO_SLOT));
         self.buffer.free_vertex(own.vertex);
+        self.attach(lattice, &merged[..parents.as_slice().len()]);
     }
 
     /// The vertex slot of an active vertex.

@@ -67,8 +67,9 @@
 //! each vertex a split or merge inserts or deletes (at most 300 bytes a split or merge), so that
 //! the upkeep is O(splits + merges), as a renderer of Wu's incremental mesh keeps it. The whole
 //! mesh is in them (the in-view refinement already keeps what is outside the cone coarse). The
-//! paper's incremental strips (§7) are not built; `draw.rs` says why a list. The slots are the
-//! shared `sim::draw::incremental::LeafBuffer` (ROAM's too).
+//! paper's incremental strips (§7) are option `strips` (`strips.rs`, off by default): kept in
+//! `prepare_draw`, counted in `triangles_per_strip`, not drawn; `draw.rs` says why a list. The
+//! slots are the shared `sim::draw::incremental::LeafBuffer` (ROAM's too).
 //!
 //! **Morphing** (`morph.rs`, option `morph_frames`, off by default): Wu §7's "simple geometry
 //! morphing similar to [2, 5]", read as ROAM's: the drawn mesh follows the vertex set over N
@@ -104,6 +105,7 @@ mod merge;
 mod morph;
 mod nodes;
 mod split;
+mod strips;
 mod validate;
 mod visibility;
 mod wheel;
@@ -175,6 +177,9 @@ pub struct WuConfig {
     pub nesting: NestingRule,
     /// Wu §7's geometry morphing over this many frames (`morph.rs`); `None`: off (the default).
     pub morph_frames: Option<u32>,
+    /// Wu §7's incremental triangle strips over the leaves (`strips.rs`): counted
+    /// (`triangles_per_strip`), not drawn; off by default (`draw.rs` says why).
+    pub strips: bool,
 }
 
 impl WuConfig {
@@ -234,7 +239,7 @@ struct Counters {
 }
 
 /// The columns every run has, then the optional ones in this order: `cone_tests` (the view cone
-/// is followed), `triangles_in_view_blocks` (the in-view count is kept), `tau_px` (τ re-centring).
+/// is followed), `triangles_in_view_blocks` (the in-view count is kept), `tau_px` (τ re-centring), `triangles_per_strip` (strips, filled by `draw_columns`).
 macro_rules! column_list {
     ($($optional:expr),*) => {
         &[
@@ -259,6 +264,40 @@ const COLUMNS_COUNT_TAU: &[&str] = column_list!(
     columns::TRIANGLES_IN_VIEW_BLOCKS,
     columns::TAU_PX
 );
+/// The same lists with `triangles_per_strip` last (strips on; filled after `prepare_draw`).
+const COLUMNS_STRIPS: &[&str] = column_list!(columns::TRIANGLES_PER_STRIP);
+const COLUMNS_CONE_STRIPS: &[&str] =
+    column_list!(columns::CONE_TESTS, columns::TRIANGLES_PER_STRIP);
+const COLUMNS_COUNT_STRIPS: &[&str] = column_list!(
+    columns::CONE_TESTS,
+    columns::TRIANGLES_IN_VIEW_BLOCKS,
+    columns::TRIANGLES_PER_STRIP
+);
+const COLUMNS_TAU_STRIPS: &[&str] = column_list!(columns::TAU_PX, columns::TRIANGLES_PER_STRIP);
+const COLUMNS_CONE_TAU_STRIPS: &[&str] = column_list!(
+    columns::CONE_TESTS,
+    columns::TAU_PX,
+    columns::TRIANGLES_PER_STRIP
+);
+const COLUMNS_COUNT_TAU_STRIPS: &[&str] = column_list!(
+    columns::CONE_TESTS,
+    columns::TRIANGLES_IN_VIEW_BLOCKS,
+    columns::TAU_PX,
+    columns::TRIANGLES_PER_STRIP
+);
+/// By view (not followed, followed, counted), τ re-centring, strips.
+type ColumnList = &'static [&'static str];
+const COLUMN_LISTS: [[[ColumnList; 2]; 2]; 3] = [
+    [[COLUMNS, COLUMNS_STRIPS], [COLUMNS_TAU, COLUMNS_TAU_STRIPS]],
+    [
+        [COLUMNS_CONE, COLUMNS_CONE_STRIPS],
+        [COLUMNS_CONE_TAU, COLUMNS_CONE_TAU_STRIPS],
+    ],
+    [
+        [COLUMNS_COUNT, COLUMNS_COUNT_STRIPS],
+        [COLUMNS_COUNT_TAU, COLUMNS_COUNT_TAU_STRIPS],
+    ],
+];
 
 /// Wu's algorithm over one terrain.
 pub struct Wu<'h> {
@@ -319,7 +358,7 @@ impl<'h> Wu<'h> {
         let lattice = *hierarchy.lattice();
         let nodes = Nodes::new(hierarchy);
         Wu {
-            draw: WuBuffers::new(&lattice, hierarchy),
+            draw: WuBuffers::new(&lattice, hierarchy, config.strips),
             morph: config.morph_frames.map(|n| Morphing::new(&lattice, n)),
             hierarchy,
             lattice,
@@ -780,6 +819,7 @@ impl Wu<'_> {
         let config = WuConfig {
             tau_px: Some(tau_px),
             morph_frames: None,
+            strips: false,
             ..self.config
         };
         let mut probe = Wu::new(self.hierarchy, config, &self.view_settings, self.speed);
@@ -855,14 +895,12 @@ impl LodAlgorithm for Wu<'_> {
 
     fn extra_columns(&self) -> &'static [&'static str] {
         let counting = self.counts_in_view();
-        match (self.view.is_some(), counting, self.recentres_tau()) {
-            (false, _, false) => COLUMNS,
-            (true, false, false) => COLUMNS_CONE,
-            (true, true, false) => COLUMNS_COUNT,
-            (false, _, true) => COLUMNS_TAU,
-            (true, false, true) => COLUMNS_CONE_TAU,
-            (true, true, true) => COLUMNS_COUNT_TAU,
-        }
+        let view = match (self.view.is_some(), counting) {
+            (false, _) => 0,
+            (true, false) => 1,
+            (true, true) => 2,
+        };
+        COLUMN_LISTS[view][usize::from(self.recentres_tau())][usize::from(self.config.strips)]
     }
 
     fn update(&mut self, input: &FrameInput, stats: &mut FrameStats) {
@@ -961,6 +999,16 @@ impl LodAlgorithm for Wu<'_> {
 
     fn prepare_draw(&mut self) -> DrawCounts {
         self.draw.prepare(&self.lattice, self.hierarchy)
+    }
+
+    fn draw_columns(&self, extra: &mut Vec<f64>) {
+        if let Some(counts) = self.draw.strip_counts() {
+            extra.push(counts.triangles_per_strip());
+        }
+    }
+
+    fn check_own(&self) -> Result<(), String> {
+        self.draw.check_strips(&self.lattice)
     }
 
     fn buffers(&self) -> &GpuBuffers {

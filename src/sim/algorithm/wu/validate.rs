@@ -238,6 +238,7 @@ mod tests {
             wheel_links: 16,
             nesting: NestingRule::Max,
             morph_frames: None,
+            strips: false,
         };
         let speed = SpeedBound {
             horizontal: 10.0,
