@@ -89,7 +89,8 @@ impl Vanek<'_> {
 
     /// Draws every patch at the given levels (the paper's k, row by row; clamped to n), without
     /// culling: for exhaustive tests of the collapsing, which no eye position could reach.
-    /// The next [`LodAlgorithm::update`] chooses the levels again.
+    /// The next [`update`](crate::sim::algorithm::LodAlgorithm::update) chooses the levels
+    /// again.
     pub fn draw_with_lods(&mut self, lods: &[u32]) {
         assert_eq!(lods.len(), self.lods.len(), "one level per patch");
         for (mine, &k) in self.lods.iter_mut().zip(lods) {
