@@ -2,7 +2,9 @@
 //! draws exactly the meshes, counts and audit figures of the same chunked entry flying the raw
 //! file in memory, without ever holding the whole terrain; entries that need the whole terrain,
 //! a chunk level other than the pyramid's, and missing or damaged pyramids are refused before
-//! anything runs, naming the entry, the file and the field.
+//! anything runs, naming the entry, the file and the field; a chunk damaged where only the
+//! loader thread reads it, mid-flight, fails the run naming the file, the chunk and what was
+//! expected, and writes nothing.
 
 mod common;
 
@@ -12,6 +14,7 @@ use roamsim::edge::experiment::plan;
 use roamsim::edge::pyramid::{PyramidFile, PyramidSamples, RawSource, prepare_from_raw};
 use roamsim::edge::session::{NoProgress, RunOptions, run_experiment};
 use roamsim::edge::terrain_readers::{RawLayout, RawSample};
+use roamsim::sim::algorithm::chunked::ChunkId;
 use roamsim::sim::terrain::paged::PagedSamples;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -106,6 +109,11 @@ fn chunked_loading(label: &str, chunk_level: u32) -> Value {
 }
 
 fn run(experiment: &Path, out: &Path) {
+    run_result(experiment, out).unwrap();
+}
+
+/// Runs `experiment` into `out`; the run's error as the user reads it.
+fn run_result(experiment: &Path, out: &Path) -> Result<(), String> {
     let options = RunOptions {
         out_dir: Some(out.to_path_buf()),
         check_meshes: true,
@@ -115,7 +123,9 @@ fn run(experiment: &Path, out: &Path) {
         shard: None,
         timing: Default::default(),
     };
-    run_experiment(experiment, &options, &NoProgress).unwrap();
+    run_experiment(experiment, &options, &NoProgress)
+        .map(|_| ())
+        .map_err(|error| error.to_string())
 }
 
 /// The problems `plan` finds in `experiment`, one line each.
@@ -319,4 +329,52 @@ fn a_missing_or_damaged_pyramid_is_refused_naming_the_file_and_the_field() {
             assert!(error.contains(part), "{error:?} lacks {part:?}");
         }
     }
+}
+
+#[test]
+fn a_chunk_damaged_after_the_pyramid_was_checked_fails_the_run_naming_it_and_writes_nothing() {
+    // The four chunks of level 1 get a first height far above their records' ranges: the open
+    // (header, length, records) passes, and only the loader thread reads them, mid-flight.
+    let prepared = Prepared::new();
+    let path = prepared.path("terrain.pyr");
+    let header = *PyramidFile::open(&path).unwrap().header();
+    let mut bytes = std::fs::read(&path).unwrap();
+    for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+        let at = header.heights_offset(ChunkId { level: 1, x, y }) as usize;
+        bytes[at..at + 2].copy_from_slice(&i16::MAX.to_le_bytes());
+    }
+    std::fs::write(&path, bytes).unwrap();
+    let experiment = prepared.experiment(
+        "damaged",
+        prepared.pyramid_terrain(),
+        json!([chunked_loading("out of core", CHUNK_LEVEL)]),
+    );
+    let listing = || {
+        let mut names: Vec<_> = std::fs::read_dir(prepared.folder.path())
+            .unwrap()
+            .map(|entry| entry.unwrap().file_name())
+            .collect();
+        names.sort();
+        names
+    };
+    let before = listing();
+    let out = prepared.path("out");
+    let error = run_result(&experiment, &out).expect_err("the damaged chunk fails the run");
+    for part in [
+        "terrain.pyramid.file",
+        "a read failed during the run",
+        "terrain.pyr",
+        "chunk at level 1, x ",
+        "heights at bytes ",
+        "has height 32767, outside its record's range: expected ",
+        "prepare it again",
+    ] {
+        assert!(error.contains(part), "{error:?} lacks {part:?}");
+    }
+    assert!(!out.exists(), "a failed run left {}", out.display());
+    assert_eq!(
+        listing(),
+        before,
+        "a failed run left something beside its output"
+    );
 }
