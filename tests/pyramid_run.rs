@@ -5,19 +5,30 @@
 //! anything runs, naming the entry, the file and the field; a chunk damaged where only the
 //! loader thread reads it, mid-flight, fails the run naming the file, the chunk and what was
 //! expected, and writes nothing.
+//! Its map reads the coarsest pyramid level whose samples are no farther apart than a pixel:
+//! the leaves, drawing the in-memory map, when the pixels are finer; every 4th sample when
+//! they are 5 samples wide.
 
 mod common;
 
 use common::cli::{fails_with, frames_without_timing, roamsim};
 use common::experiment::save;
 use roamsim::edge::experiment::plan;
+use roamsim::edge::output::flight_map::{FlightOnMap, map_chart};
+use roamsim::edge::output::plots::HeightRaster;
 use roamsim::edge::pyramid::{PyramidFile, PyramidSamples, RawSource, prepare_from_raw};
 use roamsim::edge::session::{NoProgress, RunOptions, run_experiment};
 use roamsim::edge::terrain_readers::{RawLayout, RawSample};
 use roamsim::sim::algorithm::chunked::ChunkId;
+use roamsim::sim::algorithm::chunked::{ChunkHeightSource, ChunkRead, ChunkRecord};
+use roamsim::sim::flight::Flight;
 use roamsim::sim::terrain::paged::PagedSamples;
+use roamsim::sim::terrain::{Heightfield, Spacing};
+use roamsim::sim::view::{Pose, ViewSettings};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// A 257² terrain of integer heights, written south row first as little-endian `i16`, and its
 /// pyramid in chunks of 17² (chunk level 4), in a fresh folder.
@@ -377,4 +388,154 @@ fn a_chunk_damaged_after_the_pyramid_was_checked_fails_the_run_naming_it_and_wri
         before,
         "a failed run left something beside its output"
     );
+}
+
+/// A pyramid's samples that count what is read: samples through the full-resolution cache,
+/// and whole chunks through the readers it hands out, by level.
+#[derive(Debug)]
+struct CountingSamples {
+    inner: PyramidSamples,
+    samples_read: AtomicU64,
+    chunks_read: Arc<std::sync::Mutex<Vec<u32>>>,
+}
+
+struct CountingReader {
+    inner: Box<dyn ChunkHeightSource>,
+    chunks_read: Arc<std::sync::Mutex<Vec<u32>>>,
+}
+
+impl ChunkHeightSource for CountingReader {
+    fn request(&mut self, id: ChunkId) {
+        self.inner.request(id);
+    }
+
+    fn take(&mut self, id: ChunkId) -> Result<ChunkRead, String> {
+        self.chunks_read.lock().unwrap().push(id.level);
+        self.inner.take(id)
+    }
+}
+
+impl PagedSamples for CountingSamples {
+    fn height(&self, i: usize, j: usize) -> f32 {
+        self.samples_read.fetch_add(1, Ordering::Relaxed);
+        self.inner.height(i, j)
+    }
+    fn row(&self, j: usize, row: &mut Vec<f32>) {
+        self.inner.row(j, row);
+        self.samples_read
+            .fetch_add(row.len() as u64, Ordering::Relaxed);
+    }
+    fn height_range(&self) -> (f32, f32) {
+        self.inner.height_range()
+    }
+    fn memory_bytes(&self) -> usize {
+        self.inner.memory_bytes()
+    }
+    fn failure(&self) -> Option<String> {
+        self.inner.failure()
+    }
+    fn chunk_level(&self) -> u32 {
+        self.inner.chunk_level()
+    }
+    fn chunk_records(&self) -> &[ChunkRecord] {
+        self.inner.chunk_records()
+    }
+    fn chunk_reader(&self) -> Result<Box<dyn ChunkHeightSource>, String> {
+        Ok(Box::new(CountingReader {
+            inner: self.inner.chunk_reader()?,
+            chunks_read: Arc::clone(&self.chunks_read),
+        }))
+    }
+}
+
+/// The raw file's terrain in memory, every `stride`-th sample of it each way.
+fn raw_field(prepared: &Prepared, stride: usize) -> Heightfield {
+    let side = (1usize << LEVEL) + 1;
+    let raw = std::fs::read(prepared.path("terrain.raw")).unwrap();
+    let kept = (side - 1) / stride + 1;
+    let heights = (0..kept * kept)
+        .map(|k| {
+            let (i, j) = (k % kept * stride, k / kept * stride);
+            let at = 2 * (j * side + i);
+            f32::from(i16::from_le_bytes([raw[at], raw[at + 1]]))
+        })
+        .collect();
+    let spacing = 30.0 * stride as f64;
+    Heightfield::new(
+        kept,
+        heights,
+        Spacing {
+            dx: spacing,
+            dy: spacing,
+        },
+    )
+    .unwrap()
+}
+
+fn raster_bits(raster: &HeightRaster) -> (usize, usize, Vec<u64>) {
+    let bits = raster.heights.iter().map(|h| h.to_bits()).collect();
+    (raster.columns, raster.rows, bits)
+}
+
+#[test]
+fn the_map_of_a_pyramid_reads_its_coarsest_level_as_fine_as_the_pixels() {
+    let prepared = Prepared::new();
+    let samples = Arc::new(CountingSamples {
+        inner: PyramidSamples::new(PyramidFile::open(&prepared.path("terrain.pyr")).unwrap()),
+        samples_read: AtomicU64::new(0),
+        chunks_read: Arc::default(),
+    });
+    let spacing = Spacing { dx: 30.0, dy: 30.0 };
+    let paged = Heightfield::paged(LEVEL, samples.clone(), spacing).unwrap();
+    let levels_read = || std::mem::take(&mut *samples.chunks_read.lock().unwrap());
+
+    // The terrain alone: 7680 m on 860 pixels, 8.9 m a pixel, finer than the 30 m samples:
+    // the leaves (level 4 of 17² chunks, 16 × 16 of them), and the map drawn in memory.
+    let in_memory = map_chart(&raw_field(&prepared, 1), "map", None).unwrap();
+    let from_pyramid = map_chart(&paged, "map", None).unwrap();
+    assert_eq!(
+        raster_bits(&from_pyramid.raster),
+        raster_bits(&in_memory.raster)
+    );
+    assert_eq!(from_pyramid, in_memory);
+    assert_eq!(levels_read(), vec![4; 256]);
+
+    // A flight reaching 125 km east: 154 m a pixel, so every 4th sample (120 m) is enough:
+    // level 2's 16 chunks, the heights of the terrain in memory kept every 4th sample.
+    let poses = (0..41)
+        .map(|k| Pose {
+            position: glam::DVec3::new(f64::from(k) * 3125.0, 3840.0, 600.0),
+            yaw: 0.0,
+            pitch: -0.3,
+        })
+        .collect();
+    let flight = Flight::from_poses(poses).unwrap();
+    let on_map = FlightOnMap {
+        flight: &flight,
+        view: ViewSettings {
+            width_px: 640,
+            height_px: 480,
+            fovy: 1.0,
+            near: 1.0,
+            far: 8000.0,
+        },
+        violations: &[],
+    };
+    let from_pyramid = map_chart(&paged, "map", Some(on_map)).unwrap();
+    let every_4th = map_chart(&raw_field(&prepared, 4), "map", Some(on_map)).unwrap();
+    let every_sample = map_chart(&raw_field(&prepared, 1), "map", Some(on_map)).unwrap();
+    assert_eq!(levels_read(), vec![2; 16]);
+    let drawn = raster_bits(&from_pyramid.raster);
+    assert_eq!(drawn, raster_bits(&every_4th.raster));
+    assert_ne!(
+        drawn,
+        raster_bits(&every_sample.raster),
+        "the map read the leaves"
+    );
+    let on_terrain = from_pyramid.raster.heights.iter().filter(|h| h.is_finite());
+    assert!(
+        on_terrain.count() > 1000,
+        "the terrain is hardly on the map"
+    );
+    assert_eq!(samples.samples_read.load(Ordering::Relaxed), 0);
 }
