@@ -7,7 +7,7 @@
 //! expected, and writes nothing.
 //! Its map reads the coarsest pyramid level whose samples are no farther apart than a pixel:
 //! the leaves, drawing the in-memory map, when the pixels are finer; every 4th sample when
-//! they are 5 samples wide.
+//! they are 5 samples wide. A run's peak resident set does not grow with the pyramid's size.
 
 mod common;
 
@@ -41,8 +41,13 @@ const CHUNK_LEVEL: u32 = 4;
 
 impl Prepared {
     fn new() -> Prepared {
+        Prepared::of_level(LEVEL)
+    }
+
+    /// The same kind of terrain, (2^`level` + 1)² samples.
+    fn of_level(level: u32) -> Prepared {
         let folder = tempfile::tempdir().unwrap();
-        let side = (1usize << LEVEL) + 1;
+        let side = (1usize << level) + 1;
         let mut bytes = Vec::with_capacity(side * side * 2);
         for j in 0..side {
             for i in 0..side {
@@ -538,4 +543,48 @@ fn the_map_of_a_pyramid_reads_its_coarsest_level_as_fine_as_the_pixels() {
         "the terrain is hardly on the map"
     );
     assert_eq!(samples.samples_read.load(Ordering::Relaxed), 0);
+}
+
+/// The peak resident set of `roamsim run` over `prepared`'s pyramid: a chunked entry with loading
+/// flies the same 40 frames (no audit, no plots, no mesh checks), in a process of its own.
+fn peak_resident_of_a_run(prepared: &Prepared) -> f64 {
+    let experiment = json!({
+        "format_version": 1,
+        "name": "pyramid-memory",
+        "terrain": prepared.pyramid_terrain(),
+        "view": { "width_px": 640, "height_px": 480, "fovy_deg": 60, "near_m": 0.5, "far_m": 8000 },
+        "speed_bounds": { "horizontal_m_per_frame": 200, "vertical_m_per_frame": 200 },
+        "flight": {
+            "frames": 40,
+            "altitude": "above_ground",
+            "look": { "along_path": { "pitch_deg": -10 } },
+            "path": { "line": { "from_m": [600, 700, 25], "to_m": [7000, 6500, 25] } }
+        },
+        "algorithms": [chunked_loading("out of core", CHUNK_LEVEL)],
+        "effects": { "culling": true },
+        "outputs": { "plots": false }
+    });
+    save(prepared.folder.path(), "memory", &experiment);
+    let output = roamsim(
+        &["run", "memory.json", "--out", "out", "--threads", "2"],
+        prepared.folder.path(),
+    );
+    assert!(output.status.success(), "{output:?}");
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(prepared.path("out/summary.json")).unwrap())
+            .unwrap();
+    summary["run"]["peak_resident_bytes"].as_f64().unwrap()
+}
+
+#[test]
+fn a_pyramid_runs_resident_set_does_not_grow_with_the_terrain() {
+    // 2049² samples are 16.8 MB as f32 in memory; the run over their pyramid peaks within 6 MB
+    // of the same run over a 257² pyramid (the leaf cache grows by 224 leaves of 17², 260 kB).
+    let small = peak_resident_of_a_run(&Prepared::of_level(LEVEL));
+    let large = peak_resident_of_a_run(&Prepared::of_level(11));
+    let grown = large - small;
+    assert!(
+        grown < 6e6,
+        "the run over 2049² peaks at {large} bytes, {grown} more than over 257²"
+    );
 }
