@@ -5,7 +5,8 @@
 //! corrupted file is refused with the file and the field named; and a chunked entry whose
 //! heights are read from the pyramid on a loader thread draws, every frame, exactly the meshes
 //! of the same entry reading the heights in memory, reporting its reads (count, latency, wait)
-//! per frame and the run's latency percentiles.
+//! per frame and the run's latency percentiles; a file cut short during the flight draws the
+//! chunks it cannot read flat and reports the first failed read, without a panic.
 
 mod common;
 
@@ -23,6 +24,7 @@ use roamsim::sim::algorithm::columns::chunked::{
 };
 use roamsim::sim::algorithm::columns::extra_value;
 use roamsim::sim::algorithm::{Chunked, ChunkedConfig, LodAlgorithm};
+use roamsim::sim::draw::check::check_buffers_draw_mesh;
 use roamsim::sim::hierarchy::GridPoint;
 use roamsim::sim::hierarchy::Hierarchy;
 use roamsim::sim::stats::{FrameStats, nearest_rank};
@@ -509,6 +511,49 @@ fn a_flight_reading_from_disk_reports_each_frames_reads_and_the_runs_latency_per
     assert_eq!(fact("read_latency_p95_us"), nearest_rank(&all_us, 0.95));
     assert_eq!(fact("read_latency_max_us"), *all_us.last().unwrap());
     assert!(fact("read_latency_p50_us") < fact("read_latency_max_us"));
+}
+
+#[test]
+fn a_pyramid_cut_short_during_a_flight_draws_flat_chunks_and_reports_the_first_failed_read() {
+    // Opened whole, then cut short right after the root's heights: every later read fails.
+    let terrain = Terrain::integer(7);
+    let hierarchy = terrain.hierarchy();
+    let (_folder, path) = prepare(&terrain, RawSample::I16Le, true, 3);
+    let pyramid = PyramidFile::open(&path).unwrap();
+    let header = *pyramid.header();
+    let root_end = header.heights_offset(ChunkId::ROOT) + header.chunk_bytes();
+    let loader = PyramidLoader::start(pyramid);
+    let mut algorithm = Chunked::new(&hierarchy, with_loading(chunked(0.5, 3)), &view_600())
+        .with_disk_heights(Box::new(loader))
+        .unwrap();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(&path)
+        .unwrap()
+        .set_len(root_end)
+        .unwrap();
+    let mut arrived = 0;
+    for (frame, camera) in low_flight(&hierarchy, 30).iter().enumerate() {
+        step(&mut algorithm, frame as u64, camera, false);
+        arrived += algorithm.disk_frame().unwrap().chunks_arrived;
+        // The flat chunks still draw what the mesh says, and the chunked checks hold.
+        check_buffers_draw_mesh(algorithm.buffers(), algorithm.mesh(), &hierarchy).unwrap();
+        assert_eq!(algorithm.check_own(), Ok(()), "frame {frame}");
+    }
+    assert!(arrived >= 4, "only {arrived} chunks arrived");
+    let failure = algorithm.disk_failure().expect("a failed read is reported");
+    for part in [
+        path.to_str().unwrap(),
+        "chunk at level 1",
+        &format!(
+            "the file now has {root_end} bytes of the {}",
+            header.file_bytes()
+        ),
+        &format!("expected {} bytes there", header.chunk_bytes()),
+        "cut short",
+    ] {
+        assert!(failure.contains(part), "{failure:?} lacks {part:?}");
+    }
 }
 
 #[test]

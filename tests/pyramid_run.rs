@@ -2,19 +2,33 @@
 //! draws exactly the meshes, counts and audit figures of the same chunked entry flying the raw
 //! file in memory, without ever holding the whole terrain; entries that need the whole terrain,
 //! a chunk level other than the pyramid's, and missing or damaged pyramids are refused before
-//! anything runs, naming the entry, the file and the field.
+//! anything runs, naming the entry, the file and the field; a chunk damaged where only the
+//! loader thread reads it, mid-flight, fails the run naming the file, the chunk and what was
+//! expected, and writes nothing.
+//! Its map reads the coarsest pyramid level whose samples are no farther apart than a pixel:
+//! the leaves, drawing the in-memory map, when the pixels are finer; every 4th sample when
+//! they are 5 samples wide. A run's peak resident set does not grow with the pyramid's size.
 
 mod common;
 
 use common::cli::{fails_with, frames_without_timing, roamsim};
 use common::experiment::save;
 use roamsim::edge::experiment::plan;
+use roamsim::edge::output::flight_map::{FlightOnMap, map_chart};
+use roamsim::edge::output::plots::HeightRaster;
 use roamsim::edge::pyramid::{PyramidFile, PyramidSamples, RawSource, prepare_from_raw};
 use roamsim::edge::session::{NoProgress, RunOptions, run_experiment};
 use roamsim::edge::terrain_readers::{RawLayout, RawSample};
+use roamsim::sim::algorithm::chunked::ChunkId;
+use roamsim::sim::algorithm::chunked::{ChunkHeightSource, ChunkRead, ChunkRecord};
+use roamsim::sim::flight::Flight;
 use roamsim::sim::terrain::paged::PagedSamples;
+use roamsim::sim::terrain::{Heightfield, Spacing};
+use roamsim::sim::view::{Pose, ViewSettings};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// A 257² terrain of integer heights, written south row first as little-endian `i16`, and its
 /// pyramid in chunks of 17² (chunk level 4), in a fresh folder.
@@ -27,8 +41,13 @@ const CHUNK_LEVEL: u32 = 4;
 
 impl Prepared {
     fn new() -> Prepared {
+        Prepared::of_level(LEVEL)
+    }
+
+    /// The same kind of terrain, (2^`level` + 1)² samples.
+    fn of_level(level: u32) -> Prepared {
         let folder = tempfile::tempdir().unwrap();
-        let side = (1usize << LEVEL) + 1;
+        let side = (1usize << level) + 1;
         let mut bytes = Vec::with_capacity(side * side * 2);
         for j in 0..side {
             for i in 0..side {
@@ -106,6 +125,11 @@ fn chunked_loading(label: &str, chunk_level: u32) -> Value {
 }
 
 fn run(experiment: &Path, out: &Path) {
+    run_result(experiment, out).unwrap();
+}
+
+/// Runs `experiment` into `out`; the run's error as the user reads it.
+fn run_result(experiment: &Path, out: &Path) -> Result<(), String> {
     let options = RunOptions {
         out_dir: Some(out.to_path_buf()),
         check_meshes: true,
@@ -115,7 +139,9 @@ fn run(experiment: &Path, out: &Path) {
         shard: None,
         timing: Default::default(),
     };
-    run_experiment(experiment, &options, &NoProgress).unwrap();
+    run_experiment(experiment, &options, &NoProgress)
+        .map(|_| ())
+        .map_err(|error| error.to_string())
 }
 
 /// The problems `plan` finds in `experiment`, one line each.
@@ -343,4 +369,246 @@ fn a_missing_or_damaged_pyramid_is_refused_naming_the_file_and_the_field() {
             assert!(error.contains(part), "{error:?} lacks {part:?}");
         }
     }
+}
+
+#[test]
+fn a_chunk_damaged_after_the_pyramid_was_checked_fails_the_run_naming_it_and_writes_nothing() {
+    // The four chunks of level 1 get a first height far above their records' ranges: the open
+    // (header, length, records) passes, and only the loader thread reads them, mid-flight.
+    let prepared = Prepared::new();
+    let path = prepared.path("terrain.pyr");
+    let header = *PyramidFile::open(&path).unwrap().header();
+    let mut bytes = std::fs::read(&path).unwrap();
+    for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+        let at = header.heights_offset(ChunkId { level: 1, x, y }) as usize;
+        bytes[at..at + 2].copy_from_slice(&i16::MAX.to_le_bytes());
+    }
+    std::fs::write(&path, bytes).unwrap();
+    let experiment = prepared.experiment(
+        "damaged",
+        prepared.pyramid_terrain(),
+        json!([chunked_loading("out of core", CHUNK_LEVEL)]),
+    );
+    let listing = || {
+        let mut names: Vec<_> = std::fs::read_dir(prepared.folder.path())
+            .unwrap()
+            .map(|entry| entry.unwrap().file_name())
+            .collect();
+        names.sort();
+        names
+    };
+    let before = listing();
+    let out = prepared.path("out");
+    let error = run_result(&experiment, &out).expect_err("the damaged chunk fails the run");
+    for part in [
+        "terrain.pyramid.file",
+        "a read failed during the run",
+        "terrain.pyr",
+        "chunk at level 1, x ",
+        "heights at bytes ",
+        "has height 32767, outside its record's range: expected ",
+        "prepare it again",
+    ] {
+        assert!(error.contains(part), "{error:?} lacks {part:?}");
+    }
+    assert!(!out.exists(), "a failed run left {}", out.display());
+    assert_eq!(
+        listing(),
+        before,
+        "a failed run left something beside its output"
+    );
+}
+
+/// A pyramid's samples that count what is read: samples through the full-resolution cache,
+/// and whole chunks through the readers it hands out, by level.
+#[derive(Debug)]
+struct CountingSamples {
+    inner: PyramidSamples,
+    samples_read: AtomicU64,
+    chunks_read: Arc<std::sync::Mutex<Vec<u32>>>,
+}
+
+struct CountingReader {
+    inner: Box<dyn ChunkHeightSource>,
+    chunks_read: Arc<std::sync::Mutex<Vec<u32>>>,
+}
+
+impl ChunkHeightSource for CountingReader {
+    fn request(&mut self, id: ChunkId) {
+        self.inner.request(id);
+    }
+
+    fn take(&mut self, id: ChunkId) -> Result<ChunkRead, String> {
+        self.chunks_read.lock().unwrap().push(id.level);
+        self.inner.take(id)
+    }
+}
+
+impl PagedSamples for CountingSamples {
+    fn height(&self, i: usize, j: usize) -> f32 {
+        self.samples_read.fetch_add(1, Ordering::Relaxed);
+        self.inner.height(i, j)
+    }
+    fn row(&self, j: usize, row: &mut Vec<f32>) {
+        self.inner.row(j, row);
+        self.samples_read
+            .fetch_add(row.len() as u64, Ordering::Relaxed);
+    }
+    fn height_range(&self) -> (f32, f32) {
+        self.inner.height_range()
+    }
+    fn memory_bytes(&self) -> usize {
+        self.inner.memory_bytes()
+    }
+    fn failure(&self) -> Option<String> {
+        self.inner.failure()
+    }
+    fn chunk_level(&self) -> u32 {
+        self.inner.chunk_level()
+    }
+    fn chunk_records(&self) -> &[ChunkRecord] {
+        self.inner.chunk_records()
+    }
+    fn chunk_reader(&self) -> Result<Box<dyn ChunkHeightSource>, String> {
+        Ok(Box::new(CountingReader {
+            inner: self.inner.chunk_reader()?,
+            chunks_read: Arc::clone(&self.chunks_read),
+        }))
+    }
+}
+
+/// The raw file's terrain in memory, every `stride`-th sample of it each way.
+fn raw_field(prepared: &Prepared, stride: usize) -> Heightfield {
+    let side = (1usize << LEVEL) + 1;
+    let raw = std::fs::read(prepared.path("terrain.raw")).unwrap();
+    let kept = (side - 1) / stride + 1;
+    let heights = (0..kept * kept)
+        .map(|k| {
+            let (i, j) = (k % kept * stride, k / kept * stride);
+            let at = 2 * (j * side + i);
+            f32::from(i16::from_le_bytes([raw[at], raw[at + 1]]))
+        })
+        .collect();
+    let spacing = 30.0 * stride as f64;
+    Heightfield::new(
+        kept,
+        heights,
+        Spacing {
+            dx: spacing,
+            dy: spacing,
+        },
+    )
+    .unwrap()
+}
+
+fn raster_bits(raster: &HeightRaster) -> (usize, usize, Vec<u64>) {
+    let bits = raster.heights.iter().map(|h| h.to_bits()).collect();
+    (raster.columns, raster.rows, bits)
+}
+
+#[test]
+fn the_map_of_a_pyramid_reads_its_coarsest_level_as_fine_as_the_pixels() {
+    let prepared = Prepared::new();
+    let samples = Arc::new(CountingSamples {
+        inner: PyramidSamples::new(PyramidFile::open(&prepared.path("terrain.pyr")).unwrap()),
+        samples_read: AtomicU64::new(0),
+        chunks_read: Arc::default(),
+    });
+    let spacing = Spacing { dx: 30.0, dy: 30.0 };
+    let paged = Heightfield::paged(LEVEL, samples.clone(), spacing).unwrap();
+    let levels_read = || std::mem::take(&mut *samples.chunks_read.lock().unwrap());
+
+    // The terrain alone: 7680 m on 860 pixels, 8.9 m a pixel, finer than the 30 m samples:
+    // the leaves (level 4 of 17² chunks, 16 × 16 of them), and the map drawn in memory.
+    let in_memory = map_chart(&raw_field(&prepared, 1), "map", None).unwrap();
+    let from_pyramid = map_chart(&paged, "map", None).unwrap();
+    assert_eq!(
+        raster_bits(&from_pyramid.raster),
+        raster_bits(&in_memory.raster)
+    );
+    assert_eq!(from_pyramid, in_memory);
+    assert_eq!(levels_read(), vec![4; 256]);
+
+    // A flight reaching 125 km east: 154 m a pixel, so every 4th sample (120 m) is enough:
+    // level 2's 16 chunks, the heights of the terrain in memory kept every 4th sample.
+    let poses = (0..41)
+        .map(|k| Pose {
+            position: glam::DVec3::new(f64::from(k) * 3125.0, 3840.0, 600.0),
+            yaw: 0.0,
+            pitch: -0.3,
+        })
+        .collect();
+    let flight = Flight::from_poses(poses).unwrap();
+    let on_map = FlightOnMap {
+        flight: &flight,
+        view: ViewSettings {
+            width_px: 640,
+            height_px: 480,
+            fovy: 1.0,
+            near: 1.0,
+            far: 8000.0,
+        },
+        violations: &[],
+    };
+    let from_pyramid = map_chart(&paged, "map", Some(on_map)).unwrap();
+    let every_4th = map_chart(&raw_field(&prepared, 4), "map", Some(on_map)).unwrap();
+    let every_sample = map_chart(&raw_field(&prepared, 1), "map", Some(on_map)).unwrap();
+    assert_eq!(levels_read(), vec![2; 16]);
+    let drawn = raster_bits(&from_pyramid.raster);
+    assert_eq!(drawn, raster_bits(&every_4th.raster));
+    assert_ne!(
+        drawn,
+        raster_bits(&every_sample.raster),
+        "the map read the leaves"
+    );
+    let on_terrain = from_pyramid.raster.heights.iter().filter(|h| h.is_finite());
+    assert!(
+        on_terrain.count() > 1000,
+        "the terrain is hardly on the map"
+    );
+    assert_eq!(samples.samples_read.load(Ordering::Relaxed), 0);
+}
+
+/// The peak resident set of `roamsim run` over `prepared`'s pyramid: a chunked entry with loading
+/// flies the same 40 frames (no audit, no plots, no mesh checks), in a process of its own.
+fn peak_resident_of_a_run(prepared: &Prepared) -> f64 {
+    let experiment = json!({
+        "format_version": 1,
+        "name": "pyramid-memory",
+        "terrain": prepared.pyramid_terrain(),
+        "view": { "width_px": 640, "height_px": 480, "fovy_deg": 60, "near_m": 0.5, "far_m": 8000 },
+        "speed_bounds": { "horizontal_m_per_frame": 200, "vertical_m_per_frame": 200 },
+        "flight": {
+            "frames": 40,
+            "altitude": "above_ground",
+            "look": { "along_path": { "pitch_deg": -10 } },
+            "path": { "line": { "from_m": [600, 700, 25], "to_m": [7000, 6500, 25] } }
+        },
+        "algorithms": [chunked_loading("out of core", CHUNK_LEVEL)],
+        "effects": { "culling": true },
+        "outputs": { "plots": false }
+    });
+    save(prepared.folder.path(), "memory", &experiment);
+    let output = roamsim(
+        &["run", "memory.json", "--out", "out", "--threads", "2"],
+        prepared.folder.path(),
+    );
+    assert!(output.status.success(), "{output:?}");
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(prepared.path("out/summary.json")).unwrap())
+            .unwrap();
+    summary["run"]["peak_resident_bytes"].as_f64().unwrap()
+}
+
+#[test]
+fn a_pyramid_runs_resident_set_does_not_grow_with_the_terrain() {
+    // 2049² samples are 16.8 MB as f32 in memory; the run over their pyramid peaks within 6 MB
+    // of the same run over a 257² pyramid (the leaf cache grows by 224 leaves of 17², 260 kB).
+    let small = peak_resident_of_a_run(&Prepared::of_level(LEVEL));
+    let large = peak_resident_of_a_run(&Prepared::of_level(11));
+    let grown = large - small;
+    assert!(
+        grown < 6e6,
+        "the run over 2049² peaks at {large} bytes, {grown} more than over 257²"
+    );
 }

@@ -8,6 +8,19 @@
 //! [`MAP_SIDE_PX`] a side, the bilinear ground height at the pixel's centre), so a 16385²
 //! terrain costs as much as a 1025² one; the colour bar spans the sampled heights.
 //!
+//! **A pyramid is read at a coarse level.** A terrain read on demand (a chunk pyramid,
+//! `edge::pyramid`) is not sampled through its full-resolution cache, which on a 65 537²
+//! pyramid would read most of the file: the map reads the coarsest level L of the pyramid whose
+//! sample spacing, 2^(D − L) times the terrain's (a level's chunks hold every 2^(D − L)-th
+//! sample, D the leaves' level), is at most the map's pixel footprint in x and in y, whole, with
+//! the pyramid's loader, and samples that level's grid as it samples a terrain in memory
+//! (`coarse_level`). That level has at most about twice as many samples a side as the map has
+//! pixels, so the map of any pyramid reads about as many samples as it has pixels (at most about
+//! 4× them, and at most 1025², 4 MB of `f32`, since the level has fewer than 2 × 860 cells a
+//! side); where the pixels are finer than the samples (L = D) it is the full-resolution grid
+//! and the map is the one the same terrain in memory draws. A read that fails is the map's
+//! error, naming the pyramid and the chunk.
+//!
 //! **Labels that do not crowd.** Frame numbers go every N frames, N the smallest of 1, 2, 5 × 10^k
 //! that puts them at least [`LABEL_SPACING_PX`] apart along the path on average and gives at most
 //! [`MAX_LABELS`] of them; a label closer than [`LABEL_CLEARANCE_PX`] to one already placed (a
@@ -20,8 +33,10 @@ use crate::edge::output::plots::{
     HeightRaster, MAP_SIDE_PX, MapChart, MapFormat, PlotError, map_raster_size, write_map,
     write_map_file,
 };
+use crate::sim::algorithm::chunked::ChunkId;
 use crate::sim::flight::{Flight, SpeedViolation};
-use crate::sim::terrain::Heightfield;
+use crate::sim::terrain::paged::PagedSamples;
+use crate::sim::terrain::{Heightfield, Spacing};
 use crate::sim::view::{Camera, ViewSettings};
 use glam::DVec2;
 use std::path::Path;
@@ -50,7 +65,11 @@ pub fn write_flight_map(
     title: &str,
     flight: Option<FlightOnMap>,
 ) -> Result<(), PlotError> {
-    write_map(dir, "map", &map_chart(field, title, flight))
+    let chart = map_chart(field, title, flight).map_err(|problem| PlotError {
+        path: dir.join("map.png"),
+        problem,
+    })?;
+    write_map(dir, "map", &chart)
 }
 
 /// Writes the map to `path`, a PNG or an SVG by its extension (`.png`, `.svg`); anything else is
@@ -75,12 +94,21 @@ pub fn write_map_to(
             });
         }
     };
-    write_map_file(path, format, &map_chart(field, title, flight))
+    let chart = map_chart(field, title, flight).map_err(|problem| PlotError {
+        path: path.to_path_buf(),
+        problem,
+    })?;
+    write_map_file(path, format, &chart)
 }
 
 /// What the map shows: the terrain sampled on the map's grid, the flight's path with its labels,
-/// footprints and broken frames.
-pub fn map_chart(field: &Heightfield, title: &str, flight: Option<FlightOnMap>) -> MapChart {
+/// footprints and broken frames. The error of a terrain read on demand whose pyramid could not
+/// be read, a sentence naming the file and the chunk.
+pub fn map_chart(
+    field: &Heightfield,
+    title: &str,
+    flight: Option<FlightOnMap>,
+) -> Result<MapChart, String> {
     let origin = field.origin().truncate();
     let (width, depth) = field.extent();
     let terrain_low = origin;
@@ -111,7 +139,14 @@ pub fn map_chart(field: &Heightfield, title: &str, flight: Option<FlightOnMap>) 
         high += DVec2::splat(margin);
     }
     let span = (high - low).max(DVec2::splat(f64::MIN_POSITIVE));
-    let raster = sample_heights(field, low, span);
+    let raster = match field.paged_samples() {
+        None => sample_heights(field, low, span),
+        Some(paged) => {
+            let (columns, rows) = map_raster_size(span.x, span.y);
+            let footprint = DVec2::new(span.x / columns as f64, span.y / rows as f64);
+            sample_heights(&coarse_level(field, paged.as_ref(), footprint)?, low, span)
+        }
+    };
     let px_per_m = MAP_SIDE_PX as f64 / span.max_element();
     let mut chart = MapChart {
         title: title.to_string(),
@@ -126,7 +161,7 @@ pub fn map_chart(field: &Heightfield, title: &str, flight: Option<FlightOnMap>) 
         broken_label: String::new(),
     };
     let Some(flight) = flight else {
-        return chart;
+        return Ok(chart);
     };
     let n_frames = path.len() as u64;
     let label_step = label_step(&path, px_per_m);
@@ -167,7 +202,57 @@ pub fn map_chart(field: &Heightfield, title: &str, flight: Option<FlightOnMap>) 
         flight.violations.len(),
         by_bound.join(", ")
     );
-    chart
+    Ok(chart)
+}
+
+/// The coarsest level of the pyramid behind the paged `field` whose sample spacing is at most
+/// `footprint` (metres a map pixel, x and y), read whole through the pyramid's chunk reader, as
+/// a field in memory over the same rectangle (see the module doc). The level is the finest
+/// (the leaves') when the pixels are finer than the samples.
+fn coarse_level(
+    field: &Heightfield,
+    paged: &dyn PagedSamples,
+    footprint: DVec2,
+) -> Result<Heightfield, String> {
+    let chunk_level = paged.chunk_level();
+    let leaf_level = field.level() - chunk_level;
+    let spacing = field.spacing();
+    // s = D − L: the level's samples are 2^s of the terrain's apart.
+    let coarser = (0..=leaf_level)
+        .take_while(|&s| {
+            let stride = f64::from(1u32 << s);
+            stride * spacing.dx <= footprint.x && stride * spacing.dy <= footprint.y
+        })
+        .last()
+        .unwrap_or(0);
+    let level = leaf_level - coarser;
+    let cells = 1usize << chunk_level;
+    let per_side = 1u32 << level;
+    let side = per_side as usize * cells + 1;
+    let mut heights = vec![0.0f32; side * side];
+    let mut reader = paged.chunk_reader()?;
+    // A row of chunks at a time: the reads in flight hold at most a row's heights.
+    for y in 0..per_side {
+        for x in 0..per_side {
+            reader.request(ChunkId { level, x, y });
+        }
+        for x in 0..per_side {
+            let read = reader.take(ChunkId { level, x, y })?;
+            for b in 0..=cells {
+                let start = (y as usize * cells + b) * side + x as usize * cells;
+                heights[start..=start + cells]
+                    .copy_from_slice(&read.heights[b * (cells + 1)..(b + 1) * (cells + 1)]);
+            }
+        }
+    }
+    let stride = f64::from(1u32 << coarser);
+    let coarse_spacing = Spacing {
+        dx: spacing.dx * stride,
+        dy: spacing.dy * stride,
+    };
+    Heightfield::new(side, heights, coarse_spacing)
+        .map(|coarse| coarse.with_origin(field.origin()))
+        .map_err(|error| format!("the map's level {level} of the pyramid: {error}"))
 }
 
 fn pair(p: DVec2) -> (f64, f64) {
@@ -391,7 +476,8 @@ mod tests {
                 view,
                 violations: &[violation],
             }),
-        );
+        )
+        .unwrap();
         assert_eq!(chart.path.len(), 5);
         assert_eq!(chart.broken, vec![(26.0, 20.0)]);
         assert!(chart.broken_label.contains("horizontal 1"));

@@ -110,8 +110,9 @@ impl PyramidFile {
     }
 
     /// Reads chunk `id`'s (2^c + 1)² heights, row by row from the south, into `heights` with
-    /// one read. Refused: a chunk outside the tree, a failed read, a height not finite or
-    /// outside the chunk's range.
+    /// one read. Refused: a chunk outside the tree, a failed read (the file cut short or changed
+    /// after it was opened), a height not finite or outside the chunk's range. Each error names
+    /// the file, the chunk (level, position, byte offset) and what was expected there.
     pub fn read_heights(&self, id: ChunkId, heights: &mut Vec<f32>) -> Result<(), PyramidError> {
         let record = self.record(id).ok_or_else(|| {
             PyramidError::new(
@@ -119,15 +120,31 @@ impl PyramidFile {
                 format!("chunk {id:?} is not in the pyramid's tree"),
             )
         })?;
-        let mut bytes = vec![0u8; self.header.chunk_bytes() as usize];
-        self.file
-            .read_exact_at(&mut bytes, self.header.heights_offset(id))
-            .map_err(|e| {
-                PyramidError::new(
-                    &self.path,
-                    format!("cannot read chunk {id:?}'s heights: {e}"),
-                )
-            })?;
+        let offset = self.header.heights_offset(id);
+        let length = self.header.chunk_bytes();
+        let chunk = format!(
+            "chunk at level {}, x {}, y {} (heights at bytes {offset}..{})",
+            id.level,
+            id.x,
+            id.y,
+            offset + length
+        );
+        let mut bytes = vec![0u8; length as usize];
+        self.file.read_exact_at(&mut bytes, offset).map_err(|e| {
+            let now = self
+                .file
+                .metadata()
+                .map_or_else(|_| "unknown".to_string(), |m| m.len().to_string());
+            PyramidError::new(
+                &self.path,
+                format!(
+                    "{chunk}: cannot read its heights ({e}): expected {length} bytes there, and \
+                     the file now has {now} bytes of the {} it had when opened (cut short or \
+                     changed during the run; prepare it again)",
+                    self.header.file_bytes()
+                ),
+            )
+        })?;
         heights.clear();
         match self.header.sample {
             StoredSample::I16 => heights.extend(
@@ -141,16 +158,22 @@ impl PyramidFile {
                     .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
             ),
         }
-        if let Some(z) = heights
+        if let Some(k) = heights
             .iter()
-            .find(|z| !(record.z_min..=record.z_max).contains(*z))
+            .position(|z| !(record.z_min..=record.z_max).contains(z))
         {
+            let side = self.header.cells() as usize + 1;
             return Err(PyramidError::new(
                 &self.path,
                 format!(
-                    "chunk {id:?} has a height {z} outside its record's range {} to {}: the \
-                     file is corrupt (prepare it again)",
-                    record.z_min, record.z_max
+                    "{chunk}: vertex ({}, {}) at byte {} has height {}, outside its record's \
+                     range: expected {} to {}; the file is corrupt (prepare it again)",
+                    k % side,
+                    k / side,
+                    offset + k as u64 * self.header.sample.bytes(),
+                    heights[k],
+                    record.z_min,
+                    record.z_max
                 ),
             ));
         }

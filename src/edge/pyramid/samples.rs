@@ -9,20 +9,23 @@
 //! and the chunked entries' own resident chunks (their loading effect's cap bounds those).
 //!
 //! **Failures** (a file changed or damaged after it was checked at open): the lowest height of
-//! the terrain is answered and the first failure kept for [`PagedSamples::failure`].
+//! the terrain is answered and the first failure kept for [`PagedSamples::failure`]. The chunk
+//! readers it hands out keep theirs in the same place (a failed read on a loader thread is
+//! drawn flat by chunked LOD), so the session fails the run after the frames either way.
 
 use super::{PyramidFile, PyramidLoader};
-use crate::sim::algorithm::chunked::{ChunkHeightSource, ChunkId, ChunkRecord};
+use crate::sim::algorithm::chunked::{ChunkHeightSource, ChunkId, ChunkRead, ChunkRecord};
 use crate::sim::terrain::paged::PagedSamples;
 use std::collections::HashMap;
-use std::sync::{Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 /// A pyramid's samples, read on demand.
 #[derive(Debug)]
 pub struct PyramidSamples {
     pyramid: PyramidFile,
     cache: Mutex<LeafCache>,
-    failure: Mutex<Option<String>>,
+    /// The first failed read, of the cache or of a chunk reader handed out.
+    failure: Arc<Mutex<Option<String>>>,
 }
 
 /// Leaves by their breadth-first number, with the tick of their last use.
@@ -38,7 +41,7 @@ impl PyramidSamples {
         PyramidSamples {
             pyramid,
             cache: Mutex::new(LeafCache::default()),
-            failure: Mutex::new(None),
+            failure: Arc::default(),
         }
     }
 
@@ -157,7 +160,28 @@ impl PagedSamples for PyramidSamples {
 
     fn chunk_reader(&self) -> Result<Box<dyn ChunkHeightSource>, String> {
         let file = PyramidFile::open(self.pyramid.path()).map_err(|error| error.to_string())?;
-        Ok(Box::new(PyramidLoader::start(file)))
+        Ok(Box::new(ReportingReader {
+            loader: PyramidLoader::start(file),
+            failure: Arc::clone(&self.failure),
+        }))
+    }
+}
+
+/// A loader whose failed reads are also kept as the samples' failure, which the session reports.
+struct ReportingReader {
+    loader: PyramidLoader,
+    failure: Arc<Mutex<Option<String>>>,
+}
+
+impl ChunkHeightSource for ReportingReader {
+    fn request(&mut self, id: ChunkId) {
+        self.loader.request(id);
+    }
+
+    fn take(&mut self, id: ChunkId) -> Result<ChunkRead, String> {
+        self.loader.take(id).inspect_err(|error| {
+            lock(&self.failure).get_or_insert_with(|| error.clone());
+        })
     }
 }
 

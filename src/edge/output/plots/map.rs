@@ -7,7 +7,10 @@
 //! The caller ([`MapChart`]) hands over heights already sampled on a grid of at most
 //! [`MAP_SIDE_PX`] cells a side ([`map_raster_size`] says how many for an extent) and everything
 //! else in world metres; this file shades, colours and lays out, and decides nothing about which
-//! frames are labelled. North (+y) is up. The terrain is drawn once as an image: in the PNG its
+//! frames are labelled. For a terrain read on demand the caller samples the coarsest level of
+//! its pyramid whose sample spacing is at most the map's pixel footprint, not the
+//! full-resolution samples (`edge::output::flight_map`), so the raster of any pyramid costs
+//! about as many samples as it has cells. North (+y) is up. The terrain is drawn once as an image: in the PNG its
 //! pixels, in the SVG an embedded PNG at half the resolution (`<image>`, so that the SVG stays
 //! small), under vector lines and text.
 //!

@@ -30,13 +30,19 @@
 //!   mean) and the wait (frames.csv's `chunks_read`, `read_latency_max_us`,
 //!   `read_latency_mean_us`, `read_wait_us`, timing columns), and per run their p50, p95 and
 //!   largest latency (summary.json's facts).
+//! - **A read that fails** (a file damaged or cut short after it was checked at open) cannot
+//!   stop the core mid-frame: the chunk arrives flat, every vertex at its record's lowest height
+//!   (inside its box, so the frame's checks hold), and the first failure is kept
+//!   ([`Chunked::disk_failure`](super::Chunked::disk_failure)); the edge's reader also records it
+//!   where the session fails the run after the frames (`sim::terrain::paged`), so no figure of
+//!   such a run is written.
 //!
 //! "The same flight without latency" is the same entry without this effect: every source
 //! chunk resident from the start (synthesised chunks then arrive the frame after their
 //! request).
 
 use super::cache::GroupCache;
-use super::tree::ChunkId;
+use super::tree::{ChunkId, ChunkSource, ChunkTree};
 use crate::sim::stats::nearest_rank;
 use std::collections::BTreeMap;
 
@@ -138,6 +144,8 @@ pub(super) struct DiskHeights {
     latencies_ns: Vec<u64>,
     /// The frames' waits added up, nanoseconds.
     wait_total_ns: u64,
+    /// The first read that failed, the reader's sentence naming the file and the chunk.
+    failure: Option<String>,
 }
 
 impl DiskHeights {
@@ -152,6 +160,7 @@ impl DiskHeights {
             frame: DiskFrame::default(),
             latencies_ns: Vec::new(),
             wait_total_ns: 0,
+            failure: None,
         })
     }
 
@@ -161,11 +170,11 @@ impl DiskHeights {
         self.pending.push((id, available_from));
     }
 
-    /// Takes the heights of every chunk available by `frame`, waiting for unfinished reads.
-    ///
-    /// # Panics
-    /// When a read failed (the file was checked at open; this is the disk failing mid-run).
-    pub(super) fn arrive(&mut self, frame: u64) {
+    /// Takes the heights of every chunk available by `frame`, waiting for unfinished reads. A
+    /// read that failed (the file was checked at open; this is the disk or the file failing
+    /// mid-run) arrives as a flat chunk at its record's lowest height in `tree`, and the first
+    /// failure is kept ([`DiskHeights::failure`]).
+    pub(super) fn arrive(&mut self, frame: u64, tree: &ChunkTree) {
         self.frame = DiskFrame::default();
         let mut k = 0;
         while k < self.pending.len() {
@@ -176,10 +185,15 @@ impl DiskHeights {
             }
             self.pending.swap_remove(k);
             let start = std::time::Instant::now();
-            let read = self
-                .source
-                .take(id)
-                .unwrap_or_else(|error| panic!("chunk {id:?} could not be read: {error}"));
+            let read = self.source.take(id).unwrap_or_else(|error| {
+                self.failure.get_or_insert(error);
+                let side = tree.geometry().cells as usize + 1;
+                let lowest = tree.chunk(id).map_or(0.0, |record| record.z_min);
+                ChunkRead {
+                    heights: vec![lowest; side * side],
+                    latency_ns: 0,
+                }
+            });
             self.frame.wait_ns += start.elapsed().as_nanos() as u64;
             self.frame.chunks_arrived += 1;
             self.frame.read_latency_max_ns = self.frame.read_latency_max_ns.max(read.latency_ns);
@@ -205,6 +219,11 @@ impl DiskHeights {
         })
     }
 
+    /// The first read that failed, a sentence naming the file and the chunk; `None` while none.
+    pub(super) fn failure(&self) -> Option<&str> {
+        self.failure.as_deref()
+    }
+
     /// Bytes of the reads' record (the latencies kept for the percentiles).
     pub(super) fn memory_bytes(&self) -> usize {
         self.latencies_ns.capacity() * std::mem::size_of::<u64>()
@@ -219,7 +238,8 @@ impl DiskHeights {
     /// The height of vertex (a, b) of arrived chunk `id`, `side` vertices a row.
     ///
     /// # Panics
-    /// When `id` has not arrived.
+    /// When `id` has not arrived: a bug, since the loading model makes a chunk available only
+    /// once `arrive` took it, and a failed read arrives too (flat).
     pub(super) fn height(&self, id: ChunkId, a: u32, b: u32, side: u32) -> f32 {
         let heights = self
             .held

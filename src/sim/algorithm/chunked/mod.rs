@@ -437,6 +437,13 @@ impl<'h> Chunked<'h> {
         Some(disk.frame)
     }
 
+    /// The first read from disk that failed during the flight, a sentence naming the file and the
+    /// chunk (the chunk was drawn flat, so the run's figures are not the terrain's); `None` while
+    /// none failed or without a source read from disk.
+    pub fn disk_failure(&self) -> Option<&str> {
+        self.loading.as_ref()?.disk.as_ref()?.failure()
+    }
+
     /// This frame's drawn chunks, in draw order.
     pub fn drawn(&self) -> &[DrawnChunk] {
         &self.selection.drawn
@@ -643,7 +650,7 @@ impl LodAlgorithm for Chunked<'_> {
         if let Some(loading) = self.loading.as_mut() {
             loading.resident.set_frame(input.frame);
             if let Some(disk) = loading.disk.as_mut() {
-                disk.arrive(input.frame);
+                disk.arrive(input.frame, &self.tree);
             }
         }
         let search_visits = self.choose_tau(camera);
