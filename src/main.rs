@@ -29,6 +29,7 @@ use roamsim::edge::flight_motion::describe_flight_motion;
 use roamsim::edge::info_command::{InfoFailure, InfoRequest, RawKeys, TerrainFileKeys, run_info};
 use roamsim::edge::output::end_of_run::end_of_run_text;
 use roamsim::edge::progress::LineProgress;
+use roamsim::edge::pyramid::PrepareSource;
 use roamsim::edge::session::{
     MergeOptions, ProgressSink, RunOptions, RunOutcome, Timing, merge_shards, run_experiment,
 };
@@ -170,30 +171,44 @@ enum Command {
         map: Option<PathBuf>,
     },
     /// Write a terrain's chunk pyramid (the chunked LOD quadtree with every chunk's heights and
-    /// nested error) for an on-demand flight, in bounded memory; see docs/output-formats.md,
-    /// "Chunk pyramid". The source is a raw file of (2^n+1)² samples.
+    /// nested error) for an on-demand flight; see docs/output-formats.md, "Chunk pyramid". A raw
+    /// file of (2^n+1)² samples (--raw-side, --raw-sample) is streamed in bounded memory; any
+    /// other terrain the experiment format reads (.hgt, .png, .tif, .tiff, .asc, or an
+    /// experiment .json for its terrain: a mosaic, a folder of tiles) is read whole, fitted like
+    /// an experiment's, after its memory is stated and checked.
     #[command(after_help = EXAMPLES)]
     Prepare {
-        /// The raw terrain file (headerless samples, --raw-side × --raw-side).
+        /// The terrain: a raw file with --raw-side and --raw-sample, a terrain file, or an
+        /// experiment (.json).
         terrain: PathBuf,
-        /// Samples per side (2^n + 1).
-        #[arg(long)]
-        raw_side: usize,
-        /// The sample type and byte order.
-        #[arg(long, value_enum)]
-        raw_sample: RawSampleChoice,
-        /// The file's first row is the south edge (default: the north edge, as most are).
-        #[arg(long)]
+        /// A raw file's samples per side (2^n + 1): the file is streamed.
+        #[arg(long, requires = "raw_sample")]
+        raw_side: Option<usize>,
+        /// A raw file's sample type and byte order.
+        #[arg(long, value_enum, requires = "raw_side")]
+        raw_sample: Option<RawSampleChoice>,
+        /// The raw file's first row is the south edge (default: the north edge, as most are).
+        #[arg(long, requires = "raw_sample")]
         raw_south_first: bool,
-        /// Grid spacing in metres, one number for both axes or DX,DY.
-        #[arg(
-            long,
-            value_name = "DX[,DY]",
-            value_delimiter = ',',
-            num_args = 1,
-            required = true
-        )]
+        /// Grid spacing in metres, one number for both axes or DX,DY (required for a raw file;
+        /// for a terrain file, terrain.file.spacing_m).
+        #[arg(long, value_name = "DX[,DY]", value_delimiter = ',', num_args = 1)]
         spacing_m: Vec<f64>,
+        /// Metres per stored height unit (terrain.file.height_scale; not for a streamed raw file).
+        #[arg(long, value_name = "FACTOR", allow_negative_numbers = true)]
+        height_scale: Option<f64>,
+        /// Metres added to every height after scaling (terrain.file.height_offset_m).
+        #[arg(long, value_name = "M", allow_negative_numbers = true)]
+        height_offset_m: Option<f64>,
+        /// The stored value that marks a void (terrain.file.nodata).
+        #[arg(long, value_name = "VALUE", allow_negative_numbers = true)]
+        nodata: Option<f64>,
+        /// How the grid is fitted into (2^n+1)² samples (terrain.file.fit; default pad).
+        #[arg(long, value_enum)]
+        fit: Option<FitChoice>,
+        /// With --fit crop: the column and row the kept square starts at (terrain.file.crop_origin).
+        #[arg(long, value_name = "COLUMN,ROW", value_delimiter = ',', num_args = 1)]
+        crop_origin: Vec<usize>,
         /// c: chunks of (2^c + 1)² vertices, as the chunked entry's `chunk_level` (default 6).
         #[arg(long, default_value_t = 6)]
         chunk_level: u32,
@@ -404,30 +419,34 @@ fn main() -> ExitCode {
             raw_sample,
             raw_south_first,
             spacing_m,
+            height_scale,
+            height_offset_m,
+            nodata,
+            fit,
+            crop_origin,
             chunk_level,
             out,
-        } => roamsim::edge::pyramid::prepare_command(
-            roamsim::edge::pyramid::RawSource {
-                path: terrain,
-                layout: roamsim::edge::terrain_readers::RawLayout {
-                    columns: raw_side,
-                    rows: raw_side,
-                    sample: raw_sample.sample(),
-                    north_first: !raw_south_first,
-                },
-                spacing: roamsim::sim::terrain::Spacing {
-                    dx: spacing_m.first().copied().unwrap_or(f64::NAN),
-                    dy: spacing_m
-                        .get(1)
-                        .or(spacing_m.first())
-                        .copied()
-                        .unwrap_or(f64::NAN),
-                },
-            },
-            chunk_level,
-            &out,
-        )
-        .map_err(Failure::Error),
+        } => {
+            let keys = TerrainFileKeys {
+                raw: None,
+                height_scale,
+                height_offset_m,
+                nodata,
+                spacing_m,
+                fit: fit.map(|fit| match fit {
+                    FitChoice::Pad => "pad",
+                    FitChoice::Crop => "crop",
+                }),
+                crop_origin,
+                origin_m: Vec::new(),
+            };
+            let raw = raw_side.zip(raw_sample.map(|sample| sample.sample()));
+            PrepareSource::from_arguments(terrain, raw, raw_south_first, keys)
+                .and_then(|source| {
+                    roamsim::edge::pyramid::prepare_command(source, chunk_level, &out)
+                })
+                .map_err(Failure::Error)
+        }
         #[cfg(not(feature = "preview"))]
         Command::Preview { .. } => needs_preview_feature("preview"),
         #[cfg(not(feature = "preview"))]

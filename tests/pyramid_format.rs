@@ -4,7 +4,8 @@
 //! any chunk level (a real SRTM tile cropped to 1025² included); a truncated, foreign or
 //! corrupted file is refused with the file and the field named; and a chunked entry whose
 //! heights are read from the pyramid on a loader thread draws, every frame, exactly the meshes
-//! of the same entry reading the heights in memory.
+//! of the same entry reading the heights in memory, reporting its reads (count, latency, wait)
+//! per frame and the run's latency percentiles.
 
 mod common;
 
@@ -16,10 +17,15 @@ use roamsim::edge::pyramid::{
     PyramidFile, PyramidLoader, RawSource, StoredSample, chunk_ids, prepare_from_raw,
 };
 use roamsim::edge::terrain_readers::{RawLayout, RawSample};
-use roamsim::sim::algorithm::chunked::{ChunkId, LoadingConfig};
+use roamsim::sim::algorithm::chunked::{ChunkHeightSource, ChunkId, ChunkRead, LoadingConfig};
+use roamsim::sim::algorithm::columns::chunked::{
+    CHUNKS_READ, READ_LATENCY_MAX_US, READ_LATENCY_MEAN_US, READ_WAIT_US,
+};
+use roamsim::sim::algorithm::columns::extra_value;
 use roamsim::sim::algorithm::{Chunked, ChunkedConfig, LodAlgorithm};
 use roamsim::sim::hierarchy::GridPoint;
 use roamsim::sim::hierarchy::Hierarchy;
+use roamsim::sim::stats::{FrameStats, nearest_rank};
 use roamsim::sim::terrain::{Heightfield, Spacing};
 use roamsim::sim::view::{Camera, Pose};
 use std::path::{Path, PathBuf};
@@ -428,6 +434,83 @@ fn the_heights_drawn_are_the_ones_read_from_the_file() {
     }
 }
 
+/// The loader over a pyramid with each read's latency stamped from its chunk (1 ms a level,
+/// plus 1 ms), so the reported latencies are known; the chunks taken, in order.
+struct StampedReads {
+    loader: PyramidLoader,
+    taken: std::sync::Arc<std::sync::Mutex<Vec<ChunkId>>>,
+}
+
+fn stamped_latency_ns(id: ChunkId) -> u64 {
+    1_000_000 * u64::from(id.level + 1)
+}
+
+impl ChunkHeightSource for StampedReads {
+    fn request(&mut self, id: ChunkId) {
+        self.loader.request(id);
+    }
+
+    fn take(&mut self, id: ChunkId) -> Result<ChunkRead, String> {
+        self.taken.lock().unwrap().push(id);
+        let read = self.loader.take(id)?;
+        Ok(ChunkRead {
+            latency_ns: stamped_latency_ns(id),
+            ..read
+        })
+    }
+}
+
+#[test]
+fn a_flight_reading_from_disk_reports_each_frames_reads_and_the_runs_latency_percentiles() {
+    let terrain = Terrain::integer(8);
+    let hierarchy = terrain.hierarchy();
+    let cameras = low_flight(&hierarchy, 60);
+    let (_folder, path) = prepare(&terrain, RawSample::I16Le, true, 4);
+    let config = with_loading(chunked(0.5, 4));
+    let in_memory = Chunked::new(&hierarchy, config, &view_600());
+    assert!(!in_memory.extra_columns().contains(&CHUNKS_READ));
+    let taken = std::sync::Arc::default();
+    let source = StampedReads {
+        loader: PyramidLoader::start(PyramidFile::open(&path).unwrap()),
+        taken: std::sync::Arc::clone(&taken),
+    };
+    let mut algorithm = in_memory.with_disk_heights(Box::new(source)).unwrap();
+    let declared = algorithm.extra_columns();
+    let column = |stats: &FrameStats, name| extra_value(declared, stats, name).unwrap();
+    taken.lock().unwrap().clear(); // The root, read before the flight.
+    let mut all_us = Vec::new();
+    for (frame, camera) in cameras.iter().enumerate() {
+        let stats = step(&mut algorithm, frame as u64, camera, false);
+        let this_frame: Vec<f64> = taken
+            .lock()
+            .unwrap()
+            .drain(..)
+            .map(|id| stamped_latency_ns(id) as f64 * 1e-3)
+            .collect();
+        let n = this_frame.len() as f64;
+        let max = this_frame.iter().copied().fold(0.0, f64::max);
+        let mean = if n > 0.0 {
+            this_frame.iter().sum::<f64>() / n
+        } else {
+            0.0
+        };
+        assert_eq!(column(&stats, CHUNKS_READ), n, "frame {frame}: reads");
+        assert_eq!(column(&stats, READ_LATENCY_MAX_US), max, "frame {frame}");
+        assert_eq!(column(&stats, READ_LATENCY_MEAN_US), mean, "frame {frame}");
+        assert!(column(&stats, READ_WAIT_US) >= 0.0);
+        all_us.extend(this_frame);
+    }
+    assert!(all_us.len() > 20, "only {} chunks read", all_us.len());
+    all_us.sort_by(f64::total_cmp);
+    let facts = algorithm.run_facts();
+    let fact = |name| facts.iter().find(|(k, _)| *k == name).unwrap().1;
+    assert_eq!(fact("chunks_read"), all_us.len() as f64);
+    assert_eq!(fact("read_latency_p50_us"), nearest_rank(&all_us, 0.5));
+    assert_eq!(fact("read_latency_p95_us"), nearest_rank(&all_us, 0.95));
+    assert_eq!(fact("read_latency_max_us"), *all_us.last().unwrap());
+    assert!(fact("read_latency_p50_us") < fact("read_latency_max_us"));
+}
+
 #[test]
 fn heights_from_disk_need_the_loading_effect() {
     let terrain = Terrain::integer(4);
@@ -483,4 +566,128 @@ fn the_prepare_command_writes_the_pyramid_and_reports_progress() {
         folder.path(),
         &["t.raw", "2^n + 1 samples a side"],
     );
+}
+
+/// The shipped SRTM tile, by its absolute path.
+fn shipped_tile() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/data/N48E009.hgt")
+}
+
+#[test]
+fn prepare_from_the_shipped_hgt_equals_prepare_from_the_same_heights_as_raw_bit_for_bit() {
+    let folder = tempfile::tempdir().unwrap();
+    let cwd = folder.path();
+    let tile = shipped_tile();
+    let tile_path = tile.to_str().unwrap();
+    common::cli::succeeds(
+        &[
+            "prepare",
+            tile_path,
+            "--fit",
+            "crop",
+            "--chunk-level",
+            "5",
+            "--out",
+            "hgt.pyr",
+        ],
+        cwd,
+    );
+    // The heights a run reads: the centred 1025² crop (columns and rows 88..=1112 of the tile,
+    // north row first), its 21 voids filled with their nearest sample's height.
+    let file = serde_json::json!({"path": tile_path, "fit": "crop"});
+    let (field, _) = roamsim::edge::experiment::load_terrain_file(&tile, &file).unwrap();
+    assert_eq!(field.side(), 1025);
+    let bytes = std::fs::read(&tile).unwrap();
+    let mut raw = Vec::with_capacity(1025 * 1025 * 2);
+    let mut from_tile = 0;
+    for row_from_north in 0..1025 {
+        for column in 0..1025 {
+            let z = field.height(column, 1024 - row_from_north);
+            let k = 2 * ((88 + row_from_north) * 1201 + 88 + column);
+            let stored = i16::from_be_bytes([bytes[k], bytes[k + 1]]);
+            if stored != -32768 {
+                assert_eq!(
+                    z,
+                    f32::from(stored),
+                    "column {column}, row {row_from_north}"
+                );
+                from_tile += 1;
+            }
+            raw.extend_from_slice(&(z as i16).to_le_bytes());
+        }
+    }
+    assert!(from_tile > 1025 * 1025 - 22);
+    std::fs::write(cwd.join("same.raw"), raw).unwrap();
+    let spacing = field.spacing();
+    let spacing = format!("{:?},{:?}", spacing.dx, spacing.dy);
+    let raw_args = [
+        "prepare",
+        "same.raw",
+        "--raw-side",
+        "1025",
+        "--raw-sample",
+        "i16le",
+        "--spacing-m",
+        &spacing,
+        "--chunk-level",
+        "5",
+        "--out",
+        "raw.pyr",
+    ];
+    common::cli::succeeds(&raw_args, cwd);
+    let from_hgt = std::fs::read(cwd.join("hgt.pyr")).unwrap();
+    let from_raw = std::fs::read(cwd.join("raw.pyr")).unwrap();
+    assert_eq!(from_hgt.len(), from_raw.len());
+    let first_difference = (0..from_hgt.len()).find(|&k| from_hgt[k] != from_raw[k]);
+    assert_eq!(first_difference, None, "the pyramids differ");
+    let header = *PyramidFile::open(&cwd.join("hgt.pyr")).unwrap().header();
+    assert_eq!(header.sample, StoredSample::I16);
+}
+
+#[test]
+fn prepare_refuses_an_unknown_or_unreadable_terrain_naming_the_file() {
+    let folder = tempfile::tempdir().unwrap();
+    let cwd = folder.path();
+    std::fs::write(cwd.join("notes.txt"), "not a terrain").unwrap();
+    common::cli::fails_with(
+        &["prepare", "notes.txt", "--out", "t.pyr"],
+        cwd,
+        &["notes.txt", "unknown terrain format"],
+    );
+    std::fs::write(cwd.join("short.hgt"), [0u8; 100]).unwrap();
+    common::cli::fails_with(
+        &["prepare", "short.hgt", "--out", "t.pyr"],
+        cwd,
+        &["short.hgt"],
+    );
+    common::cli::fails_with(
+        &["prepare", "absent.tif", "--out", "t.pyr"],
+        cwd,
+        &["absent.tif"],
+    );
+    assert!(!cwd.join("t.pyr").exists());
+}
+
+#[test]
+fn prepare_refuses_a_terrain_too_large_to_read_whole_before_reading_it() {
+    // A header that declares 300 000² samples: 360 GB as f32, more than any machine here.
+    let folder = tempfile::tempdir().unwrap();
+    let cwd = folder.path();
+    std::fs::write(
+        cwd.join("huge.asc"),
+        "ncols 300000\nnrows 300000\nxllcorner 0\nyllcorner 0\ncellsize 30\n1 2 3\n",
+    )
+    .unwrap();
+    common::cli::fails_with(
+        &["prepare", "huge.asc", "--fit", "crop", "--out", "t.pyr"],
+        cwd,
+        &[
+            "huge.asc",
+            "300000×300000 samples",
+            "of memory",
+            "raw file",
+            "--raw-side",
+        ],
+    );
+    assert!(!cwd.join("t.pyr").exists());
 }

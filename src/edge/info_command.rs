@@ -58,7 +58,7 @@ pub struct RawKeys {
 
 impl TerrainFileKeys {
     /// The `terrain.file` object for `path`, as an experiment would write it.
-    fn object(&self, path: &Path) -> Result<Map<String, Value>, String> {
+    pub fn object(&self, path: &Path) -> Result<Map<String, Value>, String> {
         let mut file = Map::new();
         file.insert("path".into(), json!(path.to_string_lossy()));
         if let Some(raw) = &self.raw {
@@ -104,7 +104,7 @@ impl TerrainFileKeys {
     }
 
     /// The options given, as `--height-scale`, for an error message.
-    fn given(&self) -> Vec<&'static str> {
+    pub fn given(&self) -> Vec<&'static str> {
         [
             (self.raw.is_some(), "--raw-…"),
             (self.height_scale.is_some(), "--height-scale"),

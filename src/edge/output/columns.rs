@@ -89,6 +89,18 @@ pub const TIMING_COLUMNS: &[&str] = &[
     "frame_ns",
     "strip_construction_ns",
     "detail_synthesis_ms",
+    "read_latency_max_us",
+    "read_latency_mean_us",
+    "read_wait_us",
+];
+
+/// The timing columns measured once, in the pass that reads from disk, never replaced by a
+/// timing pass's: a timing pass rereads chunks the page cache now holds, so its reads would
+/// say nothing of the disk.
+pub const MEASURED_PASS_TIMING_COLUMNS: &[&str] = &[
+    "read_latency_max_us",
+    "read_latency_mean_us",
+    "read_wait_us",
 ];
 
 /// One algorithm's frames with the names of its extra columns.

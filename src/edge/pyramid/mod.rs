@@ -1,5 +1,6 @@
 //! The chunk pyramid file: a terrain's chunked-LOD quadtree written once by `roamsim prepare`
-//! (`prepare.rs`, in bounded memory, bottom-up from bands of rows) and read chunk by chunk
+//! (`prepare.rs`, in bounded memory, bottom-up from bands of rows, from a raw file streamed or
+//! any terrain read whole, `source.rs`) and read chunk by chunk
 //! (`open.rs`), the way Ulrich's chunker preprocesses a terrain into a `.chu` file of chunks with
 //! their errors. The format is documented in `docs/output-formats.md` ("Chunk pyramid").
 //!
@@ -26,12 +27,14 @@ mod loader;
 mod open;
 mod prepare;
 mod samples;
+mod source;
 
-pub use command::prepare_command;
+pub use command::{PrepareSource, prepare_command};
 pub use loader::PyramidLoader;
 pub use open::PyramidFile;
-pub use prepare::{PrepareSummary, RawSource, prepare_from_raw};
+pub use prepare::{PrepareSummary, RawSource, prepare_from_field, prepare_from_raw};
 pub use samples::PyramidSamples;
+pub use source::{TerrainInMemory, read_experiment_terrain, read_terrain_file};
 
 use crate::sim::algorithm::chunked::ChunkId;
 use std::path::{Path, PathBuf};

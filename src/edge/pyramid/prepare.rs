@@ -24,7 +24,7 @@
 use super::{MAGIC, MAX_LEAF_LEVEL, MAX_TERRAIN_LEVEL, PyramidError, PyramidHeader, StoredSample};
 use crate::edge::terrain_readers::{RawLayout, RawSample, decode_sample};
 use crate::sim::algorithm::chunked::{ChunkId, ChunkRecord, chunk_own_error};
-use crate::sim::terrain::Spacing;
+use crate::sim::terrain::{Heightfield, Spacing};
 use std::fs::{self, File};
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::os::unix::fs::FileExt;
@@ -59,7 +59,7 @@ pub fn prepare_from_raw(
     out: &Path,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<PrepareSummary, PyramidError> {
-    let header = header_for(source, chunk_level)?;
+    let header = raw_header(source, chunk_level)?;
     let input = File::open(&source.path)
         .map_err(|e| PyramidError::new(&source.path, format!("cannot open the source: {e}")))?;
     let sample_bytes = source.layout.sample.bytes() as u64;
@@ -79,9 +79,79 @@ pub fn prepare_from_raw(
             ),
         ));
     }
+    let sample = source.layout.sample;
+    let row_bytes = header.side() as usize * sample.bytes();
+    let mut raw_row = vec![0u8; row_bytes];
+    let mut read_row = |j: u64, row: &mut [f32]| {
+        let side = header.side();
+        let file_row = if source.layout.north_first {
+            side - 1 - j
+        } else {
+            j
+        };
+        input
+            .read_exact_at(&mut raw_row, file_row * row_bytes as u64)
+            .map_err(|e| {
+                PyramidError::new(&source.path, format!("cannot read row {file_row}: {e}"))
+            })?;
+        for (z, bytes) in row.iter_mut().zip(raw_row.chunks_exact(sample.bytes())) {
+            *z = decode_sample(sample, bytes) as f32;
+        }
+        Ok(())
+    };
+    write_all_or_nothing(header, out, &mut read_row, progress)
+}
+
+/// Writes the pyramid of the terrain `field` holds in memory (read from `source`, which errors
+/// name) with chunks of (2^`chunk_level` + 1)² vertices (clamped to the terrain) to `out`:
+/// the same pyramid [`prepare_from_raw`] writes from the same heights. Heights are stored as
+/// `i16` when every one is an integer in −32 768..=32 767 (an SRTM tile's), else as `f32`.
+pub fn prepare_from_field(
+    field: &Heightfield,
+    source: &Path,
+    chunk_level: u32,
+    out: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<PrepareSummary, PyramidError> {
+    let side = field.side();
+    let integer = |z: f32| {
+        z == z.round() && (-32768.0..=32767.0).contains(&z) && z.to_bits() != (-0.0f32).to_bits()
+    };
+    let all_integer = (0..side).all(|j| (0..side).all(|i| integer(field.height(i, j))));
+    let header = header_for(
+        source,
+        (side, side),
+        field.spacing(),
+        if all_integer {
+            StoredSample::I16
+        } else {
+            StoredSample::F32
+        },
+        chunk_level,
+    )?;
+    let mut read_row = |j: u64, row: &mut [f32]| {
+        for (i, z) in row.iter_mut().enumerate() {
+            *z = field.height(i, j as usize);
+        }
+        Ok(())
+    };
+    write_all_or_nothing(header, out, &mut read_row, progress)
+}
+
+/// Terrain row `j` (south = 0) into the slice, `side` heights.
+type ReadRow<'a> = dyn FnMut(u64, &mut [f32]) -> Result<(), PyramidError> + 'a;
+
+/// Writes the pyramid of `header` from the rows `read_row` gives to a partial file beside
+/// `out`, then renames it into place; on an error the partial file is removed.
+fn write_all_or_nothing(
+    header: PyramidHeader,
+    out: &Path,
+    read_row: &mut ReadRow,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<PrepareSummary, PyramidError> {
     check_destination(out)?;
     let partial = partial_path(out)?;
-    let written = write_pyramid(source, &input, header, &partial, progress);
+    let written = write_pyramid(read_row, header, &partial, progress);
     let band_bytes = match written {
         Ok(band_bytes) => band_bytes,
         Err(error) => {
@@ -103,9 +173,33 @@ pub fn prepare_from_raw(
     })
 }
 
-/// The header of `source`'s pyramid, or why it cannot have one.
-fn header_for(source: &RawSource, chunk_level: u32) -> Result<PyramidHeader, PyramidError> {
+/// The header of a raw source's pyramid, or why it cannot have one.
+fn raw_header(source: &RawSource, chunk_level: u32) -> Result<PyramidHeader, PyramidError> {
     let RawLayout { columns, rows, .. } = source.layout;
+    let sample = match source.layout.sample {
+        RawSample::I16Le | RawSample::I16Be => StoredSample::I16,
+        RawSample::U16Le | RawSample::U16Be | RawSample::F32Le | RawSample::F32Be => {
+            StoredSample::F32
+        }
+    };
+    header_for(
+        &source.path,
+        (columns, rows),
+        source.spacing,
+        sample,
+        chunk_level,
+    )
+}
+
+/// The header of the pyramid of a `columns` × `rows` terrain read from `source`, or why it
+/// cannot have one.
+fn header_for(
+    source: &Path,
+    (columns, rows): (usize, usize),
+    spacing: Spacing,
+    sample: StoredSample,
+    chunk_level: u32,
+) -> Result<PyramidHeader, PyramidError> {
     let level = (columns as u64)
         .checked_sub(1)
         .filter(|cells| cells.is_power_of_two())
@@ -114,7 +208,7 @@ fn header_for(source: &RawSource, chunk_level: u32) -> Result<PyramidHeader, Pyr
         Some(level) if columns == rows && (1..=MAX_TERRAIN_LEVEL).contains(&level) => level,
         _ => {
             return Err(PyramidError::new(
-                &source.path,
+                source,
                 format!(
                     "the source is {columns} × {rows} samples; a pyramid needs a square of \
                      2^n + 1 samples a side, 3 to 65 537 (crop or pad it first)"
@@ -125,7 +219,7 @@ fn header_for(source: &RawSource, chunk_level: u32) -> Result<PyramidHeader, Pyr
     let chunk_level = chunk_level.clamp(1, terrain_level);
     if terrain_level - chunk_level > MAX_LEAF_LEVEL {
         return Err(PyramidError::new(
-            &source.path,
+            source,
             format!(
                 "chunks of level {chunk_level} on a terrain of level {terrain_level} make {} \
                  levels of chunks below the root; at most {MAX_LEAF_LEVEL}: use a larger \
@@ -134,19 +228,13 @@ fn header_for(source: &RawSource, chunk_level: u32) -> Result<PyramidHeader, Pyr
             ),
         ));
     }
-    let Spacing { dx, dy } = source.spacing;
+    let Spacing { dx, dy } = spacing;
     if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
         return Err(PyramidError::new(
-            &source.path,
+            source,
             format!("the spacing is {dx} × {dy} m; expected finite spacings above 0"),
         ));
     }
-    let sample = match source.layout.sample {
-        RawSample::I16Le | RawSample::I16Be => StoredSample::I16,
-        RawSample::U16Le | RawSample::U16Be | RawSample::F32Le | RawSample::F32Be => {
-            StoredSample::F32
-        }
-    };
     Ok(PyramidHeader {
         sample,
         terrain_level,
@@ -188,8 +276,7 @@ fn partial_path(out: &Path) -> Result<PathBuf, PyramidError> {
 
 /// Writes the whole pyramid to `partial`; the most bytes the bands held.
 fn write_pyramid(
-    source: &RawSource,
-    input: &File,
+    read_row: &mut ReadRow,
     header: PyramidHeader,
     partial: &Path,
     progress: &mut dyn FnMut(u64, u64),
@@ -200,24 +287,9 @@ fn write_pyramid(
     output.write_all(&header.encode()).map_err(write_error)?;
     let mut builder = Builder::new(header);
     let side = header.side();
-    let sample = source.layout.sample;
-    let row_bytes = side as usize * sample.bytes();
-    let mut raw_row = vec![0u8; row_bytes];
     let mut row = vec![0f32; side as usize];
     for j in 0..side {
-        let file_row = if source.layout.north_first {
-            side - 1 - j
-        } else {
-            j
-        };
-        input
-            .read_exact_at(&mut raw_row, file_row * row_bytes as u64)
-            .map_err(|e| {
-                PyramidError::new(&source.path, format!("cannot read row {file_row}: {e}"))
-            })?;
-        for (z, bytes) in row.iter_mut().zip(raw_row.chunks_exact(sample.bytes())) {
-            *z = decode_sample(sample, bytes) as f32;
-        }
+        read_row(j, &mut row)?;
         builder
             .push_row(j, &row, &mut output)
             .map_err(write_error)?;

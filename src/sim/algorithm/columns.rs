@@ -91,6 +91,17 @@ pub mod chunked {
     pub const RESIDENT_CHUNKS: &str = "resident_chunks";
     /// Bytes the resident source chunks hold.
     pub const RESIDENT_BYTES: &str = "resident_bytes";
+    /// With heights read from disk: chunks whose read was taken this frame (they arrived).
+    pub const CHUNKS_READ: &str = "chunks_read";
+    /// With heights read from disk: the longest request-to-read-end latency among this frame's
+    /// reads, microseconds (0 without a read; a timing column).
+    pub const READ_LATENCY_MAX_US: &str = "read_latency_max_us";
+    /// With heights read from disk: their mean latency, microseconds (0 without a read; a
+    /// timing column).
+    pub const READ_LATENCY_MEAN_US: &str = "read_latency_mean_us";
+    /// With heights read from disk: how long the update waited for reads not done when the
+    /// model made their chunks available, microseconds (inside `update_ns`; a timing column).
+    pub const READ_WAIT_US: &str = "read_wait_us";
 }
 
 /// `vanek` (Vaněk and Ježek 2004).
@@ -194,6 +205,10 @@ pub const ALL: &[&str] = &[
     chunked::CHUNKS_UNLOADED,
     chunked::RESIDENT_CHUNKS,
     chunked::RESIDENT_BYTES,
+    chunked::CHUNKS_READ,
+    chunked::READ_LATENCY_MAX_US,
+    chunked::READ_LATENCY_MEAN_US,
+    chunked::READ_WAIT_US,
     vanek::STRIP_INDICES,
     vanek::DEGENERATE_TRIANGLES,
     vanek::COLLAPSED_TRIANGLES,

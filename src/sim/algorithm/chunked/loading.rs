@@ -25,7 +25,11 @@
 //!   same model decides when a chunk is available; the real read starts when its load is
 //!   issued, and a frame that reaches a chunk's arrival before its read is done waits for it
 //!   (measured per frame, [`DiskFrame`]), so the meshes are those of the modelled loading
-//!   whatever the disk's speed. The heights drawn are the ones read.
+//!   whatever the disk's speed. The heights drawn are the ones read. The measured reads are
+//!   reported beside the model's counts: per frame the reads taken, their latency (largest,
+//!   mean) and the wait (frames.csv's `chunks_read`, `read_latency_max_us`,
+//!   `read_latency_mean_us`, `read_wait_us`, timing columns), and per run their p50, p95 and
+//!   largest latency (summary.json's facts).
 //!
 //! "The same flight without latency" is the same entry without this effect: every source
 //! chunk resident from the start (synthesised chunks then arrive the frame after their
@@ -33,6 +37,7 @@
 
 use super::cache::GroupCache;
 use super::tree::ChunkId;
+use crate::sim::stats::nearest_rank;
 use std::collections::BTreeMap;
 
 /// The loading effect as the experiment declares it.
@@ -71,6 +76,7 @@ impl Loading {
     /// Bytes the resident (and arriving) chunks hold: their vertices and the cache's entries.
     pub(super) fn memory_bytes(&self) -> usize {
         self.resident.len() * (self.chunk_bytes + GroupCache::<()>::ENTRY_BYTES)
+            + self.disk.as_ref().map_or(0, DiskHeights::memory_bytes)
     }
 }
 
@@ -100,8 +106,20 @@ pub struct DiskFrame {
     pub chunks_arrived: u64,
     /// The longest read latency among them, from request to read done, nanoseconds.
     pub read_latency_max_ns: u64,
+    /// The sum of their read latencies, nanoseconds (their mean is this over `chunks_arrived`).
+    pub read_latency_sum_ns: u64,
     /// How long the frame waited for reads not finished when the model made them available.
     pub wait_ns: u64,
+}
+
+/// The reads of a whole flight: what summary.json's facts say of them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct ReadsSummary {
+    pub(super) reads: u64,
+    pub(super) latency_p50_ns: f64,
+    pub(super) latency_p95_ns: f64,
+    pub(super) latency_max_ns: f64,
+    pub(super) wait_total_ns: u64,
 }
 
 /// The heights of the resident source chunks, read on demand through a [`ChunkHeightSource`].
@@ -115,6 +133,11 @@ pub(super) struct DiskHeights {
     /// Requested chunks not yet arrived, with the frame they become available.
     pending: Vec<(ChunkId, u64)>,
     pub(super) frame: DiskFrame,
+    /// Every read taken in a frame so far (the root's, read before the flight, not counted),
+    /// its latency in nanoseconds: 8 bytes a read, for the run's percentiles.
+    latencies_ns: Vec<u64>,
+    /// The frames' waits added up, nanoseconds.
+    wait_total_ns: u64,
 }
 
 impl DiskHeights {
@@ -127,6 +150,8 @@ impl DiskHeights {
             held: BTreeMap::from([(ChunkId::ROOT, root.heights)]),
             pending: Vec::new(),
             frame: DiskFrame::default(),
+            latencies_ns: Vec::new(),
+            wait_total_ns: 0,
         })
     }
 
@@ -158,8 +183,31 @@ impl DiskHeights {
             self.frame.wait_ns += start.elapsed().as_nanos() as u64;
             self.frame.chunks_arrived += 1;
             self.frame.read_latency_max_ns = self.frame.read_latency_max_ns.max(read.latency_ns);
+            self.frame.read_latency_sum_ns += read.latency_ns;
+            self.latencies_ns.push(read.latency_ns);
             self.held.insert(id, read.heights);
         }
+        self.wait_total_ns += self.frame.wait_ns;
+    }
+
+    /// The reads taken so far, summarised: their number, the p50, p95 and largest latency
+    /// (nearest rank) and the frames' total wait; `None` before the first.
+    pub(super) fn reads_summary(&self) -> Option<ReadsSummary> {
+        let mut sorted: Vec<f64> = self.latencies_ns.iter().map(|&ns| ns as f64).collect();
+        sorted.sort_unstable_by(f64::total_cmp);
+        let last = *sorted.last()?;
+        Some(ReadsSummary {
+            reads: sorted.len() as u64,
+            latency_p50_ns: nearest_rank(&sorted, 0.50),
+            latency_p95_ns: nearest_rank(&sorted, 0.95),
+            latency_max_ns: last,
+            wait_total_ns: self.wait_total_ns,
+        })
+    }
+
+    /// Bytes of the reads' record (the latencies kept for the percentiles).
+    pub(super) fn memory_bytes(&self) -> usize {
+        self.latencies_ns.capacity() * std::mem::size_of::<u64>()
     }
 
     /// Drops the heights of chunks no longer resident.

@@ -222,6 +222,55 @@ const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING: &[&str] = &[
     columns::RESIDENT_BYTES,
 ];
 
+/// With loading whose heights are read from disk: the loading's columns, then the reads'.
+const EXTRA_COLUMNS_WITH_LOADING_FROM_DISK: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
+    columns::REQUESTS_WAITING,
+    columns::CHUNKS_LOADED,
+    columns::CHUNKS_UNLOADED,
+    columns::RESIDENT_CHUNKS,
+    columns::RESIDENT_BYTES,
+    columns::CHUNKS_READ,
+    columns::READ_LATENCY_MAX_US,
+    columns::READ_LATENCY_MEAN_US,
+    columns::READ_WAIT_US,
+];
+
+/// With detail and loading from disk: every column.
+const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING_FROM_DISK: &[&str] = &[
+    columns::CHUNKS_DRAWN,
+    columns::CHUNKS_CULLED,
+    columns::SKIRT_DEPTH_MAX,
+    columns::ORDER_INVERSIONS,
+    columns::TAU,
+    columns::TARGET_UNREACHABLE,
+    columns::CHUNKS_COARSER,
+    columns::REQUESTS_IN_FLIGHT,
+    columns::DETAIL_SYNTHESISED,
+    columns::DETAIL_EVICTED,
+    columns::DETAIL_CACHED,
+    columns::DETAIL_REFUSED,
+    columns::DETAIL_SYNTHESIS_MS,
+    columns::DETAIL_BYTES,
+    columns::DETAIL_DEEPEST_DRAWN,
+    columns::REQUESTS_WAITING,
+    columns::CHUNKS_LOADED,
+    columns::CHUNKS_UNLOADED,
+    columns::RESIDENT_CHUNKS,
+    columns::RESIDENT_BYTES,
+    columns::CHUNKS_READ,
+    columns::READ_LATENCY_MAX_US,
+    columns::READ_LATENCY_MEAN_US,
+    columns::READ_WAIT_US,
+];
+
 /// Parameters of the chunked quadtree.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChunkedConfig {
@@ -572,11 +621,14 @@ impl LodAlgorithm for Chunked<'_> {
     }
 
     fn extra_columns(&self) -> &'static [&'static str] {
-        match (self.detail.is_some(), self.loading.is_some()) {
-            (false, false) => EXTRA_COLUMNS,
-            (true, false) => EXTRA_COLUMNS_WITH_DETAIL,
-            (false, true) => EXTRA_COLUMNS_WITH_LOADING,
-            (true, true) => EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING,
+        let from_disk = self.disk_frame().is_some();
+        match (self.detail.is_some(), self.loading.is_some(), from_disk) {
+            (false, false, _) => EXTRA_COLUMNS,
+            (true, false, _) => EXTRA_COLUMNS_WITH_DETAIL,
+            (false, true, false) => EXTRA_COLUMNS_WITH_LOADING,
+            (true, true, false) => EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING,
+            (false, true, true) => EXTRA_COLUMNS_WITH_LOADING_FROM_DISK,
+            (true, true, true) => EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING_FROM_DISK,
         }
     }
 
@@ -704,6 +756,18 @@ impl LodAlgorithm for Chunked<'_> {
                 loading.memory_bytes() as f64,
             ]);
         }
+        if let Some(disk) = self.disk_frame() {
+            let us = |ns: u64| ns as f64 * 1e-3;
+            stats.extra.extend([
+                disk.chunks_arrived as f64,
+                us(disk.read_latency_max_ns),
+                us(disk
+                    .read_latency_sum_ns
+                    .checked_div(disk.chunks_arrived)
+                    .unwrap_or(0)),
+                us(disk.wait_ns),
+            ]);
+        }
     }
 
     fn prepare_draw(&mut self) -> DrawCounts {
@@ -759,6 +823,19 @@ impl LodAlgorithm for Chunked<'_> {
             facts.extend([
                 ("detail_finest_level", f64::from(detail.finest_level)),
                 ("detail_leaf_error_m", f64::from(self.tree.leaf_error())),
+            ]);
+        }
+        let reads = self
+            .loading
+            .as_ref()
+            .and_then(|l| l.disk.as_ref()?.reads_summary());
+        if let Some(reads) = reads {
+            facts.extend([
+                ("chunks_read", reads.reads as f64),
+                ("read_latency_p50_us", reads.latency_p50_ns * 1e-3),
+                ("read_latency_p95_us", reads.latency_p95_ns * 1e-3),
+                ("read_latency_max_us", reads.latency_max_ns * 1e-3),
+                ("read_wait_total_ms", reads.wait_total_ns as f64 * 1e-6),
             ]);
         }
         facts
