@@ -612,3 +612,111 @@ fn a_pyramid_runs_resident_set_does_not_grow_with_the_terrain() {
         "the run over 2049² peaks at {large} bytes, {grown} more than over 257²"
     );
 }
+
+/// hole (11.8 GB long, about 17 MB on disk). The format is docs/output-formats.md's.
+fn sparse_65537_pyramid(prepared: &Prepared) -> &'static str {
+    let (terrain_level, chunk_level) = (16u32, 6u32);
+    let leaf_level = terrain_level - chunk_level;
+    let n_chunks = ((1u64 << (2 * (leaf_level + 1))) - 1) / 3;
+    let chunk_bytes = ((1u64 << chunk_level) + 1).pow(2) * 2;
+    let mut header = std::fs::read(prepared.path("terrain.pyr")).unwrap()[..48].to_vec();
+    header[16..20].copy_from_slice(&terrain_level.to_le_bytes());
+    header[20..24].copy_from_slice(&chunk_level.to_le_bytes());
+    header[40..48].copy_from_slice(&n_chunks.to_le_bytes());
+    let name = "terrain-65537.pyr";
+    let file = std::fs::File::create(prepared.path(name)).unwrap();
+    let mut writer = std::io::BufWriter::new(&file);
+    std::io::Write::write_all(&mut writer, &header).unwrap();
+    std::io::Write::write_all(&mut writer, &vec![0u8; (n_chunks * 12) as usize]).unwrap();
+    drop(writer);
+    file.set_len(48 + n_chunks * (12 + chunk_bytes)).unwrap();
+    name
+}
+
+#[test]
+fn a_65537_pyramid_flies_with_chunked_and_refuses_what_numbers_its_samples_with_32_bits() {
+    let prepared = Prepared::new();
+    let file = sparse_65537_pyramid(&prepared);
+    let terrain = json!({ "pyramid": { "file": file } });
+    let experiment = |name: &str, algorithms: Value, audit_stride: u32| {
+        let experiment = json!({
+            "format_version": 1,
+            "name": name,
+            "terrain": terrain,
+            "view": { "width_px": 320, "height_px": 240, "fovy_deg": 60, "near_m": 0.5, "far_m": 30000 },
+            "speed_bounds": { "horizontal_m_per_frame": 200, "vertical_m_per_frame": 200 },
+            "flight": {
+                "frames": 3,
+                "altitude": "above_ground",
+                "look": { "along_path": { "pitch_deg": -10 } },
+                "path": { "line": { "from_m": [980000, 980000, 30], "to_m": [980300, 980200, 30] } }
+            },
+            "algorithms": algorithms,
+            "effects": { "audit": { "stride": audit_stride }, "culling": true },
+            "outputs": { "plots": false }
+        });
+        save(prepared.folder.path(), name, &experiment)
+    };
+
+    // Every entry that needs the 4-8 lattice, and an audit of the whole grid, refused by name.
+    let refused = experiment(
+        "refused",
+        json!([
+            chunked_loading("from disk", 6),
+            { "name": "wu", "label": "wu", "tau_px": 2 },
+        ]),
+        1,
+    );
+    let error = refusal(&refused);
+    for part in [
+        "algorithms[1]",
+        "entry `wu` (wu) cannot fly a pyramid",
+        "65537² samples",
+        "above 32769² no in-memory hierarchy holds it",
+        "effects.audit.stride",
+        "set a stride of at least 2",
+    ] {
+        assert!(error.contains(part), "{error:?} lacks {part:?}");
+    }
+    assert!(!error.contains("algorithms[0]"), "{error}");
+
+    // Chunked LOD with loading flies it, audited every 4096th sample; `--check`, whose
+    // validator counts owners at every sample, is refused naming the limit.
+    let flown = experiment("flown", json!([chunked_loading("from disk", 6)]), 4096);
+    plan(&flown).unwrap();
+    let out = prepared.path("out-65537");
+    let mut options = RunOptions {
+        out_dir: Some(out.clone()),
+        check_meshes: true,
+        threads: Some(2),
+        command_line: None,
+        max_frames: None,
+        shard: None,
+        timing: Default::default(),
+    };
+    let Err(checked) = run_experiment(&flown, &options, &NoProgress) else {
+        panic!("a 65537² run with `--check` was accepted");
+    };
+    let message = checked.to_string();
+    for part in ["`--check`", "65537² pyramid", "at most 32769²"] {
+        assert!(message.contains(part), "{message:?} lacks {part:?}");
+    }
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
+    options.check_meshes = false;
+    run_experiment(&flown, &options, &NoProgress).unwrap();
+    let frames = frames_without_timing(&out.join("frames.csv"));
+    assert_eq!(frames.len(), 4, "a header and 3 frames");
+    let column = |name: &str| frames[0].iter().position(|h| h == name).unwrap();
+    let triangles: f64 = frames[1..]
+        .iter()
+        .map(|row| row[column("triangles")].parse::<f64>().unwrap())
+        .sum();
+    assert!(triangles > 0.0, "nothing was drawn");
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let held = summary["terrain"]["read_on_demand_bytes"].as_f64().unwrap();
+    assert!(
+        held < 100e6,
+        "the cache and records of a 17 GB terrain hold {held} bytes"
+    );
+}

@@ -108,7 +108,19 @@ fn check_pyramids(plan: &Plan) -> Result<(), ExperimentError> {
         let TerrainEntry::Pyramid(pyramid) = &point.parsed.terrain else {
             continue;
         };
-        let checked = check_pyramid_run(&plan.file, folder, pyramid, &point.checked.algorithms);
+        let audit_stride = point
+            .parsed
+            .effects
+            .audit
+            .as_ref()
+            .map(|audit| audit.stride);
+        let checked = check_pyramid_run(
+            &plan.file,
+            folder,
+            pyramid,
+            &point.checked.algorithms,
+            audit_stride,
+        );
         if let Err(error) = checked {
             problems.extend(prefixed(point.choice.as_ref(), error));
         }

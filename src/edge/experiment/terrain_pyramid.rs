@@ -7,9 +7,13 @@
 //! algorithm: its tree comes from the pyramid's records, its chunks' heights from a loader
 //! thread) and without `detail` (the pyramid's errors are those of leaves of error 0, not of
 //! the detail's estimated ε), with the pyramid's chunk level. Every other entry is refused,
-//! named, with the memory its in-memory hierarchy would need and the alternatives. Not here:
-//! terrains above 32 769² (the run's lattice numbers samples with 32 bits): refused, naming
-//! the limit.
+//! named, with the memory its in-memory hierarchy would need and the alternatives.
+//!
+//! **Up to 65 537².** A pyramid may be one level larger than any other terrain
+//! (`terrain::MAX_PAGED_LEVEL`, 16, against `MAX_LEVEL`, 15): the entries it admits never number
+//! a vertex with the lattice's 32-bit ids. What would, above 32 769², is refused here by name:
+//! every other entry (above), and an audit whose grid is larger than 32 769² (its per-sample
+//! buffers are a whole grid; a `stride` of 2 or more audits a 65 537² terrain).
 
 use super::entries::AlgorithmSpec;
 use super::format::TerrainPyramidEntry;
@@ -18,7 +22,7 @@ use super::problems::{ExperimentError, FieldProblem};
 use super::terrain_size::flying_bytes;
 use crate::edge::pyramid::{PyramidFile, PyramidHeader, PyramidSamples, StoredSample};
 use crate::sim::algorithm::AlgorithmConfig;
-use crate::sim::terrain::{Heightfield, MAX_LEVEL, Spacing};
+use crate::sim::terrain::{Heightfield, MAX_LEVEL, MAX_PAGED_LEVEL, MAX_SIDE, Spacing};
 use glam::DVec3;
 use std::path::Path;
 use std::sync::Arc;
@@ -26,16 +30,17 @@ use std::sync::Arc;
 const FIELD: &str = "terrain.pyramid.file";
 
 /// Opens the pyramid `entry` names (header and records checked) and checks that every entry of
-/// `entries` can fly it; every problem at once.
+/// `entries`, and the audit of `audit_stride` if any, can fly it; every problem at once.
 pub(super) fn check_pyramid_run(
     experiment: &Path,
     folder: &Path,
     entry: &TerrainPyramidEntry,
     entries: &[AlgorithmSpec],
+    audit_stride: Option<u32>,
 ) -> Result<PyramidFile, ExperimentError> {
     let pyramid = open(experiment, folder, entry)?;
     let header = *pyramid.header();
-    let problems: Vec<FieldProblem> = entries
+    let mut problems: Vec<FieldProblem> = entries
         .iter()
         .enumerate()
         .filter_map(|(k, spec)| {
@@ -45,6 +50,12 @@ pub(super) fn check_pyramid_run(
             })
         })
         .collect();
+    if let Some(problem) = audit_stride.and_then(|stride| audit_problem(&header, stride)) {
+        problems.push(FieldProblem {
+            field: "effects.audit.stride".into(),
+            problem,
+        });
+    }
     if problems.is_empty() {
         Ok(pyramid)
     } else {
@@ -112,16 +123,16 @@ fn open(
     let pyramid = PyramidFile::open(&path)
         .map_err(|error| ExperimentError::single(experiment, FIELD, error.to_string()))?;
     let level = pyramid.header().terrain_level;
-    if level > MAX_LEVEL {
+    if level > MAX_PAGED_LEVEL {
         return Err(ExperimentError::single(
             experiment,
             FIELD,
             format!(
-                "{}: a {}² terrain (level {level}); a run flies at most {}² (level {MAX_LEVEL}: \
-                 the run's lattice numbers samples with 32 bits). Prepare a crop of it",
+                "{}: a {}² terrain (level {level}); a pyramid run flies at most {}² (level \
+                 {MAX_PAGED_LEVEL}). Prepare a crop of it",
                 path.display(),
                 pyramid.header().side(),
-                (1u64 << MAX_LEVEL) + 1
+                (1u64 << MAX_PAGED_LEVEL) + 1
             ),
         ));
     }
@@ -134,10 +145,18 @@ fn entry_problem(header: &PyramidHeader, spec: &AlgorithmSpec) -> Option<String>
     let side = header.side() as usize;
     let AlgorithmConfig::Chunked(config) = &spec.config else {
         let need = flying_bytes(side, std::slice::from_ref(spec));
+        let limit = if header.terrain_level > MAX_LEVEL {
+            format!(
+                ", and above {MAX_SIDE}² no in-memory hierarchy holds it at all (its vertex ids \
+                 are 32-bit)"
+            )
+        } else {
+            String::new()
+        };
         return Some(format!(
             "entry `{label}` ({}) cannot fly a pyramid: its in-memory hierarchy needs the whole \
-             terrain, about {:.1} GB for {side}² samples. Alternatives: crop the terrain to a \
-             file (`terrain.file` with `fit: crop`) for `{label}`, or fly the pyramid with \
+             terrain, about {:.1} GB for {side}² samples{limit}. Alternatives: crop the terrain \
+             to a file (`terrain.file` with `fit: crop`) for `{label}`, or fly the pyramid with \
              `chunked` and its `loading` effect on",
             spec.config.name(),
             need / 1e9
@@ -171,4 +190,20 @@ fn entry_problem(header: &PyramidHeader, spec: &AlgorithmSpec) -> Option<String>
         ));
     }
     None
+}
+
+/// Why an audit every `stride`-th sample cannot measure the pyramid of `header`; `None` when it
+/// can: its grid, (side − 1)/stride + 1 on a side, at most [`MAX_SIDE`] (what every other
+/// terrain's audit has at most).
+fn audit_problem(header: &PyramidHeader, stride: u32) -> Option<String> {
+    let stride = u64::from(stride.max(1));
+    let audited_side = (header.side() - 1) / stride + 1;
+    (audited_side > MAX_SIDE as u64).then(|| {
+        let least = (header.side() - 1).div_ceil(MAX_SIDE as u64 - 1);
+        format!(
+            "{stride}: the audit would measure a {audited_side}² grid of this {}² pyramid, above \
+             the {MAX_SIDE}² an audit holds; set a stride of at least {least}, or remove the audit",
+            header.side()
+        )
+    })
 }

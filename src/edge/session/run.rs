@@ -14,6 +14,7 @@ use crate::edge::output::end_of_run::PointFigures;
 use crate::edge::output::plots::PlotError;
 use crate::edge::shard::{MergeError, ShardSpec};
 use crate::sim::run::RunError;
+use crate::sim::terrain::MAX_SIDE;
 use std::path::{Path, PathBuf};
 
 /// How to run.
@@ -132,6 +133,20 @@ impl PointSettings {
     /// Loads point `k` (its terrain and flight) as the run sees it.
     pub(super) fn load_point(&self, plan: &Plan, k: usize) -> Result<Experiment, RunFailure> {
         let mut experiment = plan.load_point(k)?;
+        let side = experiment.field.side();
+        if self.check_meshes && side > MAX_SIDE {
+            // Only a pyramid is this large (`terrain::MAX_PAGED_LEVEL`).
+            return Err(RunFailure::Experiment(ExperimentError::single(
+                &experiment.file,
+                "terrain.pyramid.file",
+                format!(
+                    "`--check` validates a mesh against an owner count for every sample of the \
+                     terrain (4 bytes a sample: {:.1} GB for this {side}² pyramid), at most \
+                     {MAX_SIDE}²: run without `--check`, or prepare a crop of the terrain",
+                    (side * side * 4) as f64 / 1e9
+                ),
+            )));
+        }
         experiment.effects.check_meshes = self.check_meshes;
         if let Some(n_frames) = self.max_frames {
             experiment.keep_first_frames(n_frames);

@@ -17,7 +17,7 @@
 //! No tables are stored: parents and children are computed in O(1). Vertex ids are
 //! `j · side + i` as `u32` (a 16385² grid has 2^28 vertices).
 
-use crate::sim::terrain::MAX_LEVEL;
+use crate::sim::terrain::{MAX_LEVEL, MAX_PAGED_LEVEL};
 
 /// A vertex of the grid, by column and row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -92,14 +92,18 @@ pub struct Lattice {
 }
 
 impl Lattice {
-    /// The lattice of a grid of side 2^level + 1 (1 ≤ level ≤ [`MAX_LEVEL`]: vertex ids are
-    /// `u32`, and 65 537² is above 2^32). Not reachable from an input with another level: a
-    /// `Heightfield`, whose level a hierarchy's lattice takes, refuses a larger side with an
-    /// error; the panic is for code that asks for a lattice of a level it made up.
+    /// The lattice of a grid of side 2^level + 1 (1 ≤ level ≤ [`MAX_PAGED_LEVEL`]). Vertex ids
+    /// are `u32`, so [`Lattice::id`] and what numbers vertices by it (vertex sets, the
+    /// algorithms of the 4-8 hierarchy) hold only up to [`MAX_LEVEL`] (65 537² is above 2^32);
+    /// level 16 is a paged terrain's, whose coordinates (`cells`, `side`, `level`) chunked LOD
+    /// reads and whose ids nothing computes (the run refuses every other entry before it
+    /// starts). Not reachable from an input with another level: a `Heightfield`, whose level a
+    /// hierarchy's lattice takes, refuses a larger side with an error; the panic is for code
+    /// that asks for a lattice of a level it made up.
     pub fn new(level: u32) -> Lattice {
         assert!(
-            (1..=MAX_LEVEL).contains(&level),
-            "lattice level {level} outside 1..={MAX_LEVEL}"
+            (1..=MAX_PAGED_LEVEL).contains(&level),
+            "lattice level {level} outside 1..={MAX_PAGED_LEVEL}"
         );
         Lattice {
             level,
@@ -125,6 +129,11 @@ impl Lattice {
     }
 
     pub fn id(&self, p: GridPoint) -> u32 {
+        debug_assert!(
+            self.level <= MAX_LEVEL,
+            "no 32-bit vertex ids at level {}",
+            self.level
+        );
         p.j * self.side() + p.i
     }
 

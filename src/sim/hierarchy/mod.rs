@@ -89,7 +89,7 @@ impl Hierarchy {
     /// finest level) is built by [`Hierarchy::build_node_table`] or by its first reader.
     pub fn new(field: impl Into<Arc<Heightfield>>) -> Hierarchy {
         let field = field.into();
-        // A `Heightfield`'s level is within the lattice's (`terrain::MAX_LEVEL`).
+        // A `Heightfield`'s level is within the lattice's (`terrain::MAX_PAGED_LEVEL`).
         let lattice = Lattice::new(field.level());
         Hierarchy {
             field,

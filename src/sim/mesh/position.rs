@@ -10,15 +10,16 @@
 //! factor's vertices) are rounded to the nearest representable point once, when the algorithm
 //! makes the vertex, so every consumer afterwards sees the same exact point. Integer coordinates
 //! are what make the audit's inside tests exact (no two triangles both claim, or both miss, a
-//! sample on their shared edge): differences of two coordinates fit 34 bits, products of two
-//! differences fit an `i128`, so the inside tests multiply in `i128`, exactly.
+//! sample on their shared edge): coordinates are at most 2^32, differences of two coordinates
+//! fit 34 bits, products of two differences fit an `i128`, so the inside tests multiply in
+//! `i128`, exactly.
 //!
 //! Heights are `f32` metres in the terrain's local frame, like the stored samples: a morphed or
 //! resampled height is whatever the algorithm computed, rounded as a GPU vertex buffer would hold
 //! it. Consumers interpolate heights between corners in `f64` (`raster`).
 
 use crate::sim::hierarchy::GridPoint;
-use crate::sim::terrain::Spacing;
+use crate::sim::terrain::{MAX_PAGED_LEVEL, Spacing};
 use glam::DVec3;
 
 /// Fractional bits of a [`SubgridPoint`] coordinate.
@@ -27,16 +28,17 @@ pub const SUBGRID_BITS: u32 = 16;
 pub const SUBGRID_UNITS_PER_CELL: i64 = 1 << SUBGRID_BITS;
 
 /// A point in the terrain's plane, in 1/65 536 of a grid cell. Coordinates are non-negative and
-/// at most 2^(15 + 16) (the largest lattice has 2^15 cells); [`crate::sim::mesh::TriangleList`]
-/// checks that its vertices lie inside its terrain.
+/// at most 2^(16 + 16) (the largest terrain, a paged one, has 2^16 cells:
+/// `terrain::MAX_PAGED_LEVEL`); [`crate::sim::mesh::TriangleList`] checks that its vertices lie
+/// inside its terrain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SubgridPoint {
     x: i64,
     y: i64,
 }
 
-/// The largest coordinate any point may have: 2^15 cells.
-const MAX_COORDINATE: i64 = (1 << 15) * SUBGRID_UNITS_PER_CELL;
+/// The largest coordinate any point may have: 2^16 cells (`terrain::MAX_PAGED_LEVEL`).
+const MAX_COORDINATE: i64 = (1 << MAX_PAGED_LEVEL) * SUBGRID_UNITS_PER_CELL;
 
 impl SubgridPoint {
     /// Grid sample (i, j), exactly.
@@ -49,7 +51,7 @@ impl SubgridPoint {
 
     /// The point of grid coordinates (x, y) (cells, fractions allowed), rounded to the nearest
     /// 1/65 536 of a cell (ties away from zero). `None` when a coordinate is not finite or lies
-    /// outside [0, 2^15].
+    /// outside [0, 2^16].
     pub fn from_grid_units(x: f64, y: f64) -> Option<SubgridPoint> {
         let fixed = |v: f64| {
             let scaled = (v * SUBGRID_UNITS_PER_CELL as f64).round();
@@ -63,7 +65,7 @@ impl SubgridPoint {
     }
 
     /// The point with raw fixed-point coordinates (units of 1/65 536 cell). `None` outside
-    /// [0, 2^31].
+    /// [0, 2^32].
     pub fn from_raw(x: i64, y: i64) -> Option<SubgridPoint> {
         let valid = |v: i64| (0..=MAX_COORDINATE).contains(&v);
         (valid(x) && valid(y)).then_some(SubgridPoint { x, y })
@@ -74,7 +76,7 @@ impl SubgridPoint {
         (self.x, self.y)
     }
 
-    /// Grid coordinates in cells (exact: a coordinate is at most 2^31 units).
+    /// Grid coordinates in cells (exact: a coordinate is at most 2^32 units).
     pub fn grid_units(self) -> (f64, f64) {
         let scale = 1.0 / SUBGRID_UNITS_PER_CELL as f64;
         (self.x as f64 * scale, self.y as f64 * scale)
@@ -138,8 +140,8 @@ mod tests {
     fn points_outside_the_largest_lattice_or_not_finite_are_refused() {
         assert_eq!(SubgridPoint::from_grid_units(-0.5, 0.0), None);
         assert_eq!(SubgridPoint::from_grid_units(f64::NAN, 0.0), None);
-        assert_eq!(SubgridPoint::from_grid_units(32768.5, 0.0), None);
-        assert!(SubgridPoint::from_grid_units(32768.0, 32768.0).is_some());
+        assert_eq!(SubgridPoint::from_grid_units(65536.5, 0.0), None);
+        assert!(SubgridPoint::from_grid_units(65536.0, 65536.0).is_some());
         assert_eq!(SubgridPoint::from_raw(0, -1), None);
     }
 

@@ -32,6 +32,13 @@ pub const MAX_LEVEL: u32 = 15;
 /// The largest side of a height field, 2^[`MAX_LEVEL`] + 1.
 pub const MAX_SIDE: usize = (1 << MAX_LEVEL) + 1;
 
+/// The largest level of a *paged* field ([`Heightfield::paged`], side 2^16 + 1 = 65 537): one
+/// above [`MAX_LEVEL`], because a paged field is flown only by chunked LOD, which names its
+/// vertices by chunk and position, never by a 32-bit lattice id. Its hierarchy's lattice has
+/// the level (`Lattice::new`), but no vertex id of it is ever computed: the run refuses, before
+/// it starts, every entry that would (`edge::experiment::terrain_pyramid`).
+pub const MAX_PAGED_LEVEL: u32 = 16;
+
 /// Grid spacing in metres along x (columns) and y (rows).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spacing {
@@ -64,6 +71,8 @@ pub enum HeightfieldError {
          its vertex ids are 32-bit)"
     )]
     TooLarge { side: usize },
+    #[error("side {side} is above the largest side a terrain read on demand has, 65537 (2^16 + 1)")]
+    TooLargePaged { side: usize },
     #[error("{found} heights for side {side} ({expected} expected)")]
     WrongLength {
         side: usize,
@@ -151,7 +160,8 @@ impl Heightfield {
     }
 
     /// A field of side 2^`level` + 1 whose samples are read on demand from `samples` (every
-    /// sample real data); none is read here. Same limits as [`Heightfield::new`].
+    /// sample real data); none is read here. Level 1 to [`MAX_PAGED_LEVEL`] (one more than
+    /// [`Heightfield::new`] takes).
     pub fn paged(
         level: u32,
         samples: Arc<dyn PagedSamples>,
@@ -161,8 +171,8 @@ impl Heightfield {
         if level == 0 {
             return Err(HeightfieldError::SideNotPowerOfTwoPlusOne { side });
         }
-        if level > MAX_LEVEL {
-            return Err(HeightfieldError::TooLarge { side });
+        if level > MAX_PAGED_LEVEL {
+            return Err(HeightfieldError::TooLargePaged { side });
         }
         let spacing_ok = |d: f64| d.is_finite() && d > 0.0;
         if !spacing_ok(spacing.dx) || !spacing_ok(spacing.dy) {

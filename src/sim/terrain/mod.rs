@@ -15,5 +15,7 @@ pub mod paged;
 mod sample_grid;
 pub mod synthetic;
 
-pub use heightfield::{Heightfield, HeightfieldError, MAX_LEVEL, MAX_SIDE, Spacing};
+pub use heightfield::{
+    Heightfield, HeightfieldError, MAX_LEVEL, MAX_PAGED_LEVEL, MAX_SIDE, Spacing,
+};
 pub use sample_grid::{SampleGrid, SampleGridError};
