@@ -153,7 +153,11 @@ use tree::{ChunkSource, ChunkTree};
 
 pub(super) const NAME: &str = "chunked";
 
-const EXTRA_COLUMNS: &[&str] = &[
+// The extra columns come in groups, always in this order; an entry writes the groups its
+// configuration uses (`extra_columns`), and `update` pushes their values in the same order.
+
+/// Every entry's columns.
+const SELECTION_COLUMNS: &[&str] = &[
     columns::CHUNKS_DRAWN,
     columns::CHUNKS_CULLED,
     columns::SKIRT_DEPTH_MAX,
@@ -162,16 +166,11 @@ const EXTRA_COLUMNS: &[&str] = &[
     columns::TARGET_UNREACHABLE,
 ];
 
-/// With synthesised detail on: the columns above, then the detail's.
-const EXTRA_COLUMNS_WITH_DETAIL: &[&str] = &[
-    columns::CHUNKS_DRAWN,
-    columns::CHUNKS_CULLED,
-    columns::SKIRT_DEPTH_MAX,
-    columns::ORDER_INVERSIONS,
-    columns::TAU,
-    columns::TARGET_UNREACHABLE,
-    columns::CHUNKS_COARSER,
-    columns::REQUESTS_IN_FLIGHT,
+/// With detail or loading: the chunks drawn coarser than chosen and the requests under way.
+const REQUEST_COLUMNS: &[&str] = &[columns::CHUNKS_COARSER, columns::REQUESTS_IN_FLIGHT];
+
+/// With synthesised detail.
+const DETAIL_COLUMNS: &[&str] = &[
     columns::DETAIL_SYNTHESISED,
     columns::DETAIL_EVICTED,
     columns::DETAIL_CACHED,
@@ -181,16 +180,8 @@ const EXTRA_COLUMNS_WITH_DETAIL: &[&str] = &[
     columns::DETAIL_DEEPEST_DRAWN,
 ];
 
-/// With out-of-core loading on: the first columns, then the loading's.
-const EXTRA_COLUMNS_WITH_LOADING: &[&str] = &[
-    columns::CHUNKS_DRAWN,
-    columns::CHUNKS_CULLED,
-    columns::SKIRT_DEPTH_MAX,
-    columns::ORDER_INVERSIONS,
-    columns::TAU,
-    columns::TARGET_UNREACHABLE,
-    columns::CHUNKS_COARSER,
-    columns::REQUESTS_IN_FLIGHT,
+/// With out-of-core loading.
+const LOADING_COLUMNS: &[&str] = &[
     columns::REQUESTS_WAITING,
     columns::CHUNKS_LOADED,
     columns::CHUNKS_UNLOADED,
@@ -198,78 +189,58 @@ const EXTRA_COLUMNS_WITH_LOADING: &[&str] = &[
     columns::RESIDENT_BYTES,
 ];
 
-/// With both: every column.
-const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING: &[&str] = &[
-    columns::CHUNKS_DRAWN,
-    columns::CHUNKS_CULLED,
-    columns::SKIRT_DEPTH_MAX,
-    columns::ORDER_INVERSIONS,
-    columns::TAU,
-    columns::TARGET_UNREACHABLE,
-    columns::CHUNKS_COARSER,
-    columns::REQUESTS_IN_FLIGHT,
-    columns::DETAIL_SYNTHESISED,
-    columns::DETAIL_EVICTED,
-    columns::DETAIL_CACHED,
-    columns::DETAIL_REFUSED,
-    columns::DETAIL_SYNTHESIS_MS,
-    columns::DETAIL_BYTES,
-    columns::DETAIL_DEEPEST_DRAWN,
-    columns::REQUESTS_WAITING,
-    columns::CHUNKS_LOADED,
-    columns::CHUNKS_UNLOADED,
-    columns::RESIDENT_CHUNKS,
-    columns::RESIDENT_BYTES,
-];
-
-/// With loading whose heights are read from disk: the loading's columns, then the reads'.
-const EXTRA_COLUMNS_WITH_LOADING_FROM_DISK: &[&str] = &[
-    columns::CHUNKS_DRAWN,
-    columns::CHUNKS_CULLED,
-    columns::SKIRT_DEPTH_MAX,
-    columns::ORDER_INVERSIONS,
-    columns::TAU,
-    columns::TARGET_UNREACHABLE,
-    columns::CHUNKS_COARSER,
-    columns::REQUESTS_IN_FLIGHT,
-    columns::REQUESTS_WAITING,
-    columns::CHUNKS_LOADED,
-    columns::CHUNKS_UNLOADED,
-    columns::RESIDENT_CHUNKS,
-    columns::RESIDENT_BYTES,
+/// With loading whose heights are read from disk: the reads.
+const DISK_COLUMNS: &[&str] = &[
     columns::CHUNKS_READ,
     columns::READ_LATENCY_MAX_US,
     columns::READ_LATENCY_MEAN_US,
     columns::READ_WAIT_US,
 ];
 
-/// With detail and loading from disk: every column.
-const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING_FROM_DISK: &[&str] = &[
-    columns::CHUNKS_DRAWN,
-    columns::CHUNKS_CULLED,
-    columns::SKIRT_DEPTH_MAX,
-    columns::ORDER_INVERSIONS,
-    columns::TAU,
-    columns::TARGET_UNREACHABLE,
-    columns::CHUNKS_COARSER,
-    columns::REQUESTS_IN_FLIGHT,
-    columns::DETAIL_SYNTHESISED,
-    columns::DETAIL_EVICTED,
-    columns::DETAIL_CACHED,
-    columns::DETAIL_REFUSED,
-    columns::DETAIL_SYNTHESIS_MS,
-    columns::DETAIL_BYTES,
-    columns::DETAIL_DEEPEST_DRAWN,
-    columns::REQUESTS_WAITING,
-    columns::CHUNKS_LOADED,
-    columns::CHUNKS_UNLOADED,
-    columns::RESIDENT_CHUNKS,
-    columns::RESIDENT_BYTES,
-    columns::CHUNKS_READ,
-    columns::READ_LATENCY_MAX_US,
-    columns::READ_LATENCY_MEAN_US,
-    columns::READ_WAIT_US,
-];
+/// `groups`' columns one after another, as an array of exactly `N` names (checked when the
+/// constants below are evaluated, at compile time).
+const fn joined<const N: usize>(groups: &[&[&'static str]]) -> [&'static str; N] {
+    let mut out = [""; N];
+    let (mut g, mut k) = (0, 0);
+    while g < groups.len() {
+        let mut i = 0;
+        while i < groups[g].len() {
+            out[k] = groups[g][i];
+            (i, k) = (i + 1, k + 1);
+        }
+        g += 1;
+    }
+    assert!(
+        k == N,
+        "the joined column groups do not have the declared length"
+    );
+    out
+}
+
+const EXTRA_COLUMNS: &[&str] = SELECTION_COLUMNS;
+const EXTRA_COLUMNS_WITH_DETAIL: &[&str] =
+    &joined::<15>(&[SELECTION_COLUMNS, REQUEST_COLUMNS, DETAIL_COLUMNS]);
+const EXTRA_COLUMNS_WITH_LOADING: &[&str] =
+    &joined::<13>(&[SELECTION_COLUMNS, REQUEST_COLUMNS, LOADING_COLUMNS]);
+const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING: &[&str] = &joined::<20>(&[
+    SELECTION_COLUMNS,
+    REQUEST_COLUMNS,
+    DETAIL_COLUMNS,
+    LOADING_COLUMNS,
+]);
+const EXTRA_COLUMNS_WITH_LOADING_FROM_DISK: &[&str] = &joined::<17>(&[
+    SELECTION_COLUMNS,
+    REQUEST_COLUMNS,
+    LOADING_COLUMNS,
+    DISK_COLUMNS,
+]);
+const EXTRA_COLUMNS_WITH_DETAIL_AND_LOADING_FROM_DISK: &[&str] = &joined::<24>(&[
+    SELECTION_COLUMNS,
+    REQUEST_COLUMNS,
+    DETAIL_COLUMNS,
+    LOADING_COLUMNS,
+    DISK_COLUMNS,
+]);
 
 /// Parameters of the chunked quadtree.
 #[derive(Clone, Copy, Debug, PartialEq)]
